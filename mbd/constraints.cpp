@@ -1,0 +1,180 @@
+#include "mbd/constraints.h"
+
+#include <cmath>
+#include <stdexcept>
+
+#include <Eigen/QR>
+
+#include "mbd/kinematics.h"
+
+namespace orrery {
+namespace {
+
+// Adds c . V_body (V = J_body v) to row `row` of G: c^T S_j over the body's ancestor joints.
+void AddBodyRow(const Model& model, Data& data, int row, BodyIndex body, const Vec6& c) {
+  for (JointIndex j = model.bodies[body].parent_joint; j >= 0;
+       j = model.bodies[model.joints[j].spec.parent].parent_joint) {
+    const Joint& jt = model.joints[j];
+    data.G.row(row).segment(jt.v_start, jt.nv) += c.transpose() * data.S.middleCols(jt.v_start, jt.nv);
+  }
+}
+
+}  // namespace
+
+void CalcConstraints(const Model& model, double t, Data& data) {
+  data.G.setZero();
+  data.g_t.setZero();
+  // Loop closures: rows of point coincidence, perpendicularity and in-plane distance.
+  int loop_row = 0;
+  for (size_t l = 0; l < model.loop_closures.size(); ++l) {
+    const LoopClosureSpec& lc = model.loop_closures[l];
+    const BodyIndex ba = model.frames[lc.frame_a].body, bb = model.frames[lc.frame_b].body;
+    const Transform& A = data.X_WFrame[lc.frame_a];
+    const Transform& B = data.X_WFrame[lc.frame_b];
+    const Vec3 xa = A.R.col(0), ya = A.R.col(1), za = A.R.col(2);
+    const Vec3 xb = B.R.col(0), yb = B.R.col(1), zb = B.R.col(2);
+    int row = model.loop_row_start[l];
+    auto emit = [&](double phi, const Vec6& ca, const Vec6& cb) {
+      data.phi(row) = phi;
+      data.c_rows_a[loop_row] = ca;
+      data.c_rows_b[loop_row] = cb;
+      AddBodyRow(model, data, row, ba, ca);
+      AddBodyRow(model, data, row, bb, cb);
+      ++row;
+      ++loop_row;
+    };
+    auto point = [&]() {  // p_B - p_A = 0 in world axes
+      for (int k = 0; k < 3; ++k) {
+        const Vec3 e = Vec3::Unit(k);
+        Vec6 ca, cb;
+        ca << -A.p.cross(e), -e;
+        cb << B.p.cross(e), e;
+        emit(B.p(k) - A.p(k), ca, cb);
+      }
+    };
+    auto perpendicular = [&](const Vec3& a, const Vec3& b) {  // a (on A) . b (on B) = 0
+      Vec6 ca, cb;
+      ca << a.cross(b), Vec3::Zero();
+      cb << -a.cross(b), Vec3::Zero();
+      emit(a.dot(b), ca, cb);
+    };
+    auto distance = [&](const Vec3& a) {  // (p_B - p_A) . a (on A) = 0
+      Vec6 cb;
+      cb << B.p.cross(a), a;
+      emit((B.p - A.p).dot(a), -cb, cb);
+    };
+    switch (lc.type) {
+      case JointType::kRevolute: point(); perpendicular(xa, zb); perpendicular(ya, zb); break;
+      case JointType::kSpherical: point(); break;
+      case JointType::kUniversal: point(); perpendicular(xa, yb); break;
+      case JointType::kPrismatic:
+        perpendicular(xa, yb); perpendicular(ya, zb); perpendicular(za, xb);
+        distance(xa); distance(ya);
+        break;
+      case JointType::kCylindrical:
+        perpendicular(xa, zb); perpendicular(ya, zb); distance(xa); distance(ya);
+        break;
+      case JointType::kPlanar: perpendicular(za, xb); perpendicular(za, yb); distance(za); break;
+      case JointType::kFixed:
+        point(); perpendicular(xa, yb); perpendicular(ya, zb); perpendicular(za, xb);
+        break;
+      case JointType::kFree: break;
+    }
+  }
+  // Drivers: position rows q_k - f(t) (holonomic), speed rows v_k - f(t).
+  for (size_t d = 0; d < model.drivers.size(); ++d) {
+    const Driver& dr = model.drivers[d];
+    const int row = model.driver_row[d];
+    data.G(row, dr.v_index) = 1.0;
+    if (dr.spec.mode == DriverSpec::Mode::kPosition) {
+      data.phi(row) = data.q_normalized(dr.q_index) - dr.spec.function.Value(t);
+      data.g_t(row) = -dr.spec.function.Derivative(t);
+    } else {
+      data.g_t(row) = -dr.spec.function.Value(t);
+    }
+  }
+}
+
+void AddConstraintBodyForces(const Model& model, const Data& data,
+                             const Eigen::Ref<const Eigen::VectorXd>& lambda,
+                             std::vector<Vec6>& f) {
+  int loop_row = 0;
+  for (size_t l = 0; l < model.loop_closures.size(); ++l) {
+    const LoopClosureSpec& lc = model.loop_closures[l];
+    const BodyIndex ba = model.frames[lc.frame_a].body, bb = model.frames[lc.frame_b].body;
+    for (int r = 0; r < model.loop_rows[l]; ++r, ++loop_row) {
+      const double lam = lambda(model.loop_row_start[l] + r);
+      f[ba] -= lam * data.c_rows_a[loop_row];
+      f[bb] -= lam * data.c_rows_b[loop_row];
+    }
+  }
+}
+
+std::string ConstraintRowName(const Model& model, int row) {
+  for (size_t l = 0; l < model.loop_closures.size(); ++l)
+    if (row >= model.loop_row_start[l] && row < model.loop_row_start[l] + model.loop_rows[l])
+      return "loop closure '" + model.loop_closures[l].name + "' row " +
+             std::to_string(row - model.loop_row_start[l]);
+  for (size_t d = 0; d < model.drivers.size(); ++d)
+    if (model.driver_row[d] == row) return "driver '" + model.drivers[d].spec.name + "'";
+  return "row " + std::to_string(row);
+}
+
+void AssembleState(const Model& model, State& state, Data& data, double tolerance) {
+  NormalizeQuaternions(model, state.q);
+  if (model.n_constraints == 0) return;
+  const int nh = model.n_holonomic;
+  // Rank check on G at the start: redundant rows make the DAE singular.
+  CalcPositionKinematics(model, state.q, data);
+  CalcConstraints(model, state.t, data);
+  {
+    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(data.G.transpose());
+    qr.setThreshold(1e-10);
+    if (qr.rank() < model.n_constraints) {
+      // Name the first row that depends on the ones before it.
+      std::string culprit;
+      for (int r = 1; r <= model.n_constraints; ++r) {
+        Eigen::ColPivHouseholderQR<Eigen::MatrixXd> sub(data.G.topRows(r).transpose());
+        sub.setThreshold(1e-10);
+        if (sub.rank() < r) {
+          culprit = ConstraintRowName(model, r - 1);
+          break;
+        }
+      }
+      throw std::runtime_error(
+          "constraints are redundant at the initial configuration (" + culprit +
+          " depends on the rows before it); use a cut joint with fewer rows, e.g. a spherical "
+          "cut with a universal joint in the loop");
+    }
+  }
+  // Positions: q <- q (+) dv with dv the minimum-norm Gauss-Newton step.
+  double scale = 1.0;
+  for (int k = 0; k < model.nq; ++k) scale = std::max(scale, std::abs(state.q(k)));
+  bool converged = nh == 0;
+  for (int it = 0; it < 50 && nh > 0; ++it) {
+    CalcPositionKinematics(model, state.q, data);
+    CalcConstraints(model, state.t, data);
+    const double err = data.phi.lpNorm<Eigen::Infinity>();
+    if (err <= tolerance * scale) {
+      converged = true;
+      break;
+    }
+    const Eigen::MatrixXd Gh = data.G.topRows(nh);
+    const Eigen::VectorXd dv = Gh.completeOrthogonalDecomposition().solve(-data.phi);
+    IntegratePositions(model, dv, state.q);
+  }
+  if (!converged) {
+    Eigen::Index worst;
+    data.phi.cwiseAbs().maxCoeff(&worst);
+    throw std::runtime_error("initial assembly did not converge: " +
+                             ConstraintRowName(model, static_cast<int>(worst)) + " violated by " +
+                             std::to_string(std::abs(data.phi(worst))));
+  }
+  // Velocities: minimum-norm correction onto G v + g_t = 0.
+  CalcPositionKinematics(model, state.q, data);
+  CalcConstraints(model, state.t, data);
+  const Eigen::VectorXd residual = data.G * state.v + data.g_t;
+  state.v -= data.G.completeOrthogonalDecomposition().solve(residual);
+}
+
+}  // namespace orrery

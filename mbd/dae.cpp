@@ -1,0 +1,223 @@
+#include "mbd/dae.h"
+
+#include <cmath>
+#include <stdexcept>
+
+#include <Eigen/LU>
+
+#include "mbd/constraints.h"
+#include "mbd/dynamics.h"
+#include "mbd/evaluate.h"
+#include "mbd/force_elements.h"
+#include "mbd/kinematics.h"
+
+namespace orrery {
+namespace {
+constexpr double kFdStep = 1.5e-8;  // ~ sqrt(machine epsilon): forward-difference step
+}
+
+DaeSystem::DaeSystem(const Model& model)
+    : model_(model),
+      data_(model),
+      nq_(model.nq),
+      nv_(model.nv),
+      nc_(model.n_constraints),
+      nh_(model.n_holonomic),
+      n_(model.nq + model.nv + model.n_constraints + model.n_holonomic) {
+  qdot_.setZero(nq_);
+  w_.setZero(nv_);
+  q_pert_.setZero(nq_);
+  v_pert_.setZero(nv_);
+  dv_.setZero(nv_);
+  rv0_.setZero(nv_);
+  rv1_.setZero(nv_);
+  rl0_.setZero(nc_);
+  rl1_.setZero(nc_);
+  dq_dv_.setZero(nq_, nv_);
+  dv_dq_.setZero(nv_, nq_);
+  G_ref_.setZero(nc_, nv_);
+  Jv_.setZero(nv_ + nc_, nv_);
+  Cv_.setZero(nv_, nv_);
+  kkt_.setZero(nv_ + nc_, nv_ + nc_);
+  kkt_rhs_.setZero(nv_ + nc_);
+}
+
+void DaeSystem::DynamicRows(double t, const Eigen::Ref<const Eigen::VectorXd>& q,
+                            const Eigen::Ref<const Eigen::VectorXd>& v,
+                            const Eigen::Ref<const Eigen::VectorXd>& vdot,
+                            const Eigen::Ref<const Eigen::VectorXd>& lambda,
+                            Eigen::Ref<Eigen::VectorXd> rv, Eigen::Ref<Eigen::VectorXd> rl) {
+  EvaluateDynamics(model_, t, q, v, vdot, data_);
+  rv = data_.tau_id;
+  if (nc_ > 0) {
+    rv.noalias() += data_.G.transpose() * lambda;
+    rl = data_.g_t;
+    rl.noalias() += data_.G * v;
+  }
+}
+
+void DaeSystem::Residual(double t, const Eigen::Ref<const Eigen::VectorXd>& y,
+                         const Eigen::Ref<const Eigen::VectorXd>& yp,
+                         Eigen::Ref<Eigen::VectorXd> r) {
+  ++residual_evaluations_;
+  const auto q = y.segment(0, nq_);
+  const auto v = y.segment(nq_, nv_);
+  const auto lambda = y.segment(nq_ + nv_, nc_);
+  const auto mu = y.segment(nq_ + nv_ + nc_, nh_);
+  // Dynamics and velocity constraints.
+  DynamicRows(t, q, v, yp.segment(nq_, nv_), lambda, r.segment(nq_, nv_), r.segment(nq_ + nv_, nc_));
+  // Position constraints.
+  r.segment(nq_ + nv_ + nc_, nh_) = data_.phi;
+  // Kinematic rows with the GGL projection.
+  w_ = v;
+  if (nh_ > 0) w_.noalias() += data_.G.topRows(nh_).transpose() * mu;
+  CalcQDot(model_, q, w_, qdot_);
+  r.segment(0, nq_) = yp.segment(0, nq_) - qdot_;
+}
+
+void DaeSystem::Jacobian(double t, double cj, const Eigen::Ref<const Eigen::VectorXd>& y,
+                         const Eigen::Ref<const Eigen::VectorXd>& yp,
+                         Eigen::Ref<Eigen::MatrixXd> J) {
+  const auto q = y.segment(0, nq_);
+  const auto v = y.segment(nq_, nv_);
+  const auto lambda = y.segment(nq_ + nv_, nc_);
+  const auto mu = y.segment(nq_ + nv_ + nc_, nh_);
+  const auto vdot = yp.segment(nq_, nv_);
+  const int iv = nq_, il = nq_ + nv_, im = nq_ + nv_ + nc_;
+  J.setZero();
+
+  // N(q) and its left inverse, block by block (identity except unit quaternions).
+  dq_dv_.setZero();
+  dv_dq_.setZero();
+  for (const Joint& jt : model_.joints) {
+    int quat = -1;
+    if (jt.spec.type == JointType::kSpherical) quat = 0;
+    if (jt.spec.type == JointType::kFree) {
+      quat = 3;
+      for (int k = 0; k < 3; ++k) dq_dv_(jt.q_start + k, jt.v_start + k) = dv_dq_(jt.v_start + k, jt.q_start + k) = 1;
+    }
+    if (quat < 0) {
+      for (int k = 0; k < jt.nv; ++k) dq_dv_(jt.q_start + k, jt.v_start + k) = dv_dq_(jt.v_start + k, jt.q_start + k) = 1;
+      continue;
+    }
+    const int qs = jt.q_start + quat, vs = jt.v_start + quat;
+    const double q0 = q(qs);
+    const Vec3 u = q.segment<3>(qs + 1);
+    // N = 1/2 [-u^T; q0 I - [u]x],  2E = 2 [-u, q0 I + [u]x]  (E N = I for unit q).
+    dq_dv_.block<1, 3>(qs, vs) = -0.5 * u.transpose();
+    dq_dv_.block<3, 3>(qs + 1, vs) = 0.5 * (q0 * Mat3::Identity() - Skew(u));
+    dv_dq_.block<3, 1>(vs, qs) = -2.0 * u;
+    dv_dq_.block<3, 3>(vs, qs + 1) = 2.0 * (q0 * Mat3::Identity() + Skew(u));
+    // r_q = qdot - N(q) w: d/dq of (0, w) x q / 2 = 1/2 [0 -w^T; w [w]x].
+    const Vec3 w = v.segment<3>(vs);  // mu-term neglected (mu = 0 on the solution)
+    J.block<1, 3>(qs, qs + 1) += 0.5 * w.transpose();
+    J.block<3, 1>(qs + 1, qs) += -0.5 * w;
+    J.block<3, 3>(qs + 1, qs + 1) += -0.5 * Skew(w);
+  }
+
+  // q- and v-dependence of the generalized forces and of G (leaves data at the base point).
+  Tangents(t, q, v, vdot, lambda, Jv_, Cv_);
+  if (nv_ > 0) J.block(iv, 0, nv_ + nc_, nq_).noalias() = Jv_ * dv_dq_;
+
+  // Structural blocks.
+  J.block(0, 0, nq_, nq_).diagonal().array() += cj;
+  J.block(0, iv, nq_, nv_) -= dq_dv_;
+  if (nh_ > 0) {
+    J.block(0, im, nq_, nh_).noalias() -= dq_dv_ * data_.G.topRows(nh_).transpose();
+    J.block(im, 0, nh_, nq_).noalias() = data_.G.topRows(nh_) * dv_dq_;
+  }
+  (void)mu;
+  J.block(iv, iv, nv_, nv_) = cj * data_.M + Cv_;
+  if (nc_ > 0) {
+    J.block(iv, il, nv_, nc_) = data_.G.transpose();
+    J.block(il, iv, nc_, nv_) = data_.G;
+  }
+}
+
+void DaeSystem::Tangents(double t, const Eigen::Ref<const Eigen::VectorXd>& q,
+                         const Eigen::Ref<const Eigen::VectorXd>& v,
+                         const Eigen::Ref<const Eigen::VectorXd>& vdot,
+                         const Eigen::Ref<const Eigen::VectorXd>& lambda,
+                         Eigen::Ref<Eigen::MatrixXd> Kq, Eigen::Ref<Eigen::MatrixXd> Cv) {
+  // Positions: q <- q (+) h e_k, the whole pipeline per column.
+  DynamicRows(t, q, v, vdot, lambda, rv0_, rl0_);
+  for (int k = 0; k < nv_; ++k) {
+    q_pert_ = q;
+    dv_.setZero();
+    dv_(k) = kFdStep;
+    IntegratePositions(model_, dv_, q_pert_);
+    DynamicRows(t, q_pert_, v, vdot, lambda, rv1_, rl1_);
+    Kq.col(k).head(nv_) = (rv1_ - rv0_) / kFdStep;
+    Kq.col(k).tail(nc_) = (rl1_ - rl0_) / kFdStep;
+  }
+  // Back to the base point; velocities: only the velocity stages rerun (positions unchanged).
+  DynamicRows(t, q, v, vdot, lambda, rv0_, rl0_);
+  CalcMassMatrix(model_, data_);
+  G_ref_ = data_.G;
+  if (nc_ > 0) {
+    w_.noalias() = G_ref_.transpose() * lambda;
+    rv0_ -= w_;  // rv0_ = tau_id at the base point
+  }
+  for (int k = 0; k < nv_; ++k) {
+    v_pert_ = v;
+    const double h = kFdStep * std::max(1.0, std::abs(v(k)));
+    v_pert_(k) += h;
+    CalcVelocityKinematics(model_, v_pert_, data_);
+    CalcForceElements(model_, t, v_pert_, data_);
+    CalcInverseDynamics(model_, vdot, data_);
+    Cv.col(k) = (data_.tau_id - rv0_) / h;
+  }
+  // Leave data at the base point.
+  CalcVelocityKinematics(model_, v, data_);
+  CalcForceElements(model_, t, v, data_);
+  CalcInverseDynamics(model_, vdot, data_);
+}
+
+void DaeSystem::SolveAccelerations(double t, const Eigen::Ref<const Eigen::VectorXd>& q,
+                                   const Eigen::Ref<const Eigen::VectorXd>& v,
+                                   Eigen::Ref<Eigen::VectorXd> vdot,
+                                   Eigen::Ref<Eigen::VectorXd> lambda) {
+  // gamma = d/dt (G v + g_t) at fixed v, by central differences along the motion.
+  Eigen::VectorXd gamma = Eigen::VectorXd::Zero(nc_);
+  if (nc_ > 0) {
+    const double h = 1e-6 / std::max(1.0, v.lpNorm<Eigen::Infinity>());
+    Eigen::VectorXd qp = q, qm = q;
+    IntegratePositions(model_, h * v, qp);
+    IntegratePositions(model_, -h * v, qm);
+    Eigen::VectorXd zero = Eigen::VectorXd::Zero(nv_);
+    EvaluateDynamics(model_, t + h, qp, v, zero, data_);
+    gamma = data_.G * v + data_.g_t;
+    EvaluateDynamics(model_, t - h, qm, v, zero, data_);
+    gamma -= data_.G * v + data_.g_t;
+    gamma /= 2 * h;
+  }
+  // KKT system at vdot = 0: tau_id is then C - Q.
+  EvaluateDynamics(model_, t, q, v, Eigen::VectorXd::Zero(nv_), data_);
+  CalcMassMatrix(model_, data_);
+  kkt_.setZero();
+  kkt_.topLeftCorner(nv_, nv_) = data_.M;
+  kkt_.topRightCorner(nv_, nc_) = data_.G.transpose();
+  kkt_.bottomLeftCorner(nc_, nv_) = data_.G;
+  kkt_rhs_.head(nv_) = -data_.tau_id;
+  kkt_rhs_.tail(nc_) = -gamma;
+  Eigen::FullPivLU<Eigen::MatrixXd> lu(kkt_);
+  if (!lu.isInvertible())
+    throw std::runtime_error(
+        "the mass matrix with the constraint Jacobian is singular: a body without mass on a "
+        "free coordinate, or redundant constraints");
+  const Eigen::VectorXd x = lu.solve(kkt_rhs_);
+  vdot = x.head(nv_);
+  lambda = x.tail(nc_);
+}
+
+void DaeSystem::ConsistentInitial(const State& state, Eigen::Ref<Eigen::VectorXd> y,
+                                  Eigen::Ref<Eigen::VectorXd> yp) {
+  y.setZero();
+  yp.setZero();
+  y.segment(0, nq_) = state.q;
+  y.segment(nq_, nv_) = state.v;
+  SolveAccelerations(state.t, state.q, state.v, yp.segment(nq_, nv_), y.segment(nq_ + nv_, nc_));
+  CalcQDot(model_, state.q, state.v, yp.segment(0, nq_));
+}
+
+}  // namespace orrery

@@ -1,0 +1,93 @@
+#pragma once
+// The equations of motion as a stabilized index-2 DAE (Gear-Gupta-Leimkuhler), for IDA.
+//
+// Unknowns y = (q [nq], v [nv], lambda [nc], mu [nh]) and their derivatives yp. Residual:
+//   r_q   = q-dot - N(q) (v + G_h^T mu)          (GGL: mu = 0 on the exact solution)
+//   r_v   = M(q) v-dot + C(q, v) - Q(q, v, t) + G^T lambda
+//   r_lam = G(q) v + g_t(t)                      (velocity constraints, all rows)
+//   r_mu  = Phi(q, t)                            (position constraints, holonomic rows)
+// G_h: the holonomic rows of G. The GGL projection uses N G_h^T in place of Phi_q^T: since
+// Phi_q N = G_h, differentiating r_mu along a solution gives G_h G_h^T mu = 0, so mu = 0 exactly as
+// in the original form, and no constraint partial with respect to quaternion coordinates is
+// needed. lambda and mu are algebraic (excluded from IDA's error test).
+#include <Eigen/Core>
+
+#include "mbd/data.h"
+#include "mbd/model.h"
+#include "mbd/state.h"
+
+namespace orrery {
+
+class DaeSystem {
+ public:
+  explicit DaeSystem(const Model& model);
+
+  int size() const { return n_; }
+  int nq() const { return nq_; }
+  int nv() const { return nv_; }
+  int nc() const { return nc_; }
+  int nh() const { return nh_; }
+  // Offsets of the blocks in y.
+  int q_offset() const { return 0; }
+  int v_offset() const { return nq_; }
+  int lambda_offset() const { return nq_ + nv_; }
+  int mu_offset() const { return nq_ + nv_ + nc_; }
+
+  // r(t, y, yp) (all size()). Allocation-free.
+  void Residual(double t, const Eigen::Ref<const Eigen::VectorXd>& y,
+                const Eigen::Ref<const Eigen::VectorXd>& yp, Eigen::Ref<Eigen::VectorXd> r);
+
+  // J = dr/dy + cj dr/dyp (size() x size(), column-major). Analytic in the block structure
+  // (cj I, cj M, N, N G_h^T, G, G^T, quaternion kinematics); the q- and v-dependence of the
+  // generalized forces and of G is taken by forward differences in velocity space (one pipeline
+  // evaluation per column). Allocation-free.
+  void Jacobian(double t, double cj, const Eigen::Ref<const Eigen::VectorXd>& y,
+                const Eigen::Ref<const Eigen::VectorXd>& yp, Eigen::Ref<Eigen::MatrixXd> J);
+
+  // Tangent matrices at (t, q, v, vdot, lambda), by forward differences in velocity space:
+  //   Kq ((nv + nc) x nv): d(r_v, r_lam)/d(dq) for q <- q (+) dq,   Cv (nv x nv): d r_v / d v.
+  // Leaves data() at the base point with data().M computed.
+  void Tangents(double t, const Eigen::Ref<const Eigen::VectorXd>& q,
+                const Eigen::Ref<const Eigen::VectorXd>& v,
+                const Eigen::Ref<const Eigen::VectorXd>& vdot,
+                const Eigen::Ref<const Eigen::VectorXd>& lambda, Eigen::Ref<Eigen::MatrixXd> Kq,
+                Eigen::Ref<Eigen::MatrixXd> Cv);
+
+  // Consistent accelerations and multipliers at a state on the constraint manifold: solves
+  // [M G^T; G 0] [vdot; lambda] = [Q - C; -gamma], gamma = d/dt (G v + g_t) at vdot = 0.
+  // Fills y and yp for the state (mu = 0). Throws std::runtime_error if the KKT matrix is
+  // singular.
+  void ConsistentInitial(const State& state, Eigen::Ref<Eigen::VectorXd> y,
+                         Eigen::Ref<Eigen::VectorXd> yp);
+
+  // Accelerations and multipliers at (t, q, v) (same KKT solve), into vdot (nv), lambda (nc).
+  void SolveAccelerations(double t, const Eigen::Ref<const Eigen::VectorXd>& q,
+                          const Eigen::Ref<const Eigen::VectorXd>& v, Eigen::Ref<Eigen::VectorXd> vdot,
+                          Eigen::Ref<Eigen::VectorXd> lambda);
+
+  Data& data() { return data_; }
+  const Model& model() const { return model_; }
+  long residual_evaluations() const { return residual_evaluations_; }
+
+ private:
+  // r_v and r_lam at (t, q, v, vdot, lambda) into rv (nv), rl (nc); runs the pipeline.
+  void DynamicRows(double t, const Eigen::Ref<const Eigen::VectorXd>& q,
+                   const Eigen::Ref<const Eigen::VectorXd>& v,
+                   const Eigen::Ref<const Eigen::VectorXd>& vdot,
+                   const Eigen::Ref<const Eigen::VectorXd>& lambda, Eigen::Ref<Eigen::VectorXd> rv,
+                   Eigen::Ref<Eigen::VectorXd> rl);
+
+  const Model& model_;
+  Data data_;
+  int nq_, nv_, nc_, nh_, n_;
+  long residual_evaluations_ = 0;
+  // Scratch, sized once.
+  Eigen::VectorXd qdot_, w_, q_pert_, v_pert_, dv_, rv0_, rl0_, rv1_, rl1_;
+  Eigen::MatrixXd dq_dv_;   // nq x nv: d(q (+) dv)/d(dv) at dv = 0  (N for quaternion blocks)
+  Eigen::MatrixXd dv_dq_;   // nv x nq: its left inverse (2 E(q) for quaternions)
+  Eigen::MatrixXd G_ref_, Jv_, Cv_;  // nc x nv, (nv+nc) x nv, nv x nv
+  Eigen::MatrixXd kkt_;
+  Eigen::VectorXd kkt_rhs_;
+};
+
+}  // namespace orrery

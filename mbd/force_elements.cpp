@@ -1,0 +1,98 @@
+#include "mbd/force_elements.h"
+
+#include <cmath>
+
+namespace orrery {
+namespace {
+
+// Adds a spatial force on a body (forces on the world are dropped).
+inline void AddBodyForce(Data& data, BodyIndex b, const Vec6& f) {
+  if (b != kWorldBody) data.f_ext[b] += f;
+}
+
+}  // namespace
+
+void CalcForceElements(const Model& model, double t, const Eigen::Ref<const Eigen::VectorXd>& v,
+                       Data& data) {
+  for (auto& f : data.f_ext) f.setZero();
+  data.tau_applied.setZero();
+  double energy = 0;
+  const Eigen::VectorXd& q = data.q_normalized;
+
+  // Applied forces and torques on frames.
+  for (const AppliedLoadSpec& l : model.applied_loads) {
+    const Transform& X = data.X_WFrame[l.frame];
+    const double s = l.scale.Value(t);
+    const Vec3 f = s * (l.in_frame_axes ? Vec3(X.R * l.force) : l.force);
+    const Vec3 n = s * (l.in_frame_axes ? Vec3(X.R * l.torque) : l.torque);
+    AddBodyForce(data, model.frames[l.frame].body, ForceAtPoint(X.p, f, n));
+  }
+
+  // Generalized forces on joint coordinates.
+  for (size_t i = 0; i < model.joint_loads.size(); ++i)
+    data.tau_applied(model.joint_load_v_index[i]) += model.joint_loads[i].function.Value(t);
+
+  // Point-to-point spring-dampers.
+  for (const TranslationalSpringSpec& s : model.translational_springs) {
+    const BodyIndex ba = model.frames[s.frame_a].body, bb = model.frames[s.frame_b].body;
+    const Vec3& pa = data.X_WFrame[s.frame_a].p;
+    const Vec3& pb = data.X_WFrame[s.frame_b].p;
+    const Vec3 d = pb - pa;
+    const double L = d.norm();
+    energy += 0.5 * s.stiffness * (L - s.free_length) * (L - s.free_length) + s.preload * L;
+    if (L < 1e-12) continue;  // coincident ends: no direction to pull along
+    const Vec3 u = d / L;
+    const double Ldot =
+        u.dot(PointVelocity(data.V_WB[bb], pb) - PointVelocity(data.V_WB[ba], pa));
+    const double tension = s.stiffness * (L - s.free_length) + s.damping * Ldot + s.preload;
+    AddBodyForce(data, bb, ForceAtPoint(pb, -tension * u));
+    AddBodyForce(data, ba, ForceAtPoint(pa, tension * u));
+  }
+
+  // Rotational spring-dampers about z_A.
+  for (const RotationalSpringSpec& s : model.rotational_springs) {
+    const BodyIndex ba = model.frames[s.frame_a].body, bb = model.frames[s.frame_b].body;
+    const Transform& Xa = data.X_WFrame[s.frame_a];
+    const Mat3 R_AB = Xa.R.transpose() * data.X_WFrame[s.frame_b].R;
+    const Vec3 z = Xa.R.col(2);
+    const double angle = std::atan2(R_AB(1, 0), R_AB(0, 0));
+    const double rate = z.dot(data.V_WB[bb].head<3>() - data.V_WB[ba].head<3>());
+    const double torque = -s.stiffness * (angle - s.angle0) - s.damping * rate;
+    energy += 0.5 * s.stiffness * (angle - s.angle0) * (angle - s.angle0);
+    Vec6 couple;
+    couple << torque * z, Vec3::Zero();
+    AddBodyForce(data, bb, couple);
+    AddBodyForce(data, ba, -couple);
+  }
+
+  // Spring-dampers on joint coordinates.
+  for (size_t i = 0; i < model.coordinate_springs.size(); ++i) {
+    const CoordinateSpringSpec& s = model.coordinate_springs[i];
+    const double dq = q(model.coordinate_spring_q_index[i]) - s.q0;
+    const double dv = v(model.coordinate_spring_v_index[i]);
+    data.tau_applied(model.coordinate_spring_v_index[i]) -= s.stiffness * dq + s.damping * dv;
+    energy += 0.5 * s.stiffness * dq * dq;
+  }
+
+  // 6-DOF bushings: deflection of B relative to A in A's axes.
+  for (const BushingSpec& s : model.bushings) {
+    const BodyIndex ba = model.frames[s.frame_a].body, bb = model.frames[s.frame_b].body;
+    const Transform& Xa = data.X_WFrame[s.frame_a];
+    const Transform& Xb = data.X_WFrame[s.frame_b];
+    const Mat3& Ra = Xa.R;
+    const Vec3 delta = Xb.p - Xa.p;
+    const Vec3 w_a = data.V_WB[ba].head<3>(), w_b = data.V_WB[bb].head<3>();
+    const Vec3 delta_dot = PointVelocity(data.V_WB[bb], Xb.p) - PointVelocity(data.V_WB[ba], Xa.p);
+    Vec6 d, d_dot;
+    d << Ra.transpose() * delta, RotationVector(Ra.transpose() * Xb.R);
+    d_dot << Ra.transpose() * (delta_dot - w_a.cross(delta)), Ra.transpose() * (w_b - w_a);
+    const Vec6 w_A = -s.stiffness * d - s.damping * d_dot;  // (force, torque) in A axes
+    energy += 0.5 * d.dot(s.stiffness * d);
+    const Vec6 f = ForceAtPoint(Xb.p, Ra * w_A.head<3>(), Ra * w_A.tail<3>());
+    AddBodyForce(data, bb, f);
+    AddBodyForce(data, ba, -f);
+  }
+  data.potential_energy = energy;
+}
+
+}  // namespace orrery

@@ -1,0 +1,17 @@
+#pragma once
+// Force elements: applied loads, spring-dampers and bushings (gravity is handled as a base
+// acceleration in CalcInverseDynamics).
+#include <Eigen/Core>
+
+#include "mbd/data.h"
+#include "mbd/model.h"
+
+namespace orrery {
+
+// Fills data.f_ext (spatial forces on bodies, world origin), data.tau_applied (forces on joint
+// coordinates) and data.potential_energy at time t. Needs position and velocity kinematics;
+// reads joint coordinates from data.q_normalized and velocities from `v` (nv).
+void CalcForceElements(const Model& model, double t, const Eigen::Ref<const Eigen::VectorXd>& v,
+                       Data& data);
+
+}  // namespace orrery

@@ -1,0 +1,230 @@
+// Fixed-step generalized-alpha for constrained multibody systems.
+//
+// Chung & Hulbert (1993) parameters from the spectral radius rho_inf:
+//   alpha_m = (2 rho - 1)/(rho + 1), alpha_f = rho/(rho + 1), gamma = 1/2 + alpha_f - alpha_m,
+//   beta = (gamma + 1/2)^2 / 4.
+// Arnold & Bruls (2007) form: the pseudo-acceleration a obeys
+//   (1 - alpha_m) a_{n+1} + alpha_m a_n = (1 - alpha_f) vdot_{n+1} + alpha_f vdot_n,
+//   v_{n+1} = v_n + h (1 - gamma) a_n + h gamma a_{n+1},
+//   q_{n+1} = q_n (+) [h v_n + h^2 (1/2 - beta) a_n + h^2 beta a_{n+1}],
+// with the equations of motion, Phi(q_{n+1}) = 0 (index 3) and the speed constraints enforced at
+// t_{n+1}. Newton on (vdot_{n+1}, lambda_{n+1}) with constraint rows scaled by 1/(h^2 beta') and
+// 1/(h gamma'). After each step the velocities are projected onto G v + g_t = 0 in the metric of
+// M, so the velocity constraints hold too (the drift report shows the rest).
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include <Eigen/LU>
+
+#include "mbd/constraints.h"
+#include "mbd/dae.h"
+#include "mbd/dynamics.h"
+#include "mbd/evaluate.h"
+#include "mbd/integrator.h"
+#include "mbd/kinematics.h"
+
+namespace orrery {
+namespace {
+
+class GeneralizedAlpha final : public Integrator {
+ public:
+  GeneralizedAlpha(const Model& model, const IntegratorOptions& options)
+      : model_(model), options_(options), dae_(model) {
+    if (!(options.step > 0)) throw std::invalid_argument("generalized-alpha: step must be > 0");
+    const bool explicit_params = std::isfinite(options.alpha_m) && std::isfinite(options.alpha_f) &&
+                                 std::isfinite(options.beta) && std::isfinite(options.gamma);
+    if (explicit_params) {
+      am_ = options.alpha_m, af_ = options.alpha_f, beta_ = options.beta, gamma_ = options.gamma;
+    } else {
+      const double rho = options.rho_inf;
+      if (!(rho >= 0 && rho <= 1)) throw std::invalid_argument("generalized-alpha: rho_inf must be in [0, 1]");
+      am_ = (2 * rho - 1) / (rho + 1);
+      af_ = rho / (rho + 1);
+      gamma_ = 0.5 + af_ - am_;
+      beta_ = 0.25 * (gamma_ + 0.5) * (gamma_ + 0.5);
+    }
+    const int nv = model.nv, nc = model.n_constraints;
+    vdot_.setZero(nv);
+    a_.setZero(nv);
+    lambda_.setZero(nc);
+    vdot_new_.setZero(nv);
+    a_new_.setZero(nv);
+    lambda_new_.setZero(nc);
+    dq_.setZero(nv);
+    Kq_.setZero(nv + nc, nv);
+    Cv_.setZero(nv, nv);
+    iteration_.setZero(nv + nc, nv + nc);
+    rhs_.setZero(nv + nc);
+    delta_.setZero(nv + nc);
+    lu_ = Eigen::PartialPivLU<Eigen::MatrixXd>(nv + nc);
+    proj_.setZero(nv + nc, nv + nc);
+    proj_rhs_.setZero(nv + nc);
+    proj_lu_ = Eigen::PartialPivLU<Eigen::MatrixXd>(nv + nc);
+  }
+
+  void Initialize(const State& initial) override {
+    state_ = initial;
+    AssembleState(model_, state_, dae_.data());
+    dae_.SolveAccelerations(state_.t, state_.q, state_.v, vdot_, lambda_);
+    a_ = vdot_;
+    q_new_ = state_.q;
+    v_new_ = state_.v;
+    RecordDrift();
+  }
+
+  void AdvanceTo(double t_out) override {
+    // Fixed steps; the last one is shortened to land on t_out.
+    while (state_.t < t_out - 1e-12 * std::max(1.0, std::abs(t_out))) {
+      const double h = std::min(options_.step, t_out - state_.t);
+      Step(h);
+    }
+    RecordDrift();
+  }
+
+  const State& state() const override { return state_; }
+  const Eigen::VectorXd& vdot() const override { return vdot_; }
+  const Eigen::VectorXd& lambda() const override { return lambda_; }
+  std::string name() const override { return "generalized-alpha"; }
+  IntegratorStats stats() const override {
+    IntegratorStats s = stats_;
+    s.residual_evaluations = dae_.residual_evaluations() + pipeline_evaluations_;
+    return s;
+  }
+
+ private:
+  // Predicts a, v, q at t + h from the current vdot_new_ (the unknown).
+  void UpdateKinematics(double h) {
+    a_new_ = ((1 - af_) * vdot_new_ + af_ * vdot_ - am_ * a_) / (1 - am_);
+    v_new_ = state_.v + h * (1 - gamma_) * a_ + h * gamma_ * a_new_;
+    dq_ = h * state_.v + h * h * (0.5 - beta_) * a_ + h * h * beta_ * a_new_;
+    q_new_ = state_.q;
+    IntegratePositions(model_, dq_, q_new_);
+  }
+
+  // Residual (scaled) at the predicted state into rhs_; returns its max norm.
+  double Residual(double t, double h) {
+    const int nv = model_.nv, nh = model_.n_holonomic, nc = model_.n_constraints;
+    const double ca = (1 - af_) / (1 - am_);
+    Data& d = dae_.data();
+    EvaluateDynamics(model_, t, q_new_, v_new_, vdot_new_, d);
+    ++pipeline_evaluations_;
+    rhs_.head(nv) = d.tau_id;
+    if (nc > 0) {
+      rhs_.head(nv).noalias() += d.G.transpose() * lambda_new_;
+      rhs_.segment(nv, nh) = d.phi / (h * h * beta_ * ca);
+      rhs_.tail(nc - nh) = (d.G.bottomRows(nc - nh) * v_new_ + d.g_t.tail(nc - nh)) / (h * gamma_ * ca);
+    }
+    return rhs_.lpNorm<Eigen::Infinity>();
+  }
+
+  void Step(double h) {
+    const int nv = model_.nv, nc = model_.n_constraints;
+    const double t = state_.t + h;
+    const double ca = (1 - af_) / (1 - am_);
+    // Predictor: keep the acceleration.
+    vdot_new_ = vdot_;
+    lambda_new_ = lambda_;
+    UpdateKinematics(h);
+    // Iteration matrix at the predictor: [M + gamma' h C + beta' h^2 K, G^T; G, 0].
+    dae_.Tangents(t, q_new_, v_new_, vdot_new_, lambda_new_, Kq_, Cv_);
+    ++stats_.jacobian_evaluations;
+    Data& d = dae_.data();
+    iteration_.setZero();
+    iteration_.topLeftCorner(nv, nv) = d.M + (h * gamma_ * ca) * Cv_ + (h * h * beta_ * ca) * Kq_.topRows(nv);
+    if (nc > 0) {
+      iteration_.topRightCorner(nv, nc) = d.G.transpose();
+      iteration_.bottomLeftCorner(nc, nv) = d.G;
+    }
+    lu_.compute(iteration_);
+    // Force scale for the convergence test.
+    double scale = 1.0;
+    for (int k = 0; k < nv; ++k) scale = std::max(scale, std::abs(d.M(k, k) * vdot_new_(k)));
+    bool converged = false;
+    double norm = 0;
+    for (int it = 0; it < options_.max_newton_iterations; ++it) {
+      norm = Residual(t, h);
+      ++stats_.newton_iterations;
+      if (norm <= options_.newton_tolerance * scale && it > 0) {
+        converged = true;
+        break;
+      }
+      delta_.noalias() = lu_.solve(rhs_);
+      vdot_new_ -= delta_.head(nv);
+      lambda_new_ -= delta_.tail(nc);
+      UpdateKinematics(h);
+      const double step_norm = delta_.head(nv).lpNorm<Eigen::Infinity>();
+      if (step_norm <= 1e-14 * std::max(1.0, vdot_new_.lpNorm<Eigen::Infinity>())) {
+        norm = Residual(t, h);
+        converged = true;
+        break;
+      }
+    }
+    if (!converged || !vdot_new_.allFinite()) {
+      ++stats_.newton_failures;
+      std::ostringstream s;
+      s << "generalized-alpha: Newton did not converge at t = " << t << " s (step " << h
+        << " s, residual " << norm << "); reduce the step or raise rho_inf damping";
+      throw std::runtime_error(s.str());
+    }
+    // Accept, then project velocities onto G v + g_t = 0 in the metric of M.
+    state_.t = t;
+    state_.q = q_new_;
+    NormalizeQuaternions(model_, state_.q);
+    state_.v = v_new_;
+    vdot_ = vdot_new_;
+    a_ = a_new_;
+    lambda_ = lambda_new_;
+    if (nc > 0) ProjectVelocities();
+    ++stats_.steps;
+    stats_.last_step = h;
+  }
+
+  void ProjectVelocities() {
+    const int nv = model_.nv, nc = model_.n_constraints;
+    Data& d = dae_.data();
+    CalcPositionKinematics(model_, state_.q, d);
+    CalcConstraints(model_, state_.t, d);
+    CalcMassMatrix(model_, d);
+    proj_.setZero();
+    proj_.topLeftCorner(nv, nv) = d.M;
+    proj_.topRightCorner(nv, nc) = d.G.transpose();
+    proj_.bottomLeftCorner(nc, nv) = d.G;
+    proj_rhs_.head(nv).setZero();
+    proj_rhs_.tail(nc).noalias() = d.G * state_.v;
+    proj_rhs_.tail(nc) += d.g_t;
+    proj_lu_.compute(proj_);
+    delta_.noalias() = proj_lu_.solve(proj_rhs_);
+    state_.v -= delta_.head(nv);
+  }
+
+  void RecordDrift() {
+    Data& d = dae_.data();
+    EvaluateDynamics(model_, state_.t, state_.q, state_.v, vdot_, d);
+    if (model_.n_holonomic > 0) stats_.max_abs_phi = std::max(stats_.max_abs_phi, d.phi.lpNorm<Eigen::Infinity>());
+    if (model_.n_constraints > 0)
+      stats_.max_abs_phidot =
+          std::max(stats_.max_abs_phidot, (d.G * state_.v + d.g_t).lpNorm<Eigen::Infinity>());
+  }
+
+  const Model& model_;
+  IntegratorOptions options_;
+  DaeSystem dae_;
+  double am_ = 0, af_ = 0, beta_ = 0.25, gamma_ = 0.5;
+  State state_;
+  Eigen::VectorXd vdot_, a_, lambda_;                 // at state_.t
+  Eigen::VectorXd vdot_new_, a_new_, lambda_new_, q_new_, v_new_, dq_;  // iterates at t + h
+  Eigen::MatrixXd Kq_, Cv_, iteration_, proj_;
+  Eigen::VectorXd rhs_, delta_, proj_rhs_;
+  Eigen::PartialPivLU<Eigen::MatrixXd> lu_, proj_lu_;
+  IntegratorStats stats_;
+  long pipeline_evaluations_ = 0;
+};
+
+}  // namespace
+
+std::unique_ptr<Integrator> MakeGeneralizedAlpha(const Model& model, const IntegratorOptions& o) {
+  return std::make_unique<GeneralizedAlpha>(model, o);
+}
+
+}  // namespace orrery

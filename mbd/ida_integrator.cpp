@@ -1,0 +1,210 @@
+// IDA (SUNDIALS) on the stabilized index-2 DAE of dae.h. SUNDIALS headers stay in this file.
+#include <idas/idas.h>
+#include <nvector/nvector_serial.h>
+#include <sunlinsol/sunlinsol_dense.h>
+#include <sunmatrix/sunmatrix_dense.h>
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "mbd/constraints.h"
+#include "mbd/dae.h"
+#include "mbd/evaluate.h"
+#include "mbd/integrator.h"
+#include "mbd/kinematics.h"
+
+namespace orrery {
+
+std::unique_ptr<Integrator> MakeGeneralizedAlpha(const Model& model, const IntegratorOptions& o);
+
+namespace {
+
+using VecMap = Eigen::Map<Eigen::VectorXd>;
+
+class IdaIntegrator final : public Integrator {
+ public:
+  IdaIntegrator(const Model& model, const IntegratorOptions& options)
+      : model_(model), options_(options), dae_(model) {
+    if (SUNContext_Create(nullptr, &ctx_) != 0) throw std::runtime_error("IDA: cannot create a SUNContext");
+  }
+  ~IdaIntegrator() override {
+    if (mem_) IDAFree(&mem_);
+    if (ls_) SUNLinSolFree(ls_);
+    if (A_) SUNMatDestroy(A_);
+    for (N_Vector v : {y_, yp_, atol_, id_})
+      if (v) N_VDestroy(v);
+    if (ctx_) SUNContext_Free(&ctx_);
+  }
+
+  void Initialize(const State& initial) override {
+    const int n = dae_.size();
+    state_ = initial;
+    AssembleState(model_, state_, dae_.data());
+    y_ = N_VNew_Serial(n, ctx_);
+    yp_ = N_VNew_Serial(n, ctx_);
+    atol_ = N_VNew_Serial(n, ctx_);
+    id_ = N_VNew_Serial(n, ctx_);
+    VecMap y(N_VGetArrayPointer(y_), n), yp(N_VGetArrayPointer(yp_), n);
+    dae_.ConsistentInitial(state_, y, yp);
+    // Differential (q, v) and algebraic (lambda, mu) components, their absolute tolerances.
+    VecMap atol(N_VGetArrayPointer(atol_), n), id(N_VGetArrayPointer(id_), n);
+    const int ndiff = dae_.nq() + dae_.nv();
+    atol.head(ndiff).setConstant(options_.atol);
+    atol.tail(n - ndiff).setConstant(options_.atol_multiplier);
+    id.head(ndiff).setOnes();
+    id.tail(n - ndiff).setZero();
+
+    mem_ = IDACreate(ctx_);
+    if (!mem_) throw std::runtime_error("IDA: IDACreate failed");
+    Check(IDASetErrHandlerFn(mem_, &IdaIntegrator::OnError, this), "IDASetErrHandlerFn");
+    Check(IDAInit(mem_, &IdaIntegrator::ResidualFn, state_.t, y_, yp_), "IDAInit");
+    Check(IDASVtolerances(mem_, options_.rtol, atol_), "IDASVtolerances");
+    Check(IDASetUserData(mem_, this), "IDASetUserData");
+    Check(IDASetId(mem_, id_), "IDASetId");
+    Check(IDASetSuppressAlg(mem_, SUNTRUE), "IDASetSuppressAlg");
+    Check(IDASetMaxNumSteps(mem_, options_.max_steps_per_output), "IDASetMaxNumSteps");
+    Check(IDASetMaxOrd(mem_, options_.max_order), "IDASetMaxOrd");
+    if (options_.max_step > 0) Check(IDASetMaxStep(mem_, options_.max_step), "IDASetMaxStep");
+    if (options_.initial_step > 0) Check(IDASetInitStep(mem_, options_.initial_step), "IDASetInitStep");
+    A_ = SUNDenseMatrix(n, n, ctx_);
+    ls_ = SUNLinSol_Dense(y_, A_, ctx_);
+    Check(IDASetLinearSolver(mem_, ls_, A_), "IDASetLinearSolver");
+    Check(IDASetJacFn(mem_, &IdaIntegrator::JacobianFn), "IDASetJacFn");
+    vdot_ = yp.segment(dae_.nq(), dae_.nv());
+    lambda_ = y.segment(dae_.nq() + dae_.nv(), dae_.nc());
+    needs_ic_ = true;
+    RecordDrift();
+  }
+
+  void AdvanceTo(double t_out) override {
+    if (t_out <= state_.t) return;
+    const int n = dae_.size();
+    if (needs_ic_) {
+      // Consistent lambda, mu and derivatives of q, v (the KKT solve above is the first guess).
+      const int flag = IDACalcIC(mem_, IDA_YA_YDP_INIT, t_out);
+      if (flag < 0) Fail("IDACalcIC", flag);
+      Check(IDAGetConsistentIC(mem_, y_, yp_), "IDAGetConsistentIC");
+      needs_ic_ = false;
+    }
+    double t_reached = state_.t;
+    const int flag = IDASolve(mem_, t_out, &t_reached, y_, yp_, IDA_NORMAL);
+    if (flag < 0) Fail("IDASolve", flag);
+    VecMap y(N_VGetArrayPointer(y_), n), yp(N_VGetArrayPointer(yp_), n);
+    state_.t = t_reached;
+    state_.q = y.head(dae_.nq());
+    NormalizeQuaternions(model_, state_.q);
+    state_.v = y.segment(dae_.nq(), dae_.nv());
+    vdot_ = yp.segment(dae_.nq(), dae_.nv());
+    lambda_ = y.segment(dae_.nq() + dae_.nv(), dae_.nc());
+    RecordDrift();
+  }
+
+  const State& state() const override { return state_; }
+  const Eigen::VectorXd& vdot() const override { return vdot_; }
+  const Eigen::VectorXd& lambda() const override { return lambda_; }
+  std::string name() const override { return "ida"; }
+
+  IntegratorStats stats() const override {
+    IntegratorStats s = drift_;
+    if (!mem_) return s;
+    long v = 0;
+    int order = 0;
+    double h = 0;
+    IDAGetNumSteps(mem_, &v), s.steps = v;
+    IDAGetNumResEvals(mem_, &v), s.residual_evaluations = v;
+    IDAGetNumJacEvals(mem_, &v), s.jacobian_evaluations = v;
+    IDAGetNumNonlinSolvIters(mem_, &v), s.newton_iterations = v;
+    IDAGetNumNonlinSolvConvFails(mem_, &v), s.newton_failures = v;
+    IDAGetNumErrTestFails(mem_, &v), s.error_test_failures = v;
+    IDAGetLastOrder(mem_, &order), s.last_order = order;
+    IDAGetLastStep(mem_, &h), s.last_step = h;
+    // Residual evaluations inside our Jacobian (finite-difference columns) count too.
+    s.residual_evaluations = dae_.residual_evaluations();
+    return s;
+  }
+
+ private:
+  static int ResidualFn(realtype t, N_Vector y, N_Vector yp, N_Vector r, void* user) {
+    auto* self = static_cast<IdaIntegrator*>(user);
+    const int n = self->dae_.size();
+    try {
+      self->dae_.Residual(t, VecMap(N_VGetArrayPointer(y), n), VecMap(N_VGetArrayPointer(yp), n),
+                          VecMap(N_VGetArrayPointer(r), n));
+      return VecMap(N_VGetArrayPointer(r), n).allFinite() ? 0 : 1;  // recoverable: smaller step
+    } catch (const std::exception& e) {
+      self->callback_error_ = e.what();
+      return -1;
+    }
+  }
+
+  static int JacobianFn(realtype t, realtype cj, N_Vector y, N_Vector yp, N_Vector, SUNMatrix J,
+                        void* user, N_Vector, N_Vector, N_Vector) {
+    auto* self = static_cast<IdaIntegrator*>(user);
+    const int n = self->dae_.size();
+    try {
+      Eigen::Map<Eigen::MatrixXd> Jm(SM_DATA_D(J), n, n);
+      self->dae_.Jacobian(t, cj, VecMap(N_VGetArrayPointer(y), n),
+                          VecMap(N_VGetArrayPointer(yp), n), Jm);
+      return Jm.allFinite() ? 0 : 1;
+    } catch (const std::exception& e) {
+      self->callback_error_ = e.what();
+      return -1;
+    }
+  }
+
+  static void OnError(int, const char* module, const char* function, char* msg, void* user) {
+    auto* self = static_cast<IdaIntegrator*>(user);
+    self->last_message_ = std::string(module) + "/" + function + ": " + msg;
+  }
+
+  void RecordDrift() {
+    Data& d = dae_.data();
+    EvaluateDynamics(model_, state_.t, state_.q, state_.v, vdot_, d);
+    if (model_.n_holonomic > 0) drift_.max_abs_phi = std::max(drift_.max_abs_phi, d.phi.lpNorm<Eigen::Infinity>());
+    if (model_.n_constraints > 0)
+      drift_.max_abs_phidot =
+          std::max(drift_.max_abs_phidot, (d.G * state_.v + d.g_t).lpNorm<Eigen::Infinity>());
+  }
+
+  void Check(int flag, const char* call) {
+    if (flag < 0) Fail(call, flag);
+  }
+
+  [[noreturn]] void Fail(const char* call, int flag) {
+    std::ostringstream s;
+    char* flag_name = IDAGetReturnFlagName(flag);
+    s << "IDA stopped at t = " << state_.t << " s: " << call << " returned " << flag_name;
+    free(flag_name);
+    if (flag == IDA_CONV_FAIL || flag == IDA_ERR_FAIL)
+      s << " (steps kept failing: the model may be too stiff for the tolerances, or a force or "
+           "constraint is discontinuous; try the generalized-alpha integrator or a smaller max step)";
+    if (flag == IDA_TOO_MUCH_WORK) s << " (more than " << options_.max_steps_per_output << " steps between outputs)";
+    if (!callback_error_.empty()) s << "; " << callback_error_;
+    if (!last_message_.empty()) s << "; " << last_message_;
+    throw std::runtime_error(s.str());
+  }
+
+  const Model& model_;
+  IntegratorOptions options_;
+  DaeSystem dae_;
+  State state_;
+  Eigen::VectorXd vdot_, lambda_;
+  IntegratorStats drift_;
+  SUNContext ctx_ = nullptr;
+  void* mem_ = nullptr;
+  N_Vector y_ = nullptr, yp_ = nullptr, atol_ = nullptr, id_ = nullptr;
+  SUNMatrix A_ = nullptr;
+  SUNLinearSolver ls_ = nullptr;
+  bool needs_ic_ = true;
+  std::string callback_error_, last_message_;
+};
+
+}  // namespace
+
+std::unique_ptr<Integrator> MakeIntegrator(const Model& model, const IntegratorOptions& options) {
+  if (options.kind == IntegratorKind::kIda) return std::make_unique<IdaIntegrator>(model, options);
+  return MakeGeneralizedAlpha(model, options);
+}
+
+}  // namespace orrery

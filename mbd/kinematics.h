@@ -1,0 +1,33 @@
+#pragma once
+// Recursive kinematics over the joint tree (first stages of a step).
+#include <Eigen/Core>
+
+#include "mbd/data.h"
+#include "mbd/model.h"
+
+namespace orrery {
+
+// Fills data.q_normalized, X_WF, X_FM, X_WB, X_WFrame, S and I_W from positions q (nq).
+// Body poses: X_WB = X_WP X_PF X_FM(q) X_MC. Joint motion subspaces S (6 x nv) are world-origin
+// spatial vectors: a body's spatial velocity is V_WB = V_WP + S_j v_j (seed 003 eq. 3, V = B v).
+void CalcPositionKinematics(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& q,
+                            Data& data);
+
+// Fills data.V_WB and data.c_J from velocities v (nv); needs CalcPositionKinematics first.
+// c_J = S-dot v = V_WP x (S v) + Ad(X_WF) (dS_F/dt v) is the velocity-product acceleration.
+void CalcVelocityKinematics(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& v,
+                            Data& data);
+
+// q-dot = N(q) v (nq from nv); identity except quaternion blocks: q-dot = 1/2 (0, w_F) x q.
+void CalcQDot(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& q,
+              const Eigen::Ref<const Eigen::VectorXd>& v, Eigen::Ref<Eigen::VectorXd> qdot);
+
+// q <- q (+) dv: adds a velocity-space increment (nv) to positions; quaternion blocks are turned
+// by the rotation vector dv_w (exponential map) and renormalized.
+void IntegratePositions(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& dv,
+                        Eigen::Ref<Eigen::VectorXd> q);
+
+// Normalizes the quaternion blocks of q in place.
+void NormalizeQuaternions(const Model& model, Eigen::Ref<Eigen::VectorXd> q);
+
+}  // namespace orrery

@@ -1,0 +1,274 @@
+#pragma once
+// The multibody model: `ModelBuilder` takes bodies, frames, joints, constraints and force
+// elements, validates them, and `Finalize()` turns them into an immutable `Model` of flat arrays
+// and indices. Names live here for look-up and output; the step works on indices only.
+//
+// Coordinates: q (model.nq) and v (model.nv), joint by joint in tree order. q-dot = N(q) v:
+// identity except for unit quaternions (spherical and free joints), whose velocity variables are
+// angular velocities expressed in the joint's parent-side frame F.
+//
+// Usage:
+//   ModelBuilder b;
+//   BodyIndex link = b.AddBody("link", 1.0, Vec3(0.5, 0, 0), Mat3::Identity() * 0.01);
+//   b.AddJoint({.name = "hinge", .type = JointType::kRevolute, .parent = kWorldBody,
+//               .child = link, .axis = Vec3::UnitZ()});
+//   b.SetGravity(Vec3(0, -9.81, 0));
+//   std::shared_ptr<const Model> model = std::move(b).Finalize();
+#include <memory>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "mbd/spatial.h"
+#include "mbd/time_function.h"
+
+namespace orrery {
+
+using BodyIndex = int;
+using FrameIndex = int;
+using JointIndex = int;
+constexpr BodyIndex kWorldBody = 0;
+constexpr FrameIndex kWorldFrame = 0;
+
+enum class JointType { kFixed, kRevolute, kPrismatic, kCylindrical, kUniversal, kSpherical,
+                       kPlanar, kFree };
+const char* JointTypeName(JointType type);
+int JointNq(JointType type);  // position coordinates of a joint
+int JointNv(JointType type);  // velocity coordinates of a joint
+
+// A joint between frame F on `parent` (pose X_PF) and frame M on `child` (pose X_CM); F and M
+// coincide at q = 0. Coordinates by type (all axes in F, unit length after normalization):
+//   fixed: none;  revolute: angle about `axis`;  prismatic: slide along `axis`;
+//   cylindrical: (angle, slide) about/along `axis`;
+//   universal: (angle about `axis`, angle about `axis2` turned by the first angle);
+//   spherical: quaternion (w, x, y, z) of R_FM, v = angular velocity in F;
+//   planar: (x, y, angle) in the plane normal to `axis`, x along `axis2`;
+//   free: (x, y, z, qw, qx, qy, qz), v = (translational velocity in F, angular velocity in F).
+struct JointSpec {
+  std::string name;
+  JointType type = JointType::kRevolute;
+  BodyIndex parent = kWorldBody;
+  BodyIndex child = -1;
+  Transform X_PF;        // joint frame F on the parent
+  Transform X_CM;        // joint frame M on the child
+  Vec3 axis = Vec3::UnitZ();
+  Vec3 axis2 = Vec3::UnitX();  // universal: second axis; planar: in-plane x direction
+};
+
+// A loop closure (cut joint): constrains frame B relative to frame A as joint `type` would, with
+// the joint axis along both frames' z axes (planar: z is the plane normal). Rows (seed 003 eq. 4):
+//   revolute: p_B = p_A, x_A.z_B = 0, y_A.z_B = 0        spherical: p_B = p_A
+//   universal: p_B = p_A, x_A.y_B = 0 (rotation about x_A and y_B free)
+//   prismatic: x_A.y_B = y_A.z_B = z_A.x_B = 0, (p_B-p_A).x_A = (p_B-p_A).y_A = 0
+//   cylindrical: x_A.z_B = y_A.z_B = 0, (p_B-p_A).x_A = (p_B-p_A).y_A = 0
+//   planar: z_A.x_B = z_A.y_B = 0, (p_B-p_A).z_A = 0
+//   fixed: p_B = p_A, x_A.y_B = y_A.z_B = z_A.x_B = 0
+struct LoopClosureSpec {
+  std::string name;
+  JointType type = JointType::kRevolute;
+  FrameIndex frame_a = -1;
+  FrameIndex frame_b = -1;
+};
+
+// A driver prescribes one coordinate of a joint as a function of time, as a rheonomic constraint
+// whose multiplier is the driving effort (torque or force). Position drivers: q_k = f(t)
+// (holonomic). Speed drivers: v_k = f(t) (a velocity constraint; the coordinate is its integral).
+struct DriverSpec {
+  std::string name;
+  JointIndex joint = -1;
+  int coordinate = 0;  // index within the joint's velocity coordinates
+  enum class Mode { kPosition, kSpeed } mode = Mode::kSpeed;
+  TimeFunction function;
+};
+
+// Force elements ---------------------------------------------------------------------------
+
+// Force and torque on a frame: (force, torque) * scale(t), in world axes or the frame's axes; the
+// force acts at the frame origin.
+struct AppliedLoadSpec {
+  std::string name;
+  FrameIndex frame = -1;
+  Vec3 force = Vec3::Zero();
+  Vec3 torque = Vec3::Zero();
+  TimeFunction scale = TimeFunction::Constant(1.0);
+  bool in_frame_axes = false;
+};
+
+// Generalized force on one joint coordinate (a motor torque or a load torque): f(t).
+struct JointLoadSpec {
+  std::string name;
+  JointIndex joint = -1;
+  int coordinate = 0;
+  TimeFunction function;
+};
+
+// Point-to-point spring-damper between the origins of two frames: tension
+// F = k (L - free_length) + c L-dot + preload, pulling the frames together when positive.
+struct TranslationalSpringSpec {
+  std::string name;
+  FrameIndex frame_a = -1, frame_b = -1;
+  double stiffness = 0, damping = 0, free_length = 0, preload = 0;
+};
+
+// Rotational spring-damper about the common z axis of two frames: torque on B
+// T = -k (theta - theta0) - c theta-dot, theta the angle of B relative to A about z_A (wraps at
+// +-pi; use a coordinate spring for multi-turn twist).
+struct RotationalSpringSpec {
+  std::string name;
+  FrameIndex frame_a = -1, frame_b = -1;
+  double stiffness = 0, damping = 0, angle0 = 0;
+};
+
+// Spring-damper on a joint coordinate (a torsional spring to ground on a revolute joint, seed 001
+// k_jg): f = -k (q_k - q0) - c v_k.
+struct CoordinateSpringSpec {
+  std::string name;
+  JointIndex joint = -1;
+  int coordinate = 0;
+  double stiffness = 0, damping = 0, q0 = 0;
+};
+
+// 6-DOF bushing between two frames (a bearing, seed 002 eq. 10): deflection of B relative to A in
+// A's axes, d = (translation, rotation vector); wrench on B at its origin, in A's axes,
+// w = -K d - D d-dot (K, D 6x6; diagonal bushings set the diagonals). A gets the opposite.
+struct BushingSpec {
+  std::string name;
+  FrameIndex frame_a = -1, frame_b = -1;
+  Mat6 stiffness = Mat6::Zero();
+  Mat6 damping = Mat6::Zero();
+};
+
+// Model ------------------------------------------------------------------------------------
+
+struct Body {
+  std::string name;
+  double mass = 0;            // kg
+  Vec3 com_B = Vec3::Zero();  // centre of mass in body frame B, m
+  Mat3 inertia_cm_B = Mat3::Zero();  // inertia about the centre of mass in B axes, kg m^2
+  JointIndex parent_joint = -1;      // tree joint whose child this body is (-1 for the world)
+};
+
+struct Frame {
+  std::string name;
+  BodyIndex body = kWorldBody;
+  Transform X_BF;  // pose of the frame on its body
+};
+
+struct Joint {
+  JointSpec spec;
+  Transform X_MC;   // inverse of spec.X_CM (child frame from M)
+  int q_start = 0;  // offset in q
+  int v_start = 0;  // offset in v
+  int nq = 0, nv = 0;
+  Vec3 axis = Vec3::UnitZ(), axis2 = Vec3::UnitX(), axis3 = Vec3::UnitY();  // unit, in F
+};
+
+struct Driver {
+  DriverSpec spec;
+  int v_index = 0;  // model-wide velocity index of the driven coordinate
+  int q_index = 0;  // model-wide position index (position drivers)
+};
+
+// Constraint rows: each holonomic row has a position level Phi and a velocity row of G; velocity
+// rows (speed drivers) only a row of G. Rows are ordered: loop closures, position drivers, speed
+// drivers; holonomic rows come first, so Phi has the first n_holonomic rows of G.
+class Model {
+ public:
+  // Sizes.
+  int nq = 0, nv = 0;
+  int nbodies = 0;         // including the world (body 0)
+  int n_holonomic = 0;     // rows of Phi (loop closures + position drivers)
+  int n_constraints = 0;   // rows of G (holonomic + speed drivers)
+
+  std::vector<Body> bodies;        // index = BodyIndex
+  std::vector<Frame> frames;       // index = FrameIndex; frame 0 is the world frame
+  std::vector<Joint> joints;       // index = JointIndex (builder order)
+  std::vector<JointIndex> tree_order;  // joints parent before child
+  std::vector<LoopClosureSpec> loop_closures;
+  std::vector<int> loop_row_start;  // first constraint row of each loop closure
+  std::vector<int> loop_rows;       // number of rows of each loop closure
+  std::vector<Driver> drivers;
+  std::vector<int> driver_row;      // constraint row of each driver
+
+  std::vector<AppliedLoadSpec> applied_loads;
+  std::vector<JointLoadSpec> joint_loads;
+  std::vector<int> joint_load_v_index;
+  std::vector<TranslationalSpringSpec> translational_springs;
+  std::vector<RotationalSpringSpec> rotational_springs;
+  std::vector<CoordinateSpringSpec> coordinate_springs;
+  std::vector<int> coordinate_spring_q_index, coordinate_spring_v_index;
+  std::vector<BushingSpec> bushings;
+
+  Vec3 gravity = Vec3::Zero();  // m/s^2, world axes
+  Eigen::VectorXd q_initial;    // nq, from joint defaults (quaternions identity) and user values
+  Eigen::VectorXd v_initial;    // nv
+
+  // Velocity index -> joint (for coordinate names in output).
+  std::vector<JointIndex> joint_of_v;
+
+  // Look-ups by name (throw std::out_of_range naming the missing name).
+  BodyIndex body(const std::string& name) const;
+  FrameIndex frame(const std::string& name) const;
+  JointIndex joint(const std::string& name) const;
+  int driver(const std::string& name) const;
+
+  // True if any joint uses a quaternion (q-dot != v).
+  bool has_quaternions = false;
+
+ private:
+  friend class ModelBuilder;
+  std::unordered_map<std::string, BodyIndex> body_by_name_;
+  std::unordered_map<std::string, FrameIndex> frame_by_name_;
+  std::unordered_map<std::string, JointIndex> joint_by_name_;
+  std::unordered_map<std::string, int> driver_by_name_;
+};
+
+// Builds and validates a model. Every Add* validates its input and throws std::invalid_argument
+// with a message naming the element and the offending value.
+class ModelBuilder {
+ public:
+  ModelBuilder();
+
+  // A rigid body. Its body frame is also registered as frame `name`. Requires mass > 0 and a
+  // symmetric positive-definite central inertia satisfying the triangle inequality.
+  BodyIndex AddBody(const std::string& name, double mass, const Vec3& com_B,
+                    const Mat3& inertia_cm_B);
+  // A named frame (marker) on a body.
+  FrameIndex AddFrame(const std::string& name, BodyIndex body, const Transform& X_BF);
+  FrameIndex body_frame(BodyIndex body) const { return body_frames_.at(body); }
+
+  JointIndex AddJoint(const JointSpec& spec);
+  // Initial joint coordinates (size nq of the joint; quaternions are normalized) and velocities.
+  void SetJointPosition(JointIndex joint, const Eigen::VectorXd& q);
+  void SetJointVelocity(JointIndex joint, const Eigen::VectorXd& v);
+
+  void AddLoopClosure(const LoopClosureSpec& spec);
+  int AddDriver(const DriverSpec& spec);
+
+  void SetGravity(const Vec3& g) { gravity_ = g; }
+  void AddAppliedLoad(const AppliedLoadSpec& spec);
+  void AddJointLoad(const JointLoadSpec& spec);
+  void AddTranslationalSpring(const TranslationalSpringSpec& spec);
+  void AddRotationalSpring(const RotationalSpringSpec& spec);
+  void AddCoordinateSpring(const CoordinateSpringSpec& spec);
+  void AddBushing(const BushingSpec& spec);
+
+  int num_bodies() const { return static_cast<int>(model_->bodies.size()); }
+  const Model& draft() const { return *model_; }
+
+  // Checks the topology (every body has exactly one parent joint; no cycles), orders the tree,
+  // assigns coordinates and constraint rows. The builder is consumed.
+  std::shared_ptr<const Model> Finalize() &&;
+
+ private:
+  void CheckName(const std::string& kind, const std::string& name) const;
+  void CheckFrame(const std::string& what, FrameIndex f) const;
+  void CheckCoordinate(const std::string& what, JointIndex j, int coordinate) const;
+
+  std::unique_ptr<Model> model_;
+  std::vector<FrameIndex> body_frames_;
+  std::vector<Eigen::VectorXd> joint_q_, joint_v_;  // per joint, set values (may be empty)
+  Vec3 gravity_ = Vec3::Zero();
+};
+
+}  // namespace orrery

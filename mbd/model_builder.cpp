@@ -1,0 +1,415 @@
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include <Eigen/Eigenvalues>
+
+#include "mbd/model.h"
+
+namespace orrery {
+namespace {
+
+std::string Fmt(const Vec3& v) {
+  std::ostringstream s;
+  s << "(" << v.x() << ", " << v.y() << ", " << v.z() << ")";
+  return s.str();
+}
+
+[[noreturn]] void Fail(const std::string& msg) { throw std::invalid_argument(msg); }
+
+bool IsFiniteMatrix(const Eigen::MatrixXd& m) { return m.allFinite(); }
+
+// Rows each loop-closure type contributes.
+int LoopRows(JointType type) {
+  switch (type) {
+    case JointType::kRevolute: return 5;
+    case JointType::kSpherical: return 3;
+    case JointType::kUniversal: return 4;
+    case JointType::kPrismatic: return 5;
+    case JointType::kCylindrical: return 4;
+    case JointType::kPlanar: return 3;
+    case JointType::kFixed: return 6;
+    case JointType::kFree: return 0;
+  }
+  return 0;
+}
+
+}  // namespace
+
+const char* JointTypeName(JointType type) {
+  switch (type) {
+    case JointType::kFixed: return "fixed";
+    case JointType::kRevolute: return "revolute";
+    case JointType::kPrismatic: return "prismatic";
+    case JointType::kCylindrical: return "cylindrical";
+    case JointType::kUniversal: return "universal";
+    case JointType::kSpherical: return "spherical";
+    case JointType::kPlanar: return "planar";
+    case JointType::kFree: return "free";
+  }
+  return "?";
+}
+
+int JointNq(JointType type) {
+  switch (type) {
+    case JointType::kFixed: return 0;
+    case JointType::kRevolute: case JointType::kPrismatic: return 1;
+    case JointType::kCylindrical: case JointType::kUniversal: return 2;
+    case JointType::kSpherical: return 4;
+    case JointType::kPlanar: return 3;
+    case JointType::kFree: return 7;
+  }
+  return 0;
+}
+
+int JointNv(JointType type) {
+  switch (type) {
+    case JointType::kSpherical: return 3;
+    case JointType::kFree: return 6;
+    default: return JointNq(type);
+  }
+}
+
+template <class Map>
+static auto LookUp(const Map& map, const std::string& kind, const std::string& name) {
+  const auto it = map.find(name);
+  if (it == map.end()) throw std::out_of_range("no " + kind + " named '" + name + "'");
+  return it->second;
+}
+
+BodyIndex Model::body(const std::string& name) const { return LookUp(body_by_name_, "body", name); }
+FrameIndex Model::frame(const std::string& name) const { return LookUp(frame_by_name_, "frame", name); }
+JointIndex Model::joint(const std::string& name) const { return LookUp(joint_by_name_, "joint", name); }
+int Model::driver(const std::string& name) const { return LookUp(driver_by_name_, "driver", name); }
+
+ModelBuilder::ModelBuilder() : model_(std::make_unique<Model>()) {
+  // Body 0 is the world, frame 0 its frame.
+  model_->bodies.push_back(Body{"world", 0.0, Vec3::Zero(), Mat3::Zero(), -1});
+  model_->body_by_name_["world"] = 0;
+  model_->frames.push_back(Frame{"world", kWorldBody, Transform::Identity()});
+  model_->frame_by_name_["world"] = 0;
+  body_frames_.push_back(0);
+}
+
+void ModelBuilder::CheckName(const std::string& kind, const std::string& name) const {
+  if (name.empty()) Fail(kind + " needs a name");
+}
+
+void ModelBuilder::CheckFrame(const std::string& what, FrameIndex f) const {
+  if (f < 0 || f >= static_cast<int>(model_->frames.size()))
+    Fail(what + ": frame index " + std::to_string(f) + " does not exist");
+}
+
+void ModelBuilder::CheckCoordinate(const std::string& what, JointIndex j, int coordinate) const {
+  if (j < 0 || j >= static_cast<int>(model_->joints.size()))
+    Fail(what + ": joint index " + std::to_string(j) + " does not exist");
+  const Joint& joint = model_->joints[j];
+  if (coordinate < 0 || coordinate >= JointNv(joint.spec.type))
+    Fail(what + ": joint '" + joint.spec.name + "' (" + JointTypeName(joint.spec.type) +
+         ") has no coordinate " + std::to_string(coordinate));
+}
+
+BodyIndex ModelBuilder::AddBody(const std::string& name, double mass, const Vec3& com_B,
+                                const Mat3& I) {
+  CheckName("body", name);
+  if (model_->body_by_name_.count(name) || model_->frame_by_name_.count(name))
+    Fail("body '" + name + "': name already used");
+  if (!(mass > 0) || !std::isfinite(mass))
+    Fail("body '" + name + "': mass must be positive, got " + std::to_string(mass));
+  if (!com_B.allFinite()) Fail("body '" + name + "': centre of mass is not finite");
+  if (!IsFiniteMatrix(I) || (I - I.transpose()).norm() > 1e-12 * (1 + I.norm()))
+    Fail("body '" + name + "': inertia must be a finite symmetric matrix");
+  // Principal moments: positive definite and triangle inequality (each <= sum of the others).
+  const Eigen::SelfAdjointEigenSolver<Mat3> eig(I);
+  const Vec3 d = eig.eigenvalues();
+  if (!(d.minCoeff() > 0))
+    Fail("body '" + name + "': inertia is not positive definite (principal moments " + Fmt(d) + ")");
+  const double tol = 1e-9 * d.sum();
+  if (d(0) + d(1) < d(2) - tol || d(0) + d(2) < d(1) - tol || d(1) + d(2) < d(0) - tol)
+    Fail("body '" + name + "': principal moments " + Fmt(d) +
+         " violate the triangle inequality (no real mass distribution has them)");
+  const BodyIndex b = static_cast<BodyIndex>(model_->bodies.size());
+  model_->bodies.push_back(Body{name, mass, com_B, I, -1});
+  model_->body_by_name_[name] = b;
+  const FrameIndex f = static_cast<FrameIndex>(model_->frames.size());
+  model_->frames.push_back(Frame{name, b, Transform::Identity()});
+  model_->frame_by_name_[name] = f;
+  body_frames_.push_back(f);
+  return b;
+}
+
+FrameIndex ModelBuilder::AddFrame(const std::string& name, BodyIndex body, const Transform& X_BF) {
+  CheckName("frame", name);
+  if (model_->frame_by_name_.count(name)) Fail("frame '" + name + "': name already used");
+  if (body < 0 || body >= num_bodies())
+    Fail("frame '" + name + "': body index " + std::to_string(body) + " does not exist");
+  if (!X_BF.p.allFinite() || !X_BF.R.allFinite() ||
+      (X_BF.R.transpose() * X_BF.R - Mat3::Identity()).norm() > 1e-9 || X_BF.R.determinant() < 0)
+    Fail("frame '" + name + "': pose rotation is not a proper rotation matrix");
+  const FrameIndex f = static_cast<FrameIndex>(model_->frames.size());
+  model_->frames.push_back(Frame{name, body, X_BF});
+  model_->frame_by_name_[name] = f;
+  return f;
+}
+
+JointIndex ModelBuilder::AddJoint(const JointSpec& spec) {
+  CheckName("joint", spec.name);
+  const std::string what = "joint '" + spec.name + "'";
+  if (model_->joint_by_name_.count(spec.name)) Fail(what + ": name already used");
+  if (spec.parent < 0 || spec.parent >= num_bodies())
+    Fail(what + ": parent body index " + std::to_string(spec.parent) + " does not exist");
+  if (spec.child <= 0 || spec.child >= num_bodies())
+    Fail(what + ": child must be a body other than the world");
+  if (spec.parent == spec.child) Fail(what + ": parent and child are the same body");
+  if (model_->bodies[spec.child].parent_joint >= 0)
+    Fail(what + ": body '" + model_->bodies[spec.child].name + "' already has parent joint '" +
+         model_->joints[model_->bodies[spec.child].parent_joint].spec.name +
+         "' (close loops with a loop closure)");
+  Joint j;
+  j.spec = spec;
+  j.nq = JointNq(spec.type);
+  j.nv = JointNv(spec.type);
+  j.X_MC = spec.X_CM.Inverse();
+  const bool needs_axis = spec.type != JointType::kFixed && spec.type != JointType::kSpherical &&
+                          spec.type != JointType::kFree;
+  if (needs_axis) {
+    if (!spec.axis.allFinite() || spec.axis.norm() < 1e-12)
+      Fail(what + ": axis " + Fmt(spec.axis) + " has zero length");
+    j.axis = spec.axis.normalized();
+  }
+  if (spec.type == JointType::kUniversal || spec.type == JointType::kPlanar) {
+    if (!spec.axis2.allFinite() || spec.axis2.norm() < 1e-12)
+      Fail(what + ": axis2 " + Fmt(spec.axis2) + " has zero length");
+    Vec3 a2 = spec.axis2.normalized();
+    if (std::abs(a2.dot(j.axis)) > 1e-6)
+      Fail(what + ": axis2 " + Fmt(spec.axis2) + " must be perpendicular to axis " + Fmt(spec.axis));
+    j.axis2 = a2;
+    j.axis3 = j.axis.cross(a2);  // planar: in-plane y = n x x
+  }
+  const JointIndex index = static_cast<JointIndex>(model_->joints.size());
+  model_->joints.push_back(j);
+  model_->joint_by_name_[spec.name] = index;
+  model_->bodies[spec.child].parent_joint = index;
+  joint_q_.emplace_back();
+  joint_v_.emplace_back();
+  return index;
+}
+
+void ModelBuilder::SetJointPosition(JointIndex joint, const Eigen::VectorXd& q) {
+  if (joint < 0 || joint >= static_cast<int>(model_->joints.size()))
+    Fail("joint index " + std::to_string(joint) + " does not exist");
+  const Joint& j = model_->joints[joint];
+  if (q.size() != j.nq || !q.allFinite())
+    Fail("joint '" + j.spec.name + "': initial position needs " + std::to_string(j.nq) +
+         " finite values, got " + std::to_string(q.size()));
+  joint_q_[joint] = q;
+}
+
+void ModelBuilder::SetJointVelocity(JointIndex joint, const Eigen::VectorXd& v) {
+  if (joint < 0 || joint >= static_cast<int>(model_->joints.size()))
+    Fail("joint index " + std::to_string(joint) + " does not exist");
+  const Joint& j = model_->joints[joint];
+  if (v.size() != j.nv || !v.allFinite())
+    Fail("joint '" + j.spec.name + "': initial velocity needs " + std::to_string(j.nv) +
+         " finite values, got " + std::to_string(v.size()));
+  joint_v_[joint] = v;
+}
+
+void ModelBuilder::AddLoopClosure(const LoopClosureSpec& spec) {
+  CheckName("loop closure", spec.name);
+  const std::string what = "loop closure '" + spec.name + "'";
+  CheckFrame(what, spec.frame_a);
+  CheckFrame(what, spec.frame_b);
+  if (spec.type == JointType::kFree) Fail(what + ": a free joint constrains nothing");
+  if (model_->frames[spec.frame_a].body == model_->frames[spec.frame_b].body)
+    Fail(what + ": both frames are on the same body");
+  model_->loop_closures.push_back(spec);
+}
+
+int ModelBuilder::AddDriver(const DriverSpec& spec) {
+  CheckName("driver", spec.name);
+  const std::string what = "driver '" + spec.name + "'";
+  if (model_->driver_by_name_.count(spec.name)) Fail(what + ": name already used");
+  CheckCoordinate(what, spec.joint, spec.coordinate);
+  const Joint& j = model_->joints[spec.joint];
+  if (spec.mode == DriverSpec::Mode::kPosition &&
+      (j.spec.type == JointType::kSpherical ||
+       (j.spec.type == JointType::kFree && spec.coordinate >= 3)))
+    Fail(what + ": a position driver cannot prescribe a rotation of a quaternion joint ('" +
+         j.spec.name + "'); use a speed driver");
+  for (const Driver& d : model_->drivers)
+    if (d.spec.joint == spec.joint && d.spec.coordinate == spec.coordinate)
+      Fail(what + ": coordinate already driven by '" + d.spec.name + "'");
+  const int index = static_cast<int>(model_->drivers.size());
+  model_->drivers.push_back(Driver{spec, 0, 0});
+  model_->driver_by_name_[spec.name] = index;
+  return index;
+}
+
+void ModelBuilder::AddAppliedLoad(const AppliedLoadSpec& spec) {
+  CheckName("applied load", spec.name);
+  CheckFrame("applied load '" + spec.name + "'", spec.frame);
+  if (!spec.force.allFinite() || !spec.torque.allFinite())
+    Fail("applied load '" + spec.name + "': force and torque must be finite");
+  model_->applied_loads.push_back(spec);
+}
+
+void ModelBuilder::AddJointLoad(const JointLoadSpec& spec) {
+  CheckName("joint load", spec.name);
+  CheckCoordinate("joint load '" + spec.name + "'", spec.joint, spec.coordinate);
+  model_->joint_loads.push_back(spec);
+}
+
+static void CheckSpring(const std::string& what, double k, double c) {
+  if (!(k >= 0) || !std::isfinite(k)) Fail(what + ": stiffness must be >= 0, got " + std::to_string(k));
+  if (!(c >= 0) || !std::isfinite(c)) Fail(what + ": damping must be >= 0, got " + std::to_string(c));
+}
+
+void ModelBuilder::AddTranslationalSpring(const TranslationalSpringSpec& spec) {
+  CheckName("spring", spec.name);
+  const std::string what = "translational spring '" + spec.name + "'";
+  CheckFrame(what, spec.frame_a);
+  CheckFrame(what, spec.frame_b);
+  CheckSpring(what, spec.stiffness, spec.damping);
+  if (!(spec.free_length >= 0)) Fail(what + ": free length must be >= 0");
+  model_->translational_springs.push_back(spec);
+}
+
+void ModelBuilder::AddRotationalSpring(const RotationalSpringSpec& spec) {
+  CheckName("spring", spec.name);
+  const std::string what = "rotational spring '" + spec.name + "'";
+  CheckFrame(what, spec.frame_a);
+  CheckFrame(what, spec.frame_b);
+  CheckSpring(what, spec.stiffness, spec.damping);
+  model_->rotational_springs.push_back(spec);
+}
+
+void ModelBuilder::AddCoordinateSpring(const CoordinateSpringSpec& spec) {
+  CheckName("spring", spec.name);
+  const std::string what = "coordinate spring '" + spec.name + "'";
+  CheckCoordinate(what, spec.joint, spec.coordinate);
+  CheckSpring(what, spec.stiffness, spec.damping);
+  const Joint& j = model_->joints[spec.joint];
+  if (j.spec.type == JointType::kSpherical || (j.spec.type == JointType::kFree && spec.coordinate >= 3))
+    Fail(what + ": quaternion coordinates take a bushing, not a coordinate spring");
+  model_->coordinate_springs.push_back(spec);
+}
+
+void ModelBuilder::AddBushing(const BushingSpec& spec) {
+  CheckName("bushing", spec.name);
+  const std::string what = "bushing '" + spec.name + "'";
+  CheckFrame(what, spec.frame_a);
+  CheckFrame(what, spec.frame_b);
+  if (!spec.stiffness.allFinite() || !spec.damping.allFinite()) Fail(what + ": matrices must be finite");
+  // Stiffness and damping must not generate energy: symmetric parts positive semi-definite.
+  for (const auto& [label, m] : {std::pair<const char*, const Mat6*>{"stiffness", &spec.stiffness},
+                                 {"damping", &spec.damping}}) {
+    const Mat6 sym = 0.5 * (*m + m->transpose());
+    const double lo = Eigen::SelfAdjointEigenSolver<Mat6>(sym).eigenvalues().minCoeff();
+    if (lo < -1e-12 * (1 + sym.norm()))
+      Fail(what + ": " + label + " matrix has a negative eigenvalue (" + std::to_string(lo) + ")");
+  }
+  model_->bushings.push_back(spec);
+}
+
+std::shared_ptr<const Model> ModelBuilder::Finalize() && {
+  Model& m = *model_;
+  m.nbodies = static_cast<int>(m.bodies.size());
+  m.gravity = gravity_;
+  // Every body but the world needs a parent joint.
+  for (BodyIndex b = 1; b < m.nbodies; ++b)
+    if (m.bodies[b].parent_joint < 0)
+      Fail("body '" + m.bodies[b].name +
+           "' has no joint to a parent; give a floating body a free joint to the world");
+  // Tree order: repeatedly take joints whose parent is placed (the world first). A joint never
+  // placed sits on a cycle of tree joints.
+  std::vector<char> placed(m.nbodies, 0);
+  placed[kWorldBody] = 1;
+  m.tree_order.clear();
+  for (bool progress = true; progress;) {
+    progress = false;
+    for (JointIndex j = 0; j < static_cast<int>(m.joints.size()); ++j) {
+      const Joint& jt = m.joints[j];
+      if (!placed[jt.spec.child] && placed[jt.spec.parent]) {
+        placed[jt.spec.child] = 1;
+        m.tree_order.push_back(j);
+        progress = true;
+      }
+    }
+  }
+  if (m.tree_order.size() != m.joints.size())
+    for (const Joint& jt : m.joints)
+      if (!placed[jt.spec.child])
+        Fail("joint '" + jt.spec.name + "' is part of a cycle of tree joints not connected to the "
+             "world; cut the loop with a loop closure");
+  // Coordinates in tree order.
+  m.nq = m.nv = 0;
+  for (JointIndex j : m.tree_order) {
+    Joint& jt = m.joints[j];
+    jt.q_start = m.nq;
+    jt.v_start = m.nv;
+    m.nq += jt.nq;
+    m.nv += jt.nv;
+    if (jt.spec.type == JointType::kSpherical || jt.spec.type == JointType::kFree)
+      m.has_quaternions = true;
+  }
+  m.joint_of_v.assign(m.nv, -1);
+  for (JointIndex j = 0; j < static_cast<int>(m.joints.size()); ++j)
+    for (int k = 0; k < m.joints[j].nv; ++k) m.joint_of_v[m.joints[j].v_start + k] = j;
+  // Initial state.
+  m.q_initial = Eigen::VectorXd::Zero(m.nq);
+  m.v_initial = Eigen::VectorXd::Zero(m.nv);
+  for (JointIndex j = 0; j < static_cast<int>(m.joints.size()); ++j) {
+    const Joint& jt = m.joints[j];
+    if (jt.spec.type == JointType::kSpherical) m.q_initial(jt.q_start) = 1.0;
+    if (jt.spec.type == JointType::kFree) m.q_initial(jt.q_start + 3) = 1.0;
+    if (joint_q_[j].size()) {
+      m.q_initial.segment(jt.q_start, jt.nq) = joint_q_[j];
+      const int quat = jt.spec.type == JointType::kSpherical ? 0 : jt.spec.type == JointType::kFree ? 3 : -1;
+      if (quat >= 0) {
+        auto qs = m.q_initial.segment<4>(jt.q_start + quat);
+        if (qs.norm() < 1e-12) Fail("joint '" + jt.spec.name + "': initial quaternion is zero");
+        qs.normalize();
+      }
+    }
+    if (joint_v_[j].size()) m.v_initial.segment(jt.v_start, jt.nv) = joint_v_[j];
+  }
+  // Constraint rows: loop closures, position drivers (holonomic), then speed drivers.
+  int row = 0;
+  m.loop_row_start.clear();
+  m.loop_rows.clear();
+  for (const LoopClosureSpec& lc : m.loop_closures) {
+    m.loop_row_start.push_back(row);
+    m.loop_rows.push_back(LoopRows(lc.type));
+    row += LoopRows(lc.type);
+  }
+  m.driver_row.assign(m.drivers.size(), -1);
+  for (size_t d = 0; d < m.drivers.size(); ++d) {
+    Driver& dr = m.drivers[d];
+    const Joint& jt = m.joints[dr.spec.joint];
+    dr.v_index = jt.v_start + dr.spec.coordinate;
+    dr.q_index = jt.q_start + dr.spec.coordinate;
+    if (dr.spec.mode == DriverSpec::Mode::kPosition) m.driver_row[d] = row++;
+  }
+  m.n_holonomic = row;
+  for (size_t d = 0; d < m.drivers.size(); ++d)
+    if (m.drivers[d].spec.mode == DriverSpec::Mode::kSpeed) m.driver_row[d] = row++;
+  m.n_constraints = row;
+  if (m.n_constraints > m.nv)
+    Fail("the model has " + std::to_string(m.n_constraints) + " constraint rows but only " +
+         std::to_string(m.nv) + " degrees of freedom: it is over-constrained");
+  // Force-element indices.
+  m.joint_load_v_index.clear();
+  for (const JointLoadSpec& l : m.joint_loads)
+    m.joint_load_v_index.push_back(m.joints[l.joint].v_start + l.coordinate);
+  m.coordinate_spring_q_index.clear();
+  m.coordinate_spring_v_index.clear();
+  for (const CoordinateSpringSpec& s : m.coordinate_springs) {
+    m.coordinate_spring_q_index.push_back(m.joints[s.joint].q_start + s.coordinate);
+    m.coordinate_spring_v_index.push_back(m.joints[s.joint].v_start + s.coordinate);
+  }
+  return std::shared_ptr<const Model>(std::move(model_));
+}
+
+}  // namespace orrery

@@ -1,0 +1,50 @@
+#pragma once
+// What a run writes to its result file, and the computation of the recorded quantities.
+//
+// Layout (SI units; every series has attributes "unit" and, where useful, "columns"):
+//   /time                                  s
+//   /bodies/<name>/position                m      body frame origin, world axes
+//   /bodies/<name>/orientation             1      quaternion (w, x, y, z) of R_WB
+//   /bodies/<name>/linear_velocity         m/s    of the body frame origin
+//   /bodies/<name>/angular_velocity        rad/s  world axes
+//   /bodies/<name>/linear_acceleration     m/s^2  of the body frame origin
+//   /bodies/<name>/angular_acceleration    rad/s^2
+//   /joints/<name>/q, /joints/<name>/v     rad or m (per coordinate; quaternions 1), rad/s or m/s
+//   /joints/<name>/reaction                N, N m: wrench the parent exerts on the child through
+//                                          the joint, at the origin of frame M, world axes
+//   /loop_closures/<name>/reaction         N, N m: wrench on frame B's body at B's origin
+//   /drivers/<name>/effort                 N m or N: the driving torque or force (-lambda)
+//   /energy                                J: kinetic, gravity potential, elastic potential
+//   /constraints/drift                     max |Phi|, max |G v + g_t| per row
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "mbd/data.h"
+#include "mbd/model.h"
+#include "mbd/result_file.h"
+#include "mbd/state.h"
+
+namespace orrery {
+
+class ResultRecorder {
+ public:
+  // Declares every series in `out`. The recorder keeps references to both.
+  ResultRecorder(const Model& model, ResultFile& out);
+  // Computes and appends one row of every series at (state, vdot, lambda). Allocation-free.
+  void Record(const State& state, const Eigen::VectorXd& vdot, const Eigen::VectorXd& lambda);
+
+ private:
+  const Model& model_;
+  ResultFile& out_;
+  Data data_;
+  ResultFile::SeriesId time_, energy_, drift_;
+  struct BodySeries { ResultFile::SeriesId p, quat, v, w, a, alpha; };
+  std::vector<BodySeries> bodies_;          // per body (index 0 unused)
+  std::vector<ResultFile::SeriesId> joint_q_, joint_v_, joint_reaction_;  // per joint
+  std::vector<ResultFile::SeriesId> loop_reaction_, driver_effort_;
+  Eigen::VectorXd row_;                     // scratch
+};
+
+}  // namespace orrery
