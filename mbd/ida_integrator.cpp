@@ -81,10 +81,17 @@ class IdaIntegrator final : public Integrator {
     if (t_out <= state_.t) return;
     const int n = dae_.size();
     if (needs_ic_) {
-      // Consistent lambda, mu and derivatives of q, v (the KKT solve above is the first guess).
-      const int flag = IDACalcIC(mem_, IDA_YA_YDP_INIT, t_out);
-      if (flag < 0) Fail("IDACalcIC", flag);
-      Check(IDAGetConsistentIC(mem_, y_, yp_), "IDAGetConsistentIC");
+      // Consistent initial values. With constraints they come from the KKT solve in Initialize
+      // (DaeSystem::ConsistentInitial): IDACalcIC handles semi-explicit index-1 systems, and in
+      // the GGL index-2 form the rows G v + g_t and Phi involve none of its unknowns (algebraic
+      // lambda, mu and the derivatives of q, v), so its Newton matrix is singular there (seen as
+      // IDA_LINESEARCH_FAIL on a slider-crank). Without constraints IDACalcIC polishes q-dot and
+      // v-dot.
+      if (model_.n_constraints == 0) {
+        const int flag = IDACalcIC(mem_, IDA_YA_YDP_INIT, t_out);
+        if (flag < 0) Fail("IDACalcIC", flag);
+        Check(IDAGetConsistentIC(mem_, y_, yp_), "IDAGetConsistentIC");
+      }
       needs_ic_ = false;
     }
     double t_reached = state_.t;
