@@ -1,0 +1,732 @@
+// Result files on the HDF5 C API.
+//
+// Crash safety: version 1.8 format, normal (not SWMR) mode, H5Fflush, and caches set so that
+// nothing reaches the disk between two Flush() calls but raw rows nothing points to yet.
+// - Not the latest file format. With H5F_LIBVER_LATEST the superblock is version 3, which carries
+//   "open for write" status flags; a writer killed by SIGKILL leaves them set and every later
+//   H5Fopen (HDF5 tools, h5py) fails with "file is already open for write (may use <h5clear file>
+//   ...)". Files are written with bounds (V18, V18) instead: superblock and object headers of
+//   version 2 (checksummed), no status flags, readable by HDF5 1.8 and later.
+// - Not SWMR. SWMR needs the version 3 superblock, so a crashed file opens only in SWMR-read mode
+//   (plain h5py.File(path) fails), and a SWMR writer may not add datasets, groups or attributes,
+//   which this class does at any time (series added late, attributes after the run).
+// - H5Fflush leaves a consistent file; what must not happen is HDF5 writing metadata on its own
+//   before the next flush. Its default metadata cache does (entries aged out or evicted when the
+//   cache is full): chunk index nodes pointing past the flushed end-of-address reach the disk and
+//   every read of the series fails with "addr overflow" (ResultFileCrashTest.
+//   SigkillAfterManySeriesWroteUnflushedBlocks fails that way with the default cache). So:
+//   * the metadata cache has a fixed size of kMetadataCacheBytes, automatic resizing off; dirty
+//     entries stay in memory unless the metadata touched between two flushes exceeds that size;
+//   * series datasets have no chunk cache and no fill value, so a full block goes straight to its
+//     chunk (new space past the flushed end, or the tail of the chunk the last Flush wrote part
+//     of) and HDF5 holds no rows of its own; chunks are unfiltered, so they never move.
+// - Not covered: a kill inside Flush() itself. HDF5 writes the metadata of a flush in several
+//   pieces, in no crash-safe order outside SWMR; in stress runs such kills left files that opened
+//   but had a series unreadable ("addr overflow", "incorrect metadata checksum").
+
+#include "mbd/result_file.h"
+
+#include <hdf5.h>
+
+#include <algorithm>
+#include <charconv>
+#include <filesystem>
+#include <stdexcept>
+#include <string_view>
+#include <unordered_map>
+#include <utility>
+
+namespace orrery {
+namespace {
+
+// Target bytes per chunk of a series (rows x ncols doubles); one block buffer holds one chunk.
+constexpr std::size_t kChunkBytes = 8192;
+// Fixed metadata cache size of a writer (see the top comment).
+constexpr std::size_t kMetadataCacheBytes = 32u << 20;
+
+// Turns HDF5's automatic error printing off for the life of the guard (the setting is per thread
+// in thread-safe builds, so it is set and restored around each call into HDF5).
+class QuietHdf5 {
+ public:
+  QuietHdf5() {
+    H5Eget_auto2(H5E_DEFAULT, &func_, &data_);
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  }
+  ~QuietHdf5() { H5Eset_auto2(H5E_DEFAULT, func_, data_); }
+  QuietHdf5(const QuietHdf5&) = delete;
+  QuietHdf5& operator=(const QuietHdf5&) = delete;
+
+ private:
+  H5E_auto2_t func_ = nullptr;
+  void* data_ = nullptr;
+};
+
+// Owns one HDF5 identifier and closes it with the matching H5?close.
+class Handle {
+ public:
+  using Closer = herr_t (*)(hid_t);
+  Handle() = default;
+  Handle(hid_t id, Closer close) : id_(id), close_(close) {}
+  Handle(Handle&& other) noexcept : id_(std::exchange(other.id_, H5I_INVALID_HID)), close_(other.close_) {}
+  Handle& operator=(Handle&& other) noexcept {
+    if (this != &other) {
+      Reset();
+      id_ = std::exchange(other.id_, H5I_INVALID_HID);
+      close_ = other.close_;
+    }
+    return *this;
+  }
+  ~Handle() { Reset(); }
+
+  hid_t get() const { return id_; }
+  // Closes now; returns false when HDF5 reports a failure.
+  bool Reset() {
+    bool ok = true;
+    if (id_ >= 0 && close_ != nullptr) ok = close_(id_) >= 0;
+    id_ = H5I_INVALID_HID;
+    return ok;
+  }
+
+ private:
+  hid_t id_ = H5I_INVALID_HID;
+  Closer close_ = nullptr;
+};
+
+// The most specific message on HDF5's error stack (then clears the stack).
+std::string Hdf5Detail() {
+  std::string detail;
+  H5Ewalk2(
+      H5E_DEFAULT, H5E_WALK_UPWARD,
+      [](unsigned n, const H5E_error2_t* err, void* data) -> herr_t {
+        auto* out = static_cast<std::string*>(data);
+        if (n == 0 && err != nullptr && err->desc != nullptr) *out = err->desc;
+        return 0;
+      },
+      &detail);
+  H5Eclear2(H5E_DEFAULT);
+  return detail;
+}
+
+// "result file <file>: <what> <object> (<HDF5 detail>)".
+std::string FailMessage(const std::string& file, const std::string& what, const std::string& object) {
+  std::string message = "result file " + file + ": " + what;
+  if (!object.empty()) message += " " + object;
+  const std::string detail = Hdf5Detail();
+  if (!detail.empty()) message += " (" + detail + ")";
+  return message;
+}
+
+// Throws std::runtime_error with FailMessage.
+[[noreturn]] void Fail(const std::string& file, const std::string& what, const std::string& object) {
+  throw std::runtime_error(FailMessage(file, what, object));
+}
+
+// The Impl of a live object: throws std::logic_error after a move or after Close.
+template <class ImplPtr>
+auto& Live(const ImplPtr& impl, const char* operation) {
+  if (!impl) throw std::logic_error(std::string("result file: ") + operation + " on a moved-from object");
+  if constexpr (requires { impl->closed; }) {
+    if (impl->closed) throw std::logic_error("result file " + impl->path + ": " + operation + " after Close");
+  }
+  return *impl;
+}
+
+// Returns `id` when valid, else fails with the message parts.
+hid_t CheckId(hid_t id, const std::string& file, const std::string& what, const std::string& object) {
+  if (id < 0) Fail(file, what, object);
+  return id;
+}
+
+// Fails with the message parts when `status` is negative.
+void Check(herr_t status, const std::string& file, const char* what, const std::string& object) {
+  if (status < 0) Fail(file, what, object);
+}
+
+// Owns `id`, or fails with the message parts when it is invalid.
+Handle MakeHandle(hid_t id, Handle::Closer close, const std::string& file, const std::string& what,
+                  const std::string& object) {
+  return Handle(CheckId(id, file, what, object), close);
+}
+
+// Rejects paths that are not absolute object paths ("/a/b", no empty component).
+void ValidatePath(const std::string& file, const std::string& path, bool allow_root) {
+  const bool root = path == "/";
+  bool ok = !path.empty() && path.front() == '/' && (allow_root || !root);
+  if (ok && !root) ok = path.back() != '/' && path.find("//") == std::string::npos;
+  if (!ok) throw std::invalid_argument("result file " + file + ": invalid object path '" + path + "'");
+}
+
+// Whether a link chain resolves to an object at `path` (every prefix checked, so a missing parent
+// is "no" rather than an error).
+bool ObjectExists(hid_t file, const std::string& path) {
+  if (path == "/") return true;
+  for (std::size_t slash = path.find('/', 1);; slash = path.find('/', slash + 1)) {
+    const std::string prefix = path.substr(0, slash);
+    if (H5Lexists(file, prefix.c_str(), H5P_DEFAULT) <= 0) {
+      H5Eclear2(H5E_DEFAULT);
+      return false;
+    }
+    if (slash == std::string::npos) break;
+  }
+  const htri_t resolves = H5Oexists_by_name(file, path.c_str(), H5P_DEFAULT);
+  if (resolves < 0) H5Eclear2(H5E_DEFAULT);
+  return resolves > 0;
+}
+
+// A link creation property list that creates missing groups on the way.
+Handle IntermediateGroupsLcpl(const std::string& file, const std::string& object) {
+  Handle lcpl = MakeHandle(H5Pcreate(H5P_LINK_CREATE), H5Pclose, file, "cannot create property list for", object);
+  Check(H5Pset_create_intermediate_group(lcpl.get(), 1), file, "cannot set intermediate groups for", object);
+  return lcpl;
+}
+
+// Variable-length UTF-8 string type (h5py reads it as str).
+Handle Utf8StringType(const std::string& file, const std::string& object) {
+  Handle type = MakeHandle(H5Tcopy(H5T_C_S1), H5Tclose, file, "cannot create string type for", object);
+  Check(H5Tset_size(type.get(), H5T_VARIABLE), file, "cannot size string type for", object);
+  Check(H5Tset_cset(type.get(), H5T_CSET_UTF8), file, "cannot set UTF-8 for", object);
+  return type;
+}
+
+// Creates (or replaces) scalar attribute `key` on `obj` of type `type` from `value`.
+void WriteScalarAttribute(hid_t obj, const std::string& key, hid_t type, const void* value,
+                          const std::string& file, const std::string& object) {
+  const std::string where = object + " attribute " + key;
+  // Replace an existing attribute (its type may differ)
+  const htri_t exists = H5Aexists(obj, key.c_str());
+  Check(static_cast<herr_t>(exists), file, "cannot look up", where);
+  if (exists > 0) Check(H5Adelete(obj, key.c_str()), file, "cannot replace", where);
+  // Create and write it
+  Handle space = MakeHandle(H5Screate(H5S_SCALAR), H5Sclose, file, "cannot create dataspace for", where);
+  Handle attr = MakeHandle(H5Acreate2(obj, key.c_str(), type, space.get(), H5P_DEFAULT, H5P_DEFAULT),
+                           H5Aclose, file, "cannot create", where);
+  Check(H5Awrite(attr.get(), type, value), file, "cannot write", where);
+}
+
+// Creates (or replaces) a scalar variable-length UTF-8 string attribute.
+void WriteStringAttribute(hid_t obj, const std::string& key, const std::string& value,
+                          const std::string& file, const std::string& object) {
+  Handle type = Utf8StringType(file, object);
+  const char* text = value.c_str();
+  WriteScalarAttribute(obj, key, type.get(), &text, file, object);
+}
+
+// Shortest text that reads back to the same double.
+std::string DoubleText(double v) {
+  char buf[64];
+  const auto result = std::to_chars(buf, buf + sizeof(buf), v);
+  return std::string(buf, result.ptr);
+}
+
+// Joins values as "a" (one value) or "[a, b, c]".
+std::string JoinValues(const std::vector<std::string>& values) {
+  if (values.size() == 1) return values.front();
+  std::string out = "[";
+  for (std::size_t i = 0; i < values.size(); ++i) out += (i ? ", " : "") + values[i];
+  return out + "]";
+}
+
+// An attribute's value as text: strings as they are, numbers at full precision, arrays as
+// "[a, b]". Throws naming `where` for types other than string, integer and float.
+std::string AttributeText(hid_t attr, const std::string& file, const std::string& where) {
+  Handle type = MakeHandle(H5Aget_type(attr), H5Tclose, file, "cannot get type of", where);
+  Handle space = MakeHandle(H5Aget_space(attr), H5Sclose, file, "cannot get dataspace of", where);
+  const hssize_t npoints = H5Sget_simple_extent_npoints(space.get());
+  if (npoints < 0) Fail(file, "cannot count values of", where);
+  const auto n = static_cast<std::size_t>(npoints);
+  std::vector<std::string> values;
+  values.reserve(n);
+  switch (H5Tget_class(type.get())) {
+    case H5T_STRING: {
+      const htri_t is_variable = H5Tis_variable_str(type.get());
+      Check(static_cast<herr_t>(is_variable), file, "cannot inspect string type of", where);
+      if (is_variable > 0) {
+        // Variable length: HDF5 allocates each string, freed with H5free_memory
+        Handle mem = Utf8StringType(file, where);
+        Check(H5Tset_cset(mem.get(), H5Tget_cset(type.get())), file, "cannot set character set for", where);
+        std::vector<char*> strings(n, nullptr);
+        Check(H5Aread(attr, mem.get(), strings.data()), file, "cannot read", where);
+        for (char* s : strings) {
+          values.emplace_back(s != nullptr ? s : "");
+          H5free_memory(s);
+        }
+      } else {
+        // Fixed length: cut each string at its first NUL, trim space padding
+        const std::size_t size = H5Tget_size(type.get());
+        if (size == 0) Fail(file, "cannot get string size of", where);
+        std::vector<char> buf(n * size);
+        Check(H5Aread(attr, type.get(), buf.data()), file, "cannot read", where);
+        const bool space_pad = H5Tget_strpad(type.get()) == H5T_STR_SPACEPAD;
+        for (std::size_t i = 0; i < n; ++i) {
+          std::string_view s(buf.data() + i * size, size);
+          s = s.substr(0, s.find('\0'));
+          if (space_pad) s = s.substr(0, s.find_last_not_of(' ') + 1);
+          values.emplace_back(s);
+        }
+      }
+      break;
+    }
+    case H5T_INTEGER: {
+      // Integers through int64 or uint64, by sign
+      if (H5Tget_sign(type.get()) == H5T_SGN_NONE) {
+        std::vector<unsigned long long> v(n);
+        Check(H5Aread(attr, H5T_NATIVE_ULLONG, v.data()), file, "cannot read", where);
+        for (auto x : v) values.push_back(std::to_string(x));
+      } else {
+        std::vector<long long> v(n);
+        Check(H5Aread(attr, H5T_NATIVE_LLONG, v.data()), file, "cannot read", where);
+        for (auto x : v) values.push_back(std::to_string(x));
+      }
+      break;
+    }
+    case H5T_FLOAT: {
+      std::vector<double> v(n);
+      Check(H5Aread(attr, H5T_NATIVE_DOUBLE, v.data()), file, "cannot read", where);
+      for (double x : v) values.push_back(DoubleText(x));
+      break;
+    }
+    default:
+      throw std::runtime_error("result file " + file + ": unsupported attribute type of " + where);
+  }
+  return JoinValues(values);
+}
+
+// One time series: its dataset and the block buffer rows are collected in.
+struct Series {
+  std::string path;
+  hsize_t ncols = 0;
+  hsize_t block_capacity = 0;   // rows per block == rows per chunk
+  Handle dataset;
+  std::vector<double> block;    // block_capacity x ncols, row-major, allocated by AddSeries
+  hsize_t block_start = 0;      // file row of block row 0
+  hsize_t block_rows = 0;       // rows held in the block
+  hsize_t block_written = 0;    // leading block rows already in the file (by Flush)
+  hsize_t extent = 0;           // rows of the dataset in the file
+};
+
+}  // namespace
+
+struct ResultFile::Impl {
+  std::string path;
+  Handle file;
+  std::vector<Series> series;                      // indexed by SeriesId
+  std::unordered_map<std::string, SeriesId> ids;   // series path -> id
+  bool closed = false;
+
+  // Writes block rows [block_written, block_rows) of `s` to the file, extending the dataset.
+  void WriteBlockRows(Series& s) {
+    const hsize_t count = s.block_rows - s.block_written;
+    if (count == 0) return;
+    const hsize_t first = s.block_start + s.block_written;
+    // Grow the dataset to hold the rows
+    if (first + count > s.extent) {
+      const hsize_t dims[2] = {first + count, s.ncols};
+      Check(H5Dset_extent(s.dataset.get(), dims), path, "cannot extend dataset", s.path);
+      s.extent = first + count;
+    }
+    // Select the rows in the file and write them from the block
+    Handle file_space = MakeHandle(H5Dget_space(s.dataset.get()), H5Sclose, path, "cannot get dataspace of", s.path);
+    const hsize_t start[2] = {first, 0};
+    const hsize_t size[2] = {count, s.ncols};
+    Check(H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start, nullptr, size, nullptr), path,
+          "cannot select rows of", s.path);
+    Handle mem_space =
+        MakeHandle(H5Screate_simple(2, size, nullptr), H5Sclose, path, "cannot create dataspace for", s.path);
+    Check(H5Dwrite(s.dataset.get(), H5T_NATIVE_DOUBLE, mem_space.get(), file_space.get(), H5P_DEFAULT,
+                   s.block.data() + s.block_written * s.ncols),
+          path, "cannot write rows of", s.path);
+    s.block_written = s.block_rows;
+  }
+
+  // Writes a full block and starts the next one.
+  void WriteFullBlock(Series& s) {
+    WriteBlockRows(s);
+    s.block_start += s.block_capacity;
+    s.block_rows = 0;
+    s.block_written = 0;
+  }
+
+  // Opens the object at `path`, creating it as a group (with parents) when missing.
+  Handle OpenOrCreateObject(const std::string& object) {
+    if (ObjectExists(file.get(), object))
+      return MakeHandle(H5Oopen(file.get(), object.c_str(), H5P_DEFAULT), H5Oclose, path, "cannot open object", object);
+    Handle lcpl = IntermediateGroupsLcpl(path, object);
+    return MakeHandle(H5Gcreate2(file.get(), object.c_str(), lcpl.get(), H5P_DEFAULT, H5P_DEFAULT), H5Gclose, path,
+                      "cannot create group", object);
+  }
+
+  // Creates a fixed (contiguous) double dataset of `rank` dims from row-major `data`, with "unit".
+  void WriteFixed(const std::string& object, int rank, const hsize_t* dims, const double* data,
+                  const std::string& unit) {
+    ValidatePath(path, object, false);
+    Handle space =
+        MakeHandle(H5Screate_simple(rank, dims, nullptr), H5Sclose, path, "cannot create dataspace for", object);
+    Handle lcpl = IntermediateGroupsLcpl(path, object);
+    Handle dataset = MakeHandle(
+        H5Dcreate2(file.get(), object.c_str(), H5T_IEEE_F64LE, space.get(), lcpl.get(), H5P_DEFAULT, H5P_DEFAULT),
+        H5Dclose, path, "cannot create dataset", object);
+    // Write the values (nothing to write for an empty dataset)
+    hssize_t npoints = H5Sget_simple_extent_npoints(space.get());
+    if (npoints > 0)
+      Check(H5Dwrite(dataset.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), path,
+            "cannot write dataset", object);
+    WriteStringAttribute(dataset.get(), "unit", unit, path, object);
+  }
+};
+
+// ---------------------------------------------------------------------------------------------
+// ResultFile
+
+ResultFile::ResultFile(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+ResultFile::ResultFile(ResultFile&&) noexcept = default;
+
+ResultFile& ResultFile::operator=(ResultFile&& other) noexcept {
+  if (this != &other) {
+    // Close what this object held before taking the other file
+    try {
+      if (impl_ && !impl_->closed) Close();
+    } catch (...) {
+    }
+    impl_ = std::move(other.impl_);
+  }
+  return *this;
+}
+
+ResultFile::~ResultFile() {
+  try {
+    if (impl_ && !impl_->closed) Close();
+  } catch (...) {
+  }
+}
+
+ResultFile ResultFile::Create(const std::string& path) {
+  QuietHdf5 quiet;
+  auto impl = std::make_unique<Impl>();
+  impl->path = path;
+  // File access: version 1.8 objects (no superblock status flags), fixed metadata cache
+  Handle fapl = MakeHandle(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, path, "cannot create file access list", "");
+  Check(H5Pset_libver_bounds(fapl.get(), H5F_LIBVER_V18, H5F_LIBVER_V18), path, "cannot set format version", "");
+  H5AC_cache_config_t mdc{};
+  mdc.version = H5AC__CURR_CACHE_CONFIG_VERSION;
+  Check(H5Pget_mdc_config(fapl.get(), &mdc), path, "cannot get metadata cache configuration", "");
+  mdc.set_initial_size = true;
+  mdc.initial_size = kMetadataCacheBytes;
+  mdc.max_size = kMetadataCacheBytes;
+  mdc.min_size = std::min(mdc.min_size, kMetadataCacheBytes);
+  mdc.incr_mode = H5C_incr__off;
+  mdc.flash_incr_mode = H5C_flash_incr__off;
+  mdc.decr_mode = H5C_decr__off;
+  Check(H5Pset_mdc_config(fapl.get(), &mdc), path, "cannot set metadata cache configuration", "");
+  // Create (truncate) the file
+  impl->file = MakeHandle(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()), H5Fclose, path,
+                          "cannot create file", "");
+  return ResultFile(std::move(impl));
+}
+
+ResultFile::SeriesId ResultFile::AddSeries(const std::string& path, int ncols, const std::string& unit,
+                                           const std::vector<std::string>& column_names) {
+  QuietHdf5 quiet;
+  Impl& impl = Live(impl_, "AddSeries");
+  // Check the arguments
+  ValidatePath(impl.path, path, false);
+  if (ncols < 1)
+    throw std::invalid_argument("result file " + impl.path + ": series " + path + " needs ncols >= 1, got " +
+                                std::to_string(ncols));
+  if (!column_names.empty() && column_names.size() != static_cast<std::size_t>(ncols))
+    throw std::invalid_argument("result file " + impl.path + ": series " + path + " has " + std::to_string(ncols) +
+                                " columns but " + std::to_string(column_names.size()) + " column names");
+  if (impl.ids.count(path) != 0 || ObjectExists(impl.file.get(), path))
+    throw std::invalid_argument("result file " + impl.path + ": series " + path + " already exists");
+  // Size the chunk (and block) to about kChunkBytes
+  Series s;
+  s.path = path;
+  s.ncols = static_cast<hsize_t>(ncols);
+  s.block_capacity = std::max<hsize_t>(1, kChunkBytes / (sizeof(double) * s.ncols));
+  // Dataset [0 x ncols], unlimited rows, chunked, never filled, no chunk cache
+  const hsize_t dims[2] = {0, s.ncols};
+  const hsize_t max_dims[2] = {H5S_UNLIMITED, s.ncols};
+  const hsize_t chunk[2] = {s.block_capacity, s.ncols};
+  Handle space =
+      MakeHandle(H5Screate_simple(2, dims, max_dims), H5Sclose, impl.path, "cannot create dataspace for", path);
+  Handle dcpl = MakeHandle(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, impl.path, "cannot create property list for", path);
+  Check(H5Pset_chunk(dcpl.get(), 2, chunk), impl.path, "cannot set chunking of", path);
+  Check(H5Pset_fill_time(dcpl.get(), H5D_FILL_TIME_NEVER), impl.path, "cannot set fill time of", path);
+  Handle dapl = MakeHandle(H5Pcreate(H5P_DATASET_ACCESS), H5Pclose, impl.path, "cannot create property list for", path);
+  Check(H5Pset_chunk_cache(dapl.get(), 1, 0, 1.0), impl.path, "cannot set chunk cache of", path);
+  Handle lcpl = IntermediateGroupsLcpl(impl.path, path);
+  s.dataset = MakeHandle(
+      H5Dcreate2(impl.file.get(), path.c_str(), H5T_IEEE_F64LE, space.get(), lcpl.get(), dcpl.get(), dapl.get()),
+      H5Dclose, impl.path, "cannot create dataset", path);
+  // Attributes "unit" and "columns"
+  WriteStringAttribute(s.dataset.get(), "unit", unit, impl.path, path);
+  if (!column_names.empty()) {
+    std::string columns;
+    for (std::size_t i = 0; i < column_names.size(); ++i) columns += (i ? "," : "") + column_names[i];
+    WriteStringAttribute(s.dataset.get(), "columns", columns, impl.path, path);
+  }
+  // The block buffer: the only allocation a series makes
+  s.block.assign(s.block_capacity * s.ncols, 0.0);
+  const auto id = static_cast<SeriesId>(impl.series.size());
+  impl.series.push_back(std::move(s));
+  impl.ids.emplace(path, id);
+  return id;
+}
+
+void ResultFile::Append(SeriesId id, const double* row) {
+  Impl& impl = Live(impl_, "Append");
+  if (id < 0 || static_cast<std::size_t>(id) >= impl.series.size())
+    throw std::invalid_argument("result file " + impl.path + ": no series with id " + std::to_string(id));
+  Series& s = impl.series[static_cast<std::size_t>(id)];
+  // A block left full by a failed write is written before it takes more rows
+  if (s.block_rows == s.block_capacity) {
+    QuietHdf5 quiet;
+    impl.WriteFullBlock(s);
+  }
+  // Copy the row; write the block when it fills
+  std::copy_n(row, s.ncols, s.block.data() + s.block_rows * s.ncols);
+  if (++s.block_rows == s.block_capacity) {
+    QuietHdf5 quiet;
+    impl.WriteFullBlock(s);
+  }
+}
+
+std::int64_t ResultFile::rows(SeriesId id) const {
+  if (!impl_) throw std::logic_error("result file: rows on a moved-from object");
+  const Impl& impl = *impl_;
+  if (id < 0 || static_cast<std::size_t>(id) >= impl.series.size())
+    throw std::invalid_argument("result file " + impl.path + ": no series with id " + std::to_string(id));
+  const Series& s = impl.series[static_cast<std::size_t>(id)];
+  return static_cast<std::int64_t>(s.block_start + s.block_rows);
+}
+
+void ResultFile::WriteMatrix(const std::string& path, const Eigen::MatrixXd& m, const std::string& unit) {
+  QuietHdf5 quiet;
+  Impl& impl = Live(impl_, "WriteMatrix");
+  // Row-major copy for the file's C order
+  const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> row_major = m;
+  const hsize_t dims[2] = {static_cast<hsize_t>(m.rows()), static_cast<hsize_t>(m.cols())};
+  impl.WriteFixed(path, 2, dims, row_major.data(), unit);
+}
+
+void ResultFile::WriteVector(const std::string& path, const std::vector<double>& v, const std::string& unit) {
+  QuietHdf5 quiet;
+  Impl& impl = Live(impl_, "WriteVector");
+  const hsize_t dims[1] = {v.size()};
+  impl.WriteFixed(path, 1, dims, v.data(), unit);
+}
+
+void ResultFile::SetAttribute(const std::string& path, const std::string& key, const std::string& value) {
+  QuietHdf5 quiet;
+  Impl& impl = Live(impl_, "SetAttribute");
+  ValidatePath(impl.path, path, true);
+  Handle obj = impl.OpenOrCreateObject(path);
+  WriteStringAttribute(obj.get(), key, value, impl.path, path);
+}
+
+void ResultFile::SetAttribute(const std::string& path, const std::string& key, double value) {
+  QuietHdf5 quiet;
+  Impl& impl = Live(impl_, "SetAttribute");
+  ValidatePath(impl.path, path, true);
+  Handle obj = impl.OpenOrCreateObject(path);
+  WriteScalarAttribute(obj.get(), key, H5T_NATIVE_DOUBLE, &value, impl.path, path);
+}
+
+void ResultFile::SetAttribute(const std::string& path, const std::string& key, std::int64_t value) {
+  QuietHdf5 quiet;
+  Impl& impl = Live(impl_, "SetAttribute");
+  ValidatePath(impl.path, path, true);
+  Handle obj = impl.OpenOrCreateObject(path);
+  WriteScalarAttribute(obj.get(), key, H5T_NATIVE_INT64, &value, impl.path, path);
+}
+
+void ResultFile::Flush() {
+  QuietHdf5 quiet;
+  Impl& impl = Live(impl_, "Flush");
+  // Buffered rows of every series, then all metadata
+  for (Series& s : impl.series) impl.WriteBlockRows(s);
+  Check(H5Fflush(impl.file.get(), H5F_SCOPE_GLOBAL), impl.path, "cannot flush file", "");
+}
+
+void ResultFile::Close() {
+  QuietHdf5 quiet;
+  Impl& impl = Live(impl_, "Close");
+  impl.closed = true;
+  // Write buffered rows; keep the first error and close every handle regardless
+  std::string error;
+  for (Series& s : impl.series) {
+    try {
+      impl.WriteBlockRows(s);
+    } catch (const std::exception& e) {
+      if (error.empty()) error = e.what();
+    }
+  }
+  for (Series& s : impl.series) {
+    if (!s.dataset.Reset() && error.empty()) error = FailMessage(impl.path, "cannot close dataset", s.path);
+  }
+  if (!impl.file.Reset() && error.empty()) error = FailMessage(impl.path, "cannot close file", "");
+  if (!error.empty()) throw std::runtime_error(error);
+}
+
+const std::string& ResultFile::path() const {
+  static const std::string kNone;
+  return impl_ ? impl_->path : kNone;
+}
+
+// ---------------------------------------------------------------------------------------------
+// ResultReader
+
+struct ResultReader::Impl {
+  std::string path;
+  Handle file;
+
+  // Fills `entry` (kind, shape, attributes) from the object at entry.path; returns false, leaving
+  // it unfilled, for objects other than groups and datasets.
+  bool Describe(ResultReader::Entry& entry) const {
+    Handle obj = MakeHandle(H5Oopen(file.get(), entry.path.c_str(), H5P_DEFAULT), H5Oclose, path, "cannot open object",
+                            entry.path);
+    const H5I_type_t kind = H5Iget_type(obj.get());
+    if (kind != H5I_GROUP && kind != H5I_DATASET) return false;
+    entry.is_group = kind == H5I_GROUP;
+    // Dataset shape
+    if (kind == H5I_DATASET) {
+      Handle space = MakeHandle(H5Dget_space(obj.get()), H5Sclose, path, "cannot get dataspace of", entry.path);
+      const int rank = H5Sget_simple_extent_ndims(space.get());
+      if (rank < 0) Fail(path, "cannot get rank of", entry.path);
+      std::vector<hsize_t> dims(static_cast<std::size_t>(rank));
+      if (rank > 0 && H5Sget_simple_extent_dims(space.get(), dims.data(), nullptr) < 0)
+        Fail(path, "cannot get shape of", entry.path);
+      entry.shape.assign(dims.begin(), dims.end());
+    }
+    // Attribute names in name order, then their values
+    std::vector<std::string> names;
+    Check(H5Aiterate2(
+              obj.get(), H5_INDEX_NAME, H5_ITER_INC, nullptr,
+              [](hid_t, const char* name, const H5A_info_t*, void* data) -> herr_t {
+                static_cast<std::vector<std::string>*>(data)->emplace_back(name);
+                return 0;
+              },
+              &names),
+          path, "cannot list attributes of", entry.path);
+    for (const std::string& name : names) {
+      const std::string where = entry.path + " attribute " + name;
+      Handle attr = MakeHandle(H5Aopen(obj.get(), name.c_str(), H5P_DEFAULT), H5Aclose, path, "cannot open", where);
+      std::string text;
+      try {
+        text = AttributeText(attr.get(), path, where);
+      } catch (const std::runtime_error&) {
+        text = "<unsupported type>";
+      }
+      entry.attributes.emplace_back(name, std::move(text));
+    }
+    return true;
+  }
+};
+
+ResultReader::ResultReader(const std::string& path) : impl_(std::make_unique<Impl>()) {
+  QuietHdf5 quiet;
+  impl_->path = path;
+  // A missing file and a file HDF5 cannot open get different messages
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec))
+    throw std::runtime_error("result file " + path + ": cannot open: no such file");
+  impl_->file = MakeHandle(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose, path,
+                           "cannot open: not a readable HDF5 file", "");
+}
+
+ResultReader::~ResultReader() {
+  if (impl_) {
+    QuietHdf5 quiet;
+    impl_->file.Reset();
+  }
+}
+
+ResultReader::ResultReader(ResultReader&&) noexcept = default;
+ResultReader& ResultReader::operator=(ResultReader&&) noexcept = default;
+
+std::vector<ResultReader::Entry> ResultReader::List() const {
+  QuietHdf5 quiet;
+  const Impl& impl = Live(impl_, "List");
+  // Collect the paths of hard links
+  std::vector<std::string> paths{"/"};
+  const herr_t status = H5Lvisit(
+      impl.file.get(), H5_INDEX_NAME, H5_ITER_INC,
+      [](hid_t, const char* name, const auto* info, void* data) -> herr_t {
+        if (info->type == H5L_TYPE_HARD)
+          static_cast<std::vector<std::string>*>(data)->push_back("/" + std::string(name));
+        return 0;
+      },
+      &paths);
+  Check(status, impl.path, "cannot walk", "/");
+  // Depth first, by name within a group: compare component by component
+  const auto components = [](const std::string& p) {
+    std::vector<std::string_view> parts;
+    std::string_view rest(p);
+    while (rest.size() > 1) {
+      rest.remove_prefix(1);
+      const std::size_t slash = rest.find('/');
+      parts.push_back(rest.substr(0, slash));
+      rest = slash == std::string_view::npos ? std::string_view() : rest.substr(slash);
+    }
+    return parts;
+  };
+  std::sort(paths.begin(), paths.end(),
+            [&](const std::string& a, const std::string& b) { return components(a) < components(b); });
+  // Describe the groups and datasets (named datatypes are left out)
+  std::vector<Entry> entries;
+  for (const std::string& p : paths) {
+    Entry entry;
+    entry.path = p;
+    if (impl.Describe(entry)) entries.push_back(std::move(entry));
+  }
+  return entries;
+}
+
+bool ResultReader::Exists(const std::string& path) const {
+  QuietHdf5 quiet;
+  const Impl& impl = Live(impl_, "Exists");
+  if (path.empty() || path.front() != '/') return false;
+  return ObjectExists(impl.file.get(), path);
+}
+
+Eigen::MatrixXd ResultReader::ReadMatrix(const std::string& path) const {
+  QuietHdf5 quiet;
+  const Impl& impl = Live(impl_, "ReadMatrix");
+  if (!Exists(path)) throw std::runtime_error("result file " + impl.path + ": no dataset " + path);
+  Handle dataset = MakeHandle(H5Dopen2(impl.file.get(), path.c_str(), H5P_DEFAULT), H5Dclose, impl.path,
+                              "cannot open dataset", path);
+  // Numbers only, rank 0 to 2
+  Handle type = MakeHandle(H5Dget_type(dataset.get()), H5Tclose, impl.path, "cannot get type of", path);
+  const H5T_class_t type_class = H5Tget_class(type.get());
+  if (type_class != H5T_FLOAT && type_class != H5T_INTEGER)
+    throw std::runtime_error("result file " + impl.path + ": dataset " + path + " does not hold numbers");
+  Handle space = MakeHandle(H5Dget_space(dataset.get()), H5Sclose, impl.path, "cannot get dataspace of", path);
+  const int rank = H5Sget_simple_extent_ndims(space.get());
+  if (rank < 0 || rank > 2)
+    throw std::runtime_error("result file " + impl.path + ": dataset " + path + " has rank " + std::to_string(rank) +
+                             ", expected 1 or 2");
+  hsize_t dims[2] = {1, 1};
+  if (rank > 0 && H5Sget_simple_extent_dims(space.get(), dims, nullptr) < 0)
+    Fail(impl.path, "cannot get shape of", path);
+  // Read row-major, return column-major
+  const auto rows = static_cast<Eigen::Index>(dims[0]);
+  const auto cols = static_cast<Eigen::Index>(rank == 2 ? dims[1] : 1);
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> m(rows, cols);
+  if (m.size() > 0)
+    Check(H5Dread(dataset.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, m.data()), impl.path,
+          "cannot read dataset", path);
+  return m;
+}
+
+std::string ResultReader::ReadAttribute(const std::string& path, const std::string& key) const {
+  QuietHdf5 quiet;
+  const Impl& impl = Live(impl_, "ReadAttribute");
+  const std::string where = path + " attribute " + key;
+  if (!Exists(path)) throw std::runtime_error("result file " + impl.path + ": no object " + path);
+  if (H5Aexists_by_name(impl.file.get(), path.c_str(), key.c_str(), H5P_DEFAULT) <= 0)
+    throw std::runtime_error("result file " + impl.path + ": object " + path + " has no attribute " + key);
+  Handle attr = MakeHandle(H5Aopen_by_name(impl.file.get(), path.c_str(), key.c_str(), H5P_DEFAULT, H5P_DEFAULT),
+                           H5Aclose, impl.path, "cannot open", where);
+  return AttributeText(attr.get(), impl.path, where);
+}
+
+}  // namespace orrery
