@@ -1,0 +1,104 @@
+// The `orrery` command-line program: CLI11 parsing only; the commands live in the orrery_tools
+// library (run_command.h, inspect_command.h).
+//
+//   orrery run SCENE [-o OUT.h5] [--end-time T] [--set key=value ...] [--integrator NAME] [--quiet]
+//   orrery inspect OUT.h5
+//   orrery --version
+//
+// Exit codes: 0 success, 1 runtime failure, 2 bad usage, 128 + signal when interrupted.
+#include <unistd.h>
+
+#include <cmath>
+#include <exception>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "tools/cli/error_message.h"
+#include "tools/cli/inspect_command.h"
+#include "tools/cli/run_command.h"
+
+namespace {
+
+using namespace orrery::cli;
+
+// A finite number > 0 (CLI11's PositiveNumber prints the whole range of double when it fails)
+const CLI::Validator kPositiveSeconds(
+    [](std::string& text) -> std::string {
+      std::size_t used = 0;
+      double value = 0;
+      try {
+        value = std::stod(text, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used != text.size() || used == 0 || !(value > 0) || !std::isfinite(value))
+        return "must be a number of seconds > 0, got '" + text + "'";
+      return "";
+    },
+    "SECONDS > 0");
+
+int Main(int argc, char** argv) {
+  CLI::App app{"Orrery: multibody dynamics engine", "orrery"};
+  app.set_version_flag("--version", std::string("orrery ") + ORRERY_VERSION);
+  app.require_subcommand(1);
+
+  // orrery run
+  RunArgs run_args;
+  double end_time = 0;
+  CLI::App* run = app.add_subcommand("run", "Simulate a scene file and write a result file");
+  run->add_option("scene", run_args.scene_path, "Scene file (YAML)")->required();
+  run->add_option("-o,--output", run_args.output_path, "Result file (default: the scene's output file)");
+  CLI::Option* end_time_option =
+      run->add_option("--end-time", end_time, "End time in s (overrides solver.end_time)")
+          ->check(kPositiveSeconds);
+  run->add_option("--set", run_args.overrides, "Scene override key.path=value (repeatable)")
+      ->allow_extra_args(false);
+  run->add_option("--integrator", run_args.integrator, "Integrator (overrides solver.integrator)")
+      ->check(CLI::IsMember({"ida", "generalized_alpha"}));
+  run->add_flag("-q,--quiet", run_args.quiet, "No progress output");
+
+  // orrery inspect
+  InspectArgs inspect_args;
+  CLI::App* inspect = app.add_subcommand("inspect", "List the groups, datasets and attributes of a result file");
+  inspect->add_option("file", inspect_args.path, "Result file (HDF5)")->required();
+
+  // Parse: help and version go to stdout, any other problem is one line on stderr
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    if (e.get_exit_code() == static_cast<int>(CLI::ExitCodes::Success)) return app.exit(e);
+    // Before a command, a stray argument is the problem (a misspelt command or option)
+    std::string reason = e.what();
+    const std::vector<std::string> stray = app.remaining();
+    if (app.get_subcommands().empty() && !stray.empty() && !stray.front().empty())
+      reason = stray.front().front() == '-' ? "unknown option '" + stray.front() + "'"
+                                            : "unknown command '" + stray.front() + "' (expected run or inspect)";
+    ReportError(std::cerr, reason + "; see orrery --help");
+    return kExitUsage;
+  }
+
+  // Dispatch
+  if (run->parsed()) {
+    if (end_time_option->count() > 0) run_args.end_time = end_time;
+    run_args.err_is_terminal = isatty(STDERR_FILENO) == 1;
+    return RunCommand(run_args, std::cout, std::cerr);
+  }
+  return InspectCommand(inspect_args, std::cout, std::cerr);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // Last line of defence: nothing escapes as a stack trace or an abort
+  try {
+    return Main(argc, argv);
+  } catch (const std::exception& e) {
+    ReportError(std::cerr, e.what());
+  } catch (...) {
+    ReportError(std::cerr, "unknown error");
+  }
+  return kExitFailure;
+}
