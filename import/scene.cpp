@@ -1,0 +1,1298 @@
+// Scene files: YAML text -> validated ModelBuilder calls -> Model + SimulationOptions.
+//
+// Reading is strict: every map is checked against its allowed keys before anything is read, so a
+// misspelt key is reported as unknown (with a suggestion) rather than as a missing one. Every
+// error names the file, the 1-based line and the key path ("bodies[crank].mass"); values set by
+// --set overrides are reported as "--set KEY" instead of a line. The schema: docs/scene_format.md.
+#include "import/scene.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <numbers>
+#include <optional>
+#include <regex>
+#include <sstream>
+#include <utility>
+
+#include <Eigen/SVD>
+#include <yaml-cpp/yaml.h>
+
+namespace orrery {
+namespace {
+
+constexpr double kDegToRad = std::numbers::pi / 180.0;
+constexpr double kRpmToRadPerS = 2.0 * std::numbers::pi / 60.0;
+
+// ---------------------------------------------------------------------------------------------
+// Suggestions
+
+// Optimal-string-alignment distance: insertions, deletions, substitutions, adjacent swaps.
+int EditDistance(const std::string& a, const std::string& b) {
+  const size_t n = a.size(), m = b.size();
+  std::vector<std::vector<int>> d(n + 1, std::vector<int>(m + 1, 0));
+  for (size_t i = 0; i <= n; ++i) d[i][0] = static_cast<int>(i);
+  for (size_t j = 0; j <= m; ++j) d[0][j] = static_cast<int>(j);
+  for (size_t i = 1; i <= n; ++i)
+    for (size_t j = 1; j <= m; ++j) {
+      const int cost = a[i - 1] == b[j - 1] ? 0 : 1;
+      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + cost});
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1])
+        d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+    }
+  return d[n][m];
+}
+
+// "; did you mean 'x'?" for the closest candidate within edit distance 2, else "".
+std::string DidYouMean(const std::string& word, const std::vector<std::string>& candidates) {
+  std::string best;
+  int best_distance = 3;
+  for (const std::string& c : candidates) {
+    const int dist = EditDistance(word, c);
+    if (dist < best_distance) best = c, best_distance = dist;
+  }
+  return best.empty() ? "" : "; did you mean '" + best + "'?";
+}
+
+std::string JoinQuoted(const std::vector<std::string>& words) {
+  std::string s;
+  for (const std::string& w : words) s += (s.empty() ? "" : ", ") + w;
+  return s;
+}
+
+// Suggestion if one is close, else the list of candidates (when short enough to be useful).
+std::string SuggestOrList(const std::string& word, const std::vector<std::string>& candidates,
+                          const std::string& what) {
+  std::string s = DidYouMean(word, candidates);
+  if (!s.empty()) return s;
+  if (candidates.empty()) return " (there are no " + what + ")";
+  if (candidates.size() <= 12) return " (" + what + ": " + JoinQuoted(candidates) + ")";
+  return "";
+}
+
+std::string Num(double x) {
+  std::ostringstream s;
+  s << x;
+  return s.str();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Context, items and errors
+
+// One "--set key=value" after parsing: the value node is spliced into the tree.
+struct OverrideSetting {
+  std::string key;   // as the user wrote it
+  std::string path;  // canonical key path ("bodies[bob].mass")
+  YAML::Node value;
+};
+
+// A node of the scene with its key path and the line to report (the key's line for map entries).
+struct Item {
+  YAML::Node node;
+  std::string path;
+  YAML::Mark mark;
+};
+
+bool Contains(const YAML::Node& root, const YAML::Node& node) {
+  if (root.is(node)) return true;
+  if (root.IsSequence() || root.IsMap())
+    for (auto it = root.begin(); it != root.end(); ++it) {
+      if (root.IsSequence() && Contains(*it, node)) return true;
+      if (root.IsMap() && (Contains(it->first, node) || Contains(it->second, node))) return true;
+    }
+  return false;
+}
+
+class Context {
+ public:
+  explicit Context(std::string file) : file_(std::move(file)) {}
+  const std::string& file() const { return file_; }
+  std::vector<OverrideSetting>& overrides() { return overrides_; }
+
+  // Throws "FILE:LINE: PATH: reason", or "FILE: --set KEY: [PATH: ]reason" for override values.
+  [[noreturn]] void Fail(const YAML::Node& node, const YAML::Mark& mark, const std::string& path,
+                         const std::string& reason) const {
+    for (const OverrideSetting& o : overrides_)
+      if (node.IsDefined() && Contains(o.value, node))
+        throw SceneError(file_ + ": --set " + o.key + ": " +
+                         (path == o.path || path.empty() ? "" : path + ": ") + reason);
+    std::string where = file_;
+    if (mark.line >= 0) where += ":" + std::to_string(mark.line + 1);
+    throw SceneError(where + ": " + (path.empty() ? "" : path + ": ") + reason);
+  }
+  [[noreturn]] void Fail(const Item& at, const std::string& reason) const {
+    Fail(at.node, at.mark, at.path, reason);
+  }
+  // Errors in the override text itself: "FILE: --set KEY: reason".
+  [[noreturn]] void FailOverride(const std::string& key, const std::string& reason) const {
+    throw SceneError(file_ + ": --set " + key + ": " + reason);
+  }
+
+ private:
+  std::string file_;
+  std::vector<OverrideSetting> overrides_;
+};
+
+// What a node is, for "expected X, got Y".
+std::string Describe(const YAML::Node& n) {
+  switch (n.Type()) {
+    case YAML::NodeType::Undefined:
+    case YAML::NodeType::Null: return "nothing (null)";
+    case YAML::NodeType::Scalar:
+      return n.Tag() == "!" ? "the quoted string \"" + n.Scalar() + "\"" : "'" + n.Scalar() + "'";
+    case YAML::NodeType::Sequence: return "a list of " + std::to_string(n.size());
+    case YAML::NodeType::Map: return "a map";
+  }
+  return "?";
+}
+
+// The i-th element of a list.
+Item Element(const Item& list, size_t i) {
+  const YAML::Node n = list.node[i];
+  return {n, list.path + "[" + std::to_string(i) + "]", n.Mark()};
+}
+
+// Unquoted scalars (numbers and booleans are never quoted in a scene).
+bool IsPlainScalar(const YAML::Node& n) {
+  return n.IsScalar() && n.Tag() != "!";
+}
+
+double ToNumber(const Context& ctx, const Item& it) {
+  double x = 0;
+  if (!IsPlainScalar(it.node) || !YAML::convert<double>::decode(it.node, x))
+    ctx.Fail(it, "expected a number, got " + Describe(it.node));
+  if (!std::isfinite(x)) ctx.Fail(it, "expected a finite number, got " + it.node.Scalar());
+  return x;
+}
+
+int ToInt(const Context& ctx, const Item& it) {
+  int x = 0;
+  if (!IsPlainScalar(it.node) || !YAML::convert<int>::decode(it.node, x))
+    ctx.Fail(it, "expected an integer, got " + Describe(it.node));
+  return x;
+}
+
+bool ToBool(const Context& ctx, const Item& it) {
+  bool x = false;
+  if (!IsPlainScalar(it.node) || !YAML::convert<bool>::decode(it.node, x))
+    ctx.Fail(it, "expected true or false, got " + Describe(it.node));
+  return x;
+}
+
+std::string ToString(const Context& ctx, const Item& it) {
+  if (!it.node.IsScalar() || it.node.Scalar().empty())
+    ctx.Fail(it, "expected a name (a string), got " + Describe(it.node));
+  return it.node.Scalar();
+}
+
+// A list of numbers; `n` >= 0 fixes its length.
+std::vector<double> ToNumbers(const Context& ctx, const Item& it, int n) {
+  const std::string expected = n == 1    ? "a list of 1 number"
+                               : n >= 0  ? "a list of " + std::to_string(n) + " numbers"
+                                         : "a list of numbers";
+  if (!it.node.IsSequence()) ctx.Fail(it, "expected " + expected + ", got " + Describe(it.node));
+  if (n >= 0 && static_cast<int>(it.node.size()) != n)
+    ctx.Fail(it, "expected " + expected + ", got " + Describe(it.node));
+  std::vector<double> x;
+  for (size_t i = 0; i < it.node.size(); ++i) x.push_back(ToNumber(ctx, Element(it, i)));
+  return x;
+}
+
+Vec3 ToVec3(const Context& ctx, const Item& it) {
+  const std::vector<double> x = ToNumbers(ctx, it, 3);
+  return Vec3(x[0], x[1], x[2]);
+}
+
+// Path of the i-th item of a list of named maps: "bodies[crank]", or "bodies[2]" without a name.
+std::string ItemPath(const std::string& list_path, size_t i, const YAML::Node& item) {
+  if (item.IsMap())
+    for (auto it = item.begin(); it != item.end(); ++it)
+      if (it->first.IsScalar() && it->first.Scalar() == "name" && it->second.IsScalar() &&
+          !it->second.Scalar().empty())
+        return list_path + "[" + it->second.Scalar() + "]";
+  return list_path + "[" + std::to_string(i) + "]";
+}
+
+// The items of an optional list (null counts as empty).
+std::vector<Item> ListItems(const Context& ctx, const std::optional<Item>& list) {
+  std::vector<Item> items;
+  if (!list || list->node.IsNull()) return items;
+  if (!list->node.IsSequence()) ctx.Fail(*list, "expected a list, got " + Describe(list->node));
+  for (size_t i = 0; i < list->node.size(); ++i) {
+    const YAML::Node n = list->node[i];
+    items.push_back({n, ItemPath(list->path, i, n), n.Mark()});
+  }
+  return items;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Maps with a fixed set of keys
+
+class MapReader {
+ public:
+  // Checks that `item` is a map whose keys are all in `allowed` (no duplicates). `notes` explain
+  // keys that are valid elsewhere but not here ("a spherical joint has no axis").
+  MapReader(const Context& ctx, Item item, const std::vector<std::string>& allowed,
+            const std::map<std::string, std::string>& notes = {})
+      : ctx_(ctx), item_(std::move(item)) {
+    if (!item_.node.IsMap()) ctx_.Fail(item_, "expected a map, got " + Describe(item_.node));
+    for (auto it = item_.node.begin(); it != item_.node.end(); ++it) {
+      const YAML::Node key = it->first, value = it->second;
+      const std::string name = key.IsScalar() ? key.Scalar() : "?";
+      const Item entry{value, Join(name), key.Mark()};
+      if (!key.IsScalar()) ctx_.Fail(value, key.Mark(), item_.path, "keys must be plain names");
+      if (std::find(allowed.begin(), allowed.end(), name) == allowed.end()) {
+        const auto note = notes.find(name);
+        if (note != notes.end()) ctx_.Fail(entry, "key not allowed here: " + note->second);
+        std::string hint = DidYouMean(name, allowed);
+        if (hint.empty()) hint = " (allowed: " + JoinQuoted(allowed) + ")";
+        ctx_.Fail(entry, "unknown key '" + name + "'" + hint);
+      }
+      for (const auto& [seen, seen_item] : entries_)
+        if (seen == name)
+          ctx_.Fail(entry, "duplicate key '" + name + "'" +
+                               (seen_item.mark.line >= 0
+                                    ? " (first at line " + std::to_string(seen_item.mark.line + 1) + ")"
+                                    : ""));
+      entries_.emplace_back(name, entry);
+    }
+  }
+
+  const Context& ctx() const { return ctx_; }
+  const Item& item() const { return item_; }
+  std::string Join(const std::string& key) const {
+    return item_.path.empty() ? key : item_.path + "." + key;
+  }
+
+  std::optional<Item> Find(const std::string& key) const {
+    for (const auto& [name, entry] : entries_)
+      if (name == key) return entry;
+    return std::nullopt;
+  }
+  bool Has(const std::string& key) const { return Find(key).has_value(); }
+  // A required key; missing: "PATH.key: missing required key" at the map's line.
+  Item Need(const std::string& key) const {
+    if (auto it = Find(key)) return *it;
+    ctx_.Fail(item_.node, item_.mark, Join(key), "missing required key '" + key + "'");
+  }
+  [[noreturn]] void FailMissing(const std::string& key, const std::string& reason) const {
+    ctx_.Fail(item_.node, item_.mark, Join(key), reason);
+  }
+
+  // Typed reads: required, or with a default.
+  double Number(const std::string& key) const { return ToNumber(ctx_, Need(key)); }
+  double Number(const std::string& key, double fallback) const {
+    const auto it = Find(key);
+    return it ? ToNumber(ctx_, *it) : fallback;
+  }
+  int Int(const std::string& key, int fallback) const {
+    const auto it = Find(key);
+    return it ? ToInt(ctx_, *it) : fallback;
+  }
+  bool Bool(const std::string& key, bool fallback) const {
+    const auto it = Find(key);
+    return it ? ToBool(ctx_, *it) : fallback;
+  }
+  std::string String(const std::string& key) const { return ToString(ctx_, Need(key)); }
+  Vec3 Vector(const std::string& key, const Vec3& fallback) const {
+    const auto it = Find(key);
+    return it ? ToVec3(ctx_, *it) : fallback;
+  }
+
+  // `key` or one of its unit-suffixed variants ("angle" / "angle_deg"): the item and the factor
+  // to SI. At most one may be given.
+  std::optional<std::pair<Item, double>> FindScaled(
+      const std::string& key, const std::vector<std::pair<std::string, double>>& suffixes) const {
+    std::optional<std::pair<Item, double>> found;
+    std::string found_key;
+    for (const auto& [suffix, factor] : suffixes)
+      if (auto it = Find(key + suffix)) {
+        if (found) ctx_.Fail(*it, "give either '" + found_key + "' or '" + key + suffix + "', not both");
+        found = std::make_pair(*it, factor);
+        found_key = key + suffix;
+      }
+    return found;
+  }
+
+  // A string that must be one of `choices`.
+  std::string Choice(const std::string& key, const std::vector<std::string>& choices,
+                     const std::optional<std::string>& fallback = std::nullopt) const {
+    const auto it = Find(key);
+    if (!it && fallback) return *fallback;
+    const Item item = it ? *it : Need(key);
+    const std::string value = ToString(ctx_, item);
+    if (std::find(choices.begin(), choices.end(), value) == choices.end())
+      ctx_.Fail(item, "unknown value '" + value + "'" + SuggestOrList(value, choices, "one of"));
+    return value;
+  }
+
+ private:
+  const Context& ctx_;
+  Item item_;
+  std::vector<std::pair<std::string, Item>> entries_;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Rotations, poses and functions of time
+
+Mat3 RotX(double a) { return AxisAngle(Vec3::UnitX(), a); }
+Mat3 RotY(double a) { return AxisAngle(Vec3::UnitY(), a); }
+Mat3 RotZ(double a) { return AxisAngle(Vec3::UnitZ(), a); }
+
+// ROT: {axis, angle|angle_deg} | {quaternion: [w,x,y,z]} | {rpy|rpy_deg} | 3x3 nested list.
+Mat3 ToRotation(const Context& ctx, const Item& it) {
+  // A 3x3 matrix, rows first; must be orthonormal to 1e-6 and proper, then re-orthonormalized.
+  if (it.node.IsSequence()) {
+    if (it.node.size() != 3 || !it.node[0].IsSequence())
+      ctx.Fail(it, "expected a rotation: a 3x3 nested list (rows) or a map with axis/angle, "
+                   "quaternion or rpy; got " + Describe(it.node));
+    Mat3 R;
+    for (int r = 0; r < 3; ++r) {
+      const std::vector<double> row = ToNumbers(ctx, Element(it, r), 3);
+      R.row(r) << row[0], row[1], row[2];
+    }
+    const double err = (R.transpose() * R - Mat3::Identity()).norm();
+    if (err > 1e-6 || R.determinant() < 0)
+      ctx.Fail(it, "the 3x3 matrix is not a rotation (|R^T R - I| = " + Num(err) +
+                   ", det = " + Num(R.determinant()) + ")");
+    const Eigen::JacobiSVD<Mat3> svd(R, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    return svd.matrixU() * svd.matrixV().transpose();
+  }
+  if (!it.node.IsMap())
+    ctx.Fail(it, "expected a rotation: a map with axis/angle, quaternion or rpy, or a 3x3 nested "
+                 "list; got " + Describe(it.node));
+  const MapReader m(ctx, it, {"axis", "angle", "angle_deg", "quaternion", "rpy", "rpy_deg"});
+  const int forms = int(m.Has("axis")) + int(m.Has("quaternion")) +
+                    int(m.Has("rpy") || m.Has("rpy_deg"));
+  if (forms != 1)
+    ctx.Fail(it, "give exactly one of {axis, angle}, {quaternion} or {rpy}");
+  // Axis and angle.
+  if (m.Has("axis")) {
+    const Vec3 axis = ToVec3(ctx, m.Need("axis"));
+    if (!(axis.norm() > 1e-12)) ctx.Fail(m.Need("axis"), "axis has zero length");
+    const auto angle = m.FindScaled("angle", {{"", 1.0}, {"_deg", kDegToRad}});
+    if (!angle) m.FailMissing("angle", "missing required key 'angle' (or 'angle_deg')");
+    return AxisAngle(axis.normalized(), ToNumber(ctx, angle->first) * angle->second);
+  }
+  if (const auto angle = m.FindScaled("angle", {{"", 1.0}, {"_deg", kDegToRad}}))
+    ctx.Fail(angle->first, "an angle goes with an axis");
+  // Quaternion (w, x, y, z), normalized.
+  if (m.Has("quaternion")) {
+    const std::vector<double> q = ToNumbers(ctx, m.Need("quaternion"), 4);
+    const Quat quat(q[0], q[1], q[2], q[3]);
+    if (!(quat.norm() > 1e-12)) ctx.Fail(m.Need("quaternion"), "quaternion is zero");
+    return quat.normalized().toRotationMatrix();
+  }
+  // Roll, pitch, yaw: R = Rz(yaw) Ry(pitch) Rx(roll).
+  const auto rpy = m.FindScaled("rpy", {{"", 1.0}, {"_deg", kDegToRad}});
+  const Vec3 a = ToVec3(ctx, rpy->first) * rpy->second;
+  return RotZ(a.z()) * RotY(a.y()) * RotX(a.x());
+}
+
+// A map entry looked up without checking the map's keys (to read a "type" that decides them).
+std::optional<Item> RawField(const Item& map, const std::string& key) {
+  if (!map.node.IsMap()) return std::nullopt;
+  for (auto it = map.node.begin(); it != map.node.end(); ++it)
+    if (it->first.IsScalar() && it->first.Scalar() == key)
+      return Item{it->second, map.path + "." + key, it->first.Mark()};
+  return std::nullopt;
+}
+
+// The "type" of a list item that must be one of `types` (aliases allowed by the caller).
+std::string ItemType(const Context& ctx, const Item& item, const std::vector<std::string>& types) {
+  if (!item.node.IsMap()) ctx.Fail(item, "expected a map, got " + Describe(item.node));
+  const auto type = RawField(item, "type");
+  if (!type)
+    ctx.Fail(item.node, item.mark, item.path + ".type",
+             "missing required key 'type' (one of: " + JoinQuoted(types) + ")");
+  const std::string value = ToString(ctx, *type);
+  if (std::find(types.begin(), types.end(), value) == types.end())
+    ctx.Fail(*type, "unknown type '" + value + "'" + SuggestOrList(value, types, "one of"));
+  return value;
+}
+
+// Units of the values of a time function: the factor to SI and the unit suffixes it accepts.
+struct FunctionUnits {
+  double scale = 1.0;          // scene value unit -> SI (length scale for translations, ...)
+  bool angle = false;          // angular quantity: "_deg" allowed (degrees, or degrees per second)
+  bool angular_speed = false;  // angular speed: "_rpm" allowed as well (rev/min)
+};
+
+// FUNC: a number (constant) or {type: constant|ramp|smooth_step|table|sine|trapezoid, ...}.
+TimeFunction ToFunction(const Context& ctx, const Item& it, const FunctionUnits& units) {
+  if (it.node.IsScalar()) return TimeFunction::Constant(ToNumber(ctx, it) * units.scale);
+  if (!it.node.IsMap())
+    ctx.Fail(it, "expected a function of time: a number or a map with a 'type', got " +
+                     Describe(it.node));
+  // The type decides the keys: time and shape parameters, and values that carry the unit.
+  static const std::map<std::string, std::pair<std::vector<std::string>, std::vector<std::string>>>
+      kKeys{{"constant", {{}, {"value"}}},
+            {"ramp", {{"t0", "t1"}, {"v0", "v1"}}},
+            {"smooth_step", {{"t0", "t1"}, {"v0", "v1"}}},
+            {"table", {{"times"}, {"values"}}},
+            {"sine", {{"frequency_hz", "phase", "phase_deg"}, {"amplitude", "offset"}}},
+            {"trapezoid", {{"t4", "alpha1", "alpha2", "alpha3"}, {"w0", "w1", "w2"}}}};
+  const std::string type =
+      ItemType(ctx, it, {"constant", "ramp", "smooth_step", "table", "sine", "trapezoid"});
+  const auto& [params, values] = kKeys.at(type);
+  std::vector<std::pair<std::string, double>> suffixes{{"", units.scale}};
+  if (units.angle) suffixes.emplace_back("_deg", kDegToRad);
+  if (units.angular_speed) suffixes.emplace_back("_rpm", kRpmToRadPerS);
+  std::vector<std::string> allowed{"type"};
+  allowed.insert(allowed.end(), params.begin(), params.end());
+  std::map<std::string, std::string> notes;
+  for (const std::string& v : values) {
+    for (const auto& s : suffixes) allowed.push_back(v + s.first);
+    if (!units.angle) notes[v + "_deg"] = "'_deg' is only for angles and angular speeds";
+    if (!units.angular_speed)
+      notes[v + "_rpm"] = "'_rpm' is only for the speed of a rotational coordinate";
+  }
+  const MapReader m(ctx, it, allowed, notes);
+  // A value key in one of its units, converted to SI.
+  auto value = [&](const std::string& key) -> double {
+    const auto found = m.FindScaled(key, suffixes);
+    if (!found) m.FailMissing(key, "missing required key '" + key + "'");
+    return ToNumber(ctx, found->first) * found->second;
+  };
+  auto value_or = [&](const std::string& key, double fallback) -> double {
+    const auto found = m.FindScaled(key, suffixes);
+    return found ? ToNumber(ctx, found->first) * found->second : fallback;
+  };
+  try {
+    if (type == "constant") return TimeFunction::Constant(value("value"));
+    if (type == "ramp")
+      return TimeFunction::Ramp(m.Number("t0"), m.Number("t1"), value("v0"), value("v1"));
+    if (type == "smooth_step")
+      return TimeFunction::SmoothStep(m.Number("t0"), m.Number("t1"), value("v0"), value("v1"));
+    if (type == "table") {
+      const std::vector<double> times = ToNumbers(ctx, m.Need("times"), -1);
+      const auto found = m.FindScaled("values", suffixes);
+      if (!found) m.FailMissing("values", "missing required key 'values'");
+      std::vector<double> v = ToNumbers(ctx, found->first, static_cast<int>(times.size()));
+      for (double& x : v) x *= found->second;
+      return TimeFunction::Table(times, v);
+    }
+    if (type == "sine") {
+      const auto phase = m.FindScaled("phase", {{"", 1.0}, {"_deg", kDegToRad}});
+      return TimeFunction::Sine(value("amplitude"), m.Number("frequency_hz"),
+                                phase ? ToNumber(ctx, phase->first) * phase->second : 0.0,
+                                value_or("offset", 0.0));
+    }
+    return TimeFunction::Trapezoid(value("w0"), value("w1"), value("w2"), m.Number("t4"),
+                                   m.Number("alpha1"), m.Number("alpha2"), m.Number("alpha3"));
+  } catch (const std::invalid_argument& e) {
+    ctx.Fail(it, e.what());
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Joint coordinates and their units
+
+enum class CoordinateKind { kAngle, kLength, kQuaternion };
+
+// Kind of position coordinate k (velocity == false) or velocity coordinate k of a joint type.
+CoordinateKind KindOf(JointType type, int k, bool velocity) {
+  switch (type) {
+    case JointType::kPrismatic: return CoordinateKind::kLength;
+    case JointType::kCylindrical: return k == 1 ? CoordinateKind::kLength : CoordinateKind::kAngle;
+    case JointType::kSpherical: return velocity ? CoordinateKind::kAngle : CoordinateKind::kQuaternion;
+    case JointType::kPlanar: return k < 2 ? CoordinateKind::kLength : CoordinateKind::kAngle;
+    case JointType::kFree:
+      if (k < 3) return CoordinateKind::kLength;
+      return velocity ? CoordinateKind::kAngle : CoordinateKind::kQuaternion;
+    default: return CoordinateKind::kAngle;
+  }
+}
+
+bool HasAngularCoordinate(JointType type) {
+  return type != JointType::kFixed && type != JointType::kPrismatic;
+}
+
+const std::vector<std::pair<std::string, JointType>>& JointTypes() {
+  static const std::vector<std::pair<std::string, JointType>> kTypes{
+      {"fixed", JointType::kFixed},         {"revolute", JointType::kRevolute},
+      {"prismatic", JointType::kPrismatic}, {"cylindrical", JointType::kCylindrical},
+      {"universal", JointType::kUniversal}, {"spherical", JointType::kSpherical},
+      {"planar", JointType::kPlanar},       {"free", JointType::kFree}};
+  return kTypes;
+}
+
+std::vector<std::string> JointTypeNames() {
+  std::vector<std::string> names;
+  for (const auto& [name, type] : JointTypes()) names.push_back(name);
+  return names;
+}
+
+JointType JointTypeFromName(const std::string& name) {
+  for (const auto& [n, type] : JointTypes())
+    if (n == name) return type;
+  return JointType::kRevolute;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Builder errors: std::invalid_argument from ModelBuilder, placed at the key it is about
+
+// Strips the builder's "<kind> '<name>': " prefix (the key path already names the element).
+std::string StripElementPrefix(const std::string& message) {
+  static const std::regex kPrefix("^[a-z ]+ '[^']*': ");
+  return std::regex_replace(message, kPrefix, "", std::regex_constants::format_first_only);
+}
+
+// Runs a builder call; an std::invalid_argument becomes a SceneError at the first key of
+// `keywords` ({word in the message, key}) that the message mentions and the map has, else at the
+// element itself.
+template <class F>
+auto Build(const MapReader& element,
+           std::initializer_list<std::pair<const char*, const char*>> keywords, F&& f) {
+  try {
+    return f();
+  } catch (const std::invalid_argument& e) {
+    const std::string reason = StripElementPrefix(e.what());
+    for (const auto& [word, key] : keywords)
+      if (reason.find(word) != std::string::npos)
+        if (const auto it = element.Find(key)) element.ctx().Fail(*it, reason);
+    element.ctx().Fail(element.item(), reason);
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// The loader
+
+class Loader {
+ public:
+  Loader(Context& ctx, std::string default_name) : ctx_(ctx), name_(std::move(default_name)) {}
+
+  Scene Load(const YAML::Node& root);
+
+ private:
+  struct Named {
+    int index = -1;
+    Item item;
+  };
+
+  void ReadUnits(const MapReader& root);
+  void ReadBodies(const MapReader& root);
+  void ReadFrame(const Item& item, BodyIndex body);
+  void ReadJoints(const MapReader& root);
+  void ReadLoopClosures(const MapReader& root);
+  void ReadDrivers(const MapReader& root);
+  void ReadForceElements(const MapReader& root);
+  void ReadSolver(const MapReader& root, Scene& scene);
+  void ReadOutput(const MapReader& root, Scene& scene);
+
+  // Registers a unique name of `kind` (duplicates are errors naming the first definition).
+  std::string UniqueName(const MapReader& m, std::map<std::string, Named>& table,
+                         const std::string& kind, int index);
+  // References by name, resolved with suggestions.
+  int Resolve(const MapReader& m, const std::string& key, const std::map<std::string, Named>& table,
+              const std::string& kind) const;
+  BodyIndex BodyRef(const MapReader& m, const std::string& key) const;
+  FrameIndex FrameRef(const MapReader& m, const std::string& key) const;
+  JointIndex JointRef(const MapReader& m, const std::string& key) const;
+  // The coordinate index of a joint (default 0), checked against the joint's velocity count.
+  int CoordinateOf(const MapReader& m, JointIndex joint) const;
+  JointType TypeOf(JointIndex joint) const { return builder_.draft().joints[joint].spec.type; }
+  // {position, rotation} pose, or (joint frames) the name of a frame on `body`.
+  Transform ToPose(const Item& it, BodyIndex body, bool allow_frame_name) const;
+  // initial_position / initial_velocity of a joint: scalar or list, converted to SI.
+  std::optional<Eigen::VectorXd> JointValues(const MapReader& m, const std::string& key,
+                                             JointType type, bool velocity) const;
+
+  double Length(double x) const { return x * length_; }
+  Vec3 Length(const Vec3& x) const { return x * length_; }
+
+  Context& ctx_;
+  std::string name_;
+  double length_ = 1.0;  // metres per scene length unit
+  ModelBuilder builder_;
+  std::map<std::string, Named> bodies_, frames_, joints_, loops_, drivers_, forces_;
+};
+
+std::string Loader::UniqueName(const MapReader& m, std::map<std::string, Named>& table,
+                               const std::string& kind, int index) {
+  const Item item = m.Need("name");
+  const std::string name = ToString(ctx_, item);
+  const auto it = table.find(name);
+  if (it != table.end())
+    ctx_.Fail(item, "duplicate " + kind + " name '" + name + "'" +
+                        (it->second.item.mark.line >= 0
+                             ? " (first defined at line " +
+                                   std::to_string(it->second.item.mark.line + 1) + ")"
+                             : ""));
+  table[name] = Named{index, m.item()};
+  return name;
+}
+
+int Loader::Resolve(const MapReader& m, const std::string& key,
+                    const std::map<std::string, Named>& table, const std::string& kind) const {
+  const Item item = m.Need(key);
+  const std::string name = ToString(ctx_, item);
+  const auto it = table.find(name);
+  if (it != table.end()) return it->second.index;
+  std::vector<std::string> known;
+  for (const auto& [n, named] : table) known.push_back(n);
+  const std::string plural = kind == "body" ? "bodies" : kind + "s";
+  ctx_.Fail(item, "no " + kind + " named '" + name + "'" + SuggestOrList(name, known, plural));
+}
+
+BodyIndex Loader::BodyRef(const MapReader& m, const std::string& key) const {
+  return Resolve(m, key, bodies_, "body");
+}
+FrameIndex Loader::FrameRef(const MapReader& m, const std::string& key) const {
+  return Resolve(m, key, frames_, "frame");
+}
+JointIndex Loader::JointRef(const MapReader& m, const std::string& key) const {
+  return Resolve(m, key, joints_, "joint");
+}
+
+int Loader::CoordinateOf(const MapReader& m, JointIndex joint) const {
+  const int k = m.Int("coordinate", 0);
+  const Joint& j = builder_.draft().joints[joint];
+  if (k < 0 || k >= j.nv)
+    ctx_.Fail(m.Need("coordinate"), "joint '" + j.spec.name + "' (" + JointTypeName(j.spec.type) +
+                                        ") has coordinates 0.." + std::to_string(j.nv - 1) +
+                                        ", got " + std::to_string(k));
+  return k;
+}
+
+Transform Loader::ToPose(const Item& it, BodyIndex body, bool allow_frame_name) const {
+  // A frame name: its pose on its body, which must be `body`.
+  if (allow_frame_name && it.node.IsScalar()) {
+    const std::string name = ToString(ctx_, it);
+    const auto f = frames_.find(name);
+    if (f == frames_.end()) {
+      std::vector<std::string> known;
+      for (const auto& [n, named] : frames_)
+        if (builder_.draft().frames[named.index].body == body) known.push_back(n);
+      ctx_.Fail(it, "no frame named '" + name + "'" +
+                        SuggestOrList(name, known, "frames on body '" +
+                                                       builder_.draft().bodies[body].name + "'"));
+    }
+    const Frame& frame = builder_.draft().frames[f->second.index];
+    if (frame.body != body)
+      ctx_.Fail(it, "frame '" + name + "' is on body '" + builder_.draft().bodies[frame.body].name +
+                        "', not on '" + builder_.draft().bodies[body].name + "'");
+    return frame.X_BF;
+  }
+  const MapReader m(ctx_, it, {"position", "rotation"});
+  Transform X;
+  X.p = Length(m.Vector("position", Vec3::Zero()));
+  if (const auto r = m.Find("rotation")) X.R = ToRotation(ctx_, *r);
+  return X;
+}
+
+std::optional<Eigen::VectorXd> Loader::JointValues(const MapReader& m, const std::string& key,
+                                                   JointType type, bool velocity) const {
+  const auto found = m.FindScaled(key, {{"", 1.0}, {"_deg", kDegToRad}});
+  if (!found) return std::nullopt;
+  const auto& [item, angle_factor] = *found;
+  const int n = velocity ? JointNv(type) : JointNq(type);
+  std::vector<double> x;
+  if (item.node.IsScalar() && n == 1) {
+    x.push_back(ToNumber(ctx_, item));
+  } else if (item.node.IsScalar()) {
+    ctx_.Fail(item, std::string("a ") + JointTypeName(type) + " joint has " + std::to_string(n) +
+                        " " + (velocity ? "velocity" : "position") +
+                        " coordinates: expected a list of " + std::to_string(n) + " numbers, got " +
+                        Describe(item.node));
+  } else {
+    x = ToNumbers(ctx_, item, n);
+  }
+  Eigen::VectorXd values(n);
+  bool has_quaternion = false;
+  for (int k = 0; k < n; ++k) {
+    switch (KindOf(type, k, velocity)) {
+      case CoordinateKind::kAngle: values(k) = x[k] * angle_factor; break;
+      case CoordinateKind::kLength: values(k) = Length(x[k]); break;
+      case CoordinateKind::kQuaternion:
+        if (angle_factor != 1.0)
+          ctx_.Fail(item, "quaternion coordinates take no '_deg'; write '" + key + "'");
+        values(k) = x[k];
+        has_quaternion = true;
+        break;
+    }
+  }
+  if (has_quaternion && !(values.tail<4>().norm() > 1e-12))
+    ctx_.Fail(item, "the quaternion (last 4 values) is zero");
+  return values;
+}
+
+void Loader::ReadUnits(const MapReader& root) {
+  const auto units = root.Find("units");
+  if (!units) return;
+  const MapReader m(ctx_, *units, {"length"});
+  const std::string length = m.Choice("length", {"m", "cm", "mm"}, "m");
+  length_ = length == "mm" ? 1e-3 : length == "cm" ? 1e-2 : 1.0;
+}
+
+void Loader::ReadBodies(const MapReader& root) {
+  const std::vector<Item> items = ListItems(ctx_, root.Need("bodies"));
+  if (items.empty()) ctx_.Fail(root.Need("bodies"), "a scene needs at least one body");
+  // Bodies first (their names are frames too), then the frames on them.
+  for (const Item& item : items) {
+    const MapReader m(ctx_, item, {"name", "mass", "com", "inertia", "frames"});
+    if (ToString(ctx_, m.Need("name")) == "world")
+      ctx_.Fail(m.Need("name"), "'world' is reserved for the ground body");
+    const std::string name = UniqueName(m, bodies_, "body", -1);
+    const double mass = m.Number("mass");
+    const Vec3 com = Length(m.Vector("com", Vec3::Zero()));
+    // Inertia about the centre of mass: 3 principal values or 6 matrix entries.
+    const Item inertia_item = m.Need("inertia");
+    if (!inertia_item.node.IsSequence() ||
+        (inertia_item.node.size() != 3 && inertia_item.node.size() != 6))
+      ctx_.Fail(inertia_item, "expected a list of 3 numbers [Ixx, Iyy, Izz] or 6 numbers "
+                              "[Ixx, Iyy, Izz, Ixy, Ixz, Iyz], got " + Describe(inertia_item.node));
+    const std::vector<double> I = ToNumbers(ctx_, inertia_item, -1);
+    Mat3 inertia = Vec3(I[0], I[1], I[2]).asDiagonal();
+    if (I.size() == 6) {
+      inertia(0, 1) = inertia(1, 0) = I[3];
+      inertia(0, 2) = inertia(2, 0) = I[4];
+      inertia(1, 2) = inertia(2, 1) = I[5];
+    }
+    inertia *= length_ * length_;
+    const BodyIndex b = Build(m, {{"principal moments", "inertia"}, {"inertia", "inertia"},
+                                  {"centre of mass", "com"}, {"mass", "mass"}},
+                              [&] { return builder_.AddBody(name, mass, com, inertia); });
+    bodies_[name].index = b;
+    frames_[name] = Named{builder_.body_frame(b), item};
+  }
+  for (const Item& item : items) {
+    const MapReader m(ctx_, item, {"name", "mass", "com", "inertia", "frames"});
+    const BodyIndex b = bodies_.at(ToString(ctx_, m.Need("name"))).index;
+    for (const Item& frame : ListItems(ctx_, m.Find("frames"))) ReadFrame(frame, b);
+  }
+}
+
+void Loader::ReadFrame(const Item& item, BodyIndex body) {
+  const MapReader m(ctx_, item, {"name", "position", "rotation"});
+  const Item name_item = m.Need("name");
+  const std::string name = ToString(ctx_, name_item);
+  if (bodies_.count(name))
+    ctx_.Fail(name_item, "'" + name + "' is already a body (and the name of its body frame)");
+  UniqueName(m, frames_, "frame", -1);
+  Transform X_BF;
+  X_BF.p = Length(m.Vector("position", Vec3::Zero()));
+  if (const auto r = m.Find("rotation")) X_BF.R = ToRotation(ctx_, *r);
+  frames_[name].index = Build(m, {{"rotation", "rotation"}},
+                              [&] { return builder_.AddFrame(name, body, X_BF); });
+}
+
+void Loader::ReadJoints(const MapReader& root) {
+  for (const Item& item : ListItems(ctx_, root.Need("joints"))) {
+    // The type decides which keys a joint has.
+    const JointType type = JointTypeFromName(ItemType(ctx_, item, JointTypeNames()));
+    const bool has_axis = type != JointType::kFixed && type != JointType::kSpherical &&
+                          type != JointType::kFree;
+    const bool has_axis2 = type == JointType::kUniversal || type == JointType::kPlanar;
+    std::vector<std::string> allowed{"name", "type", "parent", "child", "parent_frame",
+                                     "child_frame"};
+    std::map<std::string, std::string> notes;
+    const std::string a = std::string("a ") + JointTypeName(type) + " joint ";
+    if (has_axis) allowed.push_back("axis");
+    else notes["axis"] = a + "has no axis";
+    if (has_axis2) allowed.push_back("axis2");
+    else notes["axis2"] = a + "has no second axis (universal and planar joints do)";
+    if (type != JointType::kFixed) {
+      allowed.insert(allowed.end(), {"initial_position", "initial_velocity"});
+      if (HasAngularCoordinate(type))
+        allowed.insert(allowed.end(), {"initial_position_deg", "initial_velocity_deg"});
+      else
+        notes["initial_position_deg"] = notes["initial_velocity_deg"] = a + "has no angles";
+    } else {
+      for (const char* k : {"initial_position", "initial_velocity", "initial_position_deg",
+                            "initial_velocity_deg"})
+        notes[k] = a + "has no coordinates";
+    }
+    const MapReader m(ctx_, item, allowed, notes);
+    const std::string name = UniqueName(m, joints_, "joint", -1);
+    JointSpec spec;
+    spec.name = name;
+    spec.type = type;
+    spec.parent = BodyRef(m, "parent");
+    spec.child = BodyRef(m, "child");
+    if (spec.child == kWorldBody) ctx_.Fail(m.Need("child"), "the world cannot be a child");
+    if (const auto f = m.Find("parent_frame")) spec.X_PF = ToPose(*f, spec.parent, true);
+    if (const auto f = m.Find("child_frame")) spec.X_CM = ToPose(*f, spec.child, true);
+    spec.axis = m.Vector("axis", Vec3::UnitZ());
+    spec.axis2 = m.Vector("axis2", Vec3::UnitX());
+    const JointIndex j = Build(
+        m, {{"axis2", "axis2"}, {"axis", "axis"}, {"already has parent joint", "child"},
+            {"same body", "child"}, {"child", "child"}, {"parent", "parent"}},
+        [&] { return builder_.AddJoint(spec); });
+    joints_[name].index = j;
+    // Initial values.
+    if (const auto q = JointValues(m, "initial_position", type, false))
+      Build(m, {{"position", "initial_position"}, {"position", "initial_position_deg"}},
+            [&] { builder_.SetJointPosition(j, *q); });
+    if (const auto v = JointValues(m, "initial_velocity", type, true))
+      Build(m, {{"velocity", "initial_velocity"}, {"velocity", "initial_velocity_deg"}},
+            [&] { builder_.SetJointVelocity(j, *v); });
+  }
+}
+
+void Loader::ReadLoopClosures(const MapReader& root) {
+  for (const Item& item : ListItems(ctx_, root.Find("loop_closures"))) {
+    const MapReader m(ctx_, item, {"name", "type", "frame_a", "frame_b"});
+    LoopClosureSpec spec;
+    spec.name = UniqueName(m, loops_, "loop closure", static_cast<int>(loops_.size()));
+    std::vector<std::string> types = JointTypeNames();
+    types.erase(std::find(types.begin(), types.end(), "free"));
+    spec.type = JointTypeFromName(m.Choice("type", types));
+    spec.frame_a = FrameRef(m, "frame_a");
+    spec.frame_b = FrameRef(m, "frame_b");
+    Build(m, {{"same body", "frame_b"}}, [&] { builder_.AddLoopClosure(spec); });
+  }
+}
+
+void Loader::ReadDrivers(const MapReader& root) {
+  for (const Item& item : ListItems(ctx_, root.Find("drivers"))) {
+    const MapReader m(ctx_, item, {"name", "joint", "coordinate", "mode", "function"});
+    DriverSpec spec;
+    spec.name = UniqueName(m, drivers_, "driver", static_cast<int>(drivers_.size()));
+    spec.joint = JointRef(m, "joint");
+    spec.coordinate = CoordinateOf(m, spec.joint);
+    spec.mode = m.Choice("mode", {"speed", "position"}) == "speed" ? DriverSpec::Mode::kSpeed
+                                                                   : DriverSpec::Mode::kPosition;
+    // Values in the coordinate's unit: length (per second) or angle (per second, or rpm).
+    const bool angular = KindOf(TypeOf(spec.joint), spec.coordinate, true) == CoordinateKind::kAngle;
+    FunctionUnits units;
+    units.scale = angular ? 1.0 : length_;
+    units.angle = angular;
+    units.angular_speed = angular && spec.mode == DriverSpec::Mode::kSpeed;
+    spec.function = ToFunction(ctx_, m.Need("function"), units);
+    Build(m, {{"position driver", "mode"}, {"already driven", "coordinate"},
+              {"coordinate", "coordinate"}},
+          [&] { builder_.AddDriver(spec); });
+  }
+}
+
+void Loader::ReadForceElements(const MapReader& root) {
+  static const std::vector<std::string> kTypes{
+      "applied_load",      "joint_load",        "translational_spring", "rotational_spring",
+      "coordinate_spring", "torsional_spring_to_ground", "bushing"};
+  // Spring keywords in builder messages -> keys.
+  const std::initializer_list<std::pair<const char*, const char*>> kSpringKeys{
+      {"stiffness", "stiffness"}, {"damping", "damping"}, {"free length", "free_length"},
+      {"quaternion", "joint"}, {"coordinate", "coordinate"}};
+  int index = 0;
+  for (const Item& item : ListItems(ctx_, root.Find("force_elements"))) {
+    const std::string type = ItemType(ctx_, item, kTypes);
+    // Applied load: force N, torque N m (N length-unit), scale dimensionless.
+    if (type == "applied_load") {
+      const MapReader m(ctx_, item, {"type", "name", "frame", "force", "torque", "scale",
+                                     "in_frame_axes"});
+      AppliedLoadSpec spec;
+      spec.name = UniqueName(m, forces_, "force element", index++);
+      spec.frame = FrameRef(m, "frame");
+      spec.force = m.Vector("force", Vec3::Zero());
+      spec.torque = Length(m.Vector("torque", Vec3::Zero()));
+      if (const auto s = m.Find("scale")) spec.scale = ToFunction(ctx_, *s, {});
+      spec.in_frame_axes = m.Bool("in_frame_axes", false);
+      Build(m, {}, [&] { builder_.AddAppliedLoad(spec); });
+    // Joint load: force on a translational coordinate, torque on a rotational one.
+    } else if (type == "joint_load") {
+      const MapReader m(ctx_, item, {"type", "name", "joint", "coordinate", "function"});
+      JointLoadSpec spec;
+      spec.name = UniqueName(m, forces_, "force element", index++);
+      spec.joint = JointRef(m, "joint");
+      spec.coordinate = CoordinateOf(m, spec.joint);
+      const bool angular =
+          KindOf(TypeOf(spec.joint), spec.coordinate, true) == CoordinateKind::kAngle;
+      FunctionUnits units;
+      units.scale = angular ? length_ : 1.0;
+      spec.function = ToFunction(ctx_, m.Need("function"), units);
+      Build(m, {{"coordinate", "coordinate"}}, [&] { builder_.AddJointLoad(spec); });
+    // Point-to-point spring: N/length, N s/length, length, N.
+    } else if (type == "translational_spring") {
+      const MapReader m(ctx_, item, {"type", "name", "frame_a", "frame_b", "stiffness", "damping",
+                                     "free_length", "preload"});
+      TranslationalSpringSpec spec;
+      spec.name = UniqueName(m, forces_, "force element", index++);
+      spec.frame_a = FrameRef(m, "frame_a");
+      spec.frame_b = FrameRef(m, "frame_b");
+      spec.stiffness = m.Number("stiffness") / length_;
+      spec.damping = m.Number("damping", 0.0) / length_;
+      spec.free_length = Length(m.Number("free_length", 0.0));
+      spec.preload = m.Number("preload", 0.0);
+      Build(m, kSpringKeys, [&] { builder_.AddTranslationalSpring(spec); });
+    // Rotational spring about z: N m/rad, N m s/rad (m: the length unit), rad.
+    } else if (type == "rotational_spring") {
+      const MapReader m(ctx_, item, {"type", "name", "frame_a", "frame_b", "stiffness", "damping",
+                                     "angle0", "angle0_deg"});
+      RotationalSpringSpec spec;
+      spec.name = UniqueName(m, forces_, "force element", index++);
+      spec.frame_a = FrameRef(m, "frame_a");
+      spec.frame_b = FrameRef(m, "frame_b");
+      spec.stiffness = Length(m.Number("stiffness"));
+      spec.damping = Length(m.Number("damping", 0.0));
+      if (const auto a = m.FindScaled("angle0", {{"", 1.0}, {"_deg", kDegToRad}}))
+        spec.angle0 = ToNumber(ctx_, a->first) * a->second;
+      Build(m, kSpringKeys, [&] { builder_.AddRotationalSpring(spec); });
+    // Coordinate spring: units of the coordinate (translational or rotational).
+    } else if (type == "coordinate_spring" || type == "torsional_spring_to_ground") {
+      const MapReader m(ctx_, item, {"type", "name", "joint", "coordinate", "stiffness", "damping",
+                                     "q0", "q0_deg"});
+      CoordinateSpringSpec spec;
+      spec.name = UniqueName(m, forces_, "force element", index++);
+      spec.joint = JointRef(m, "joint");
+      spec.coordinate = CoordinateOf(m, spec.joint);
+      const CoordinateKind kind = KindOf(TypeOf(spec.joint), spec.coordinate, true);
+      const bool angular = kind == CoordinateKind::kAngle;
+      const double k_scale = angular ? length_ : 1.0 / length_;
+      spec.stiffness = m.Number("stiffness") * k_scale;
+      spec.damping = m.Number("damping", 0.0) * k_scale;
+      if (const auto q0 = m.FindScaled("q0", {{"", 1.0}, {"_deg", kDegToRad}})) {
+        if (!angular && q0->second != 1.0)
+          ctx_.Fail(q0->first, "coordinate " + std::to_string(spec.coordinate) +
+                                   " is a translation: give 'q0' in length units");
+        spec.q0 = ToNumber(ctx_, q0->first) * (angular ? q0->second : length_);
+      }
+      Build(m, kSpringKeys, [&] { builder_.AddCoordinateSpring(spec); });
+    // Bushing: K, D 6 diagonal values or 6x6; rows (force, torque), columns (translation, rotation).
+    } else {
+      const MapReader m(ctx_, item, {"type", "name", "frame_a", "frame_b", "stiffness", "damping"});
+      BushingSpec spec;
+      spec.name = UniqueName(m, forces_, "force element", index++);
+      spec.frame_a = FrameRef(m, "frame_a");
+      spec.frame_b = FrameRef(m, "frame_b");
+      auto matrix = [&](const Item& it) {
+        Mat6 K = Mat6::Zero();
+        if (it.node.IsSequence() && it.node.size() == 6 && it.node[0].IsSequence()) {
+          for (int r = 0; r < 6; ++r) {
+            const std::vector<double> row = ToNumbers(ctx_, Element(it, r), 6);
+            for (int c = 0; c < 6; ++c) K(r, c) = row[c];
+          }
+        } else {
+          if (!it.node.IsSequence() || it.node.size() != 6)
+            ctx_.Fail(it, "expected a list of 6 numbers (the diagonal) or a 6x6 nested list, got " +
+                              Describe(it.node));
+          const std::vector<double> d = ToNumbers(ctx_, it, 6);
+          for (int i = 0; i < 6; ++i) K(i, i) = d[i];
+        }
+        // To SI: torque rows carry a length, translation columns divide by one.
+        for (int r = 0; r < 6; ++r)
+          for (int c = 0; c < 6; ++c) K(r, c) *= (r >= 3 ? length_ : 1.0) / (c < 3 ? length_ : 1.0);
+        return K;
+      };
+      spec.stiffness = matrix(m.Need("stiffness"));
+      if (const auto d = m.Find("damping")) spec.damping = matrix(*d);
+      Build(m, {{"stiffness", "stiffness"}, {"damping", "damping"}},
+            [&] { builder_.AddBushing(spec); });
+    }
+  }
+}
+
+void Loader::ReadSolver(const MapReader& root, Scene& scene) {
+  const MapReader m(ctx_, root.Need("solver"),
+                    {"integrator", "end_time", "rtol", "atol", "atol_multiplier", "max_step",
+                     "initial_step", "max_order", "max_steps_per_output", "step", "rho_inf",
+                     "alpha_m", "alpha_f", "beta", "gamma", "max_newton_iterations",
+                     "newton_tolerance"});
+  SimulationOptions& sim = scene.simulation;
+  IntegratorOptions& o = sim.integrator;
+  // A number with a condition, reported at its key.
+  auto checked = [&](const std::string& key, double fallback, auto ok, const char* rule) {
+    const double x = m.Number(key, fallback);
+    if (!ok(x)) ctx_.Fail(m.Find(key).value_or(m.item()), std::string("must be ") + rule + ", got " + Num(x));
+    return x;
+  };
+  auto positive = [](double x) { return x > 0; };
+  auto non_negative = [](double x) { return x >= 0; };
+  o.kind = m.Choice("integrator", {"ida", "generalized_alpha"}, "ida") == "ida"
+               ? IntegratorKind::kIda
+               : IntegratorKind::kGeneralizedAlpha;
+  sim.end_time = m.Number("end_time");
+  if (!(sim.end_time > 0)) ctx_.Fail(m.Need("end_time"), "must be > 0, got " + Num(sim.end_time));
+  // IDA.
+  o.rtol = checked("rtol", o.rtol, positive, "> 0");
+  o.atol = checked("atol", o.atol, positive, "> 0");
+  o.atol_multiplier = checked("atol_multiplier", o.atol_multiplier, positive, "> 0");
+  o.max_step = checked("max_step", o.max_step, non_negative, ">= 0 (0: unlimited)");
+  o.initial_step = checked("initial_step", o.initial_step, non_negative, ">= 0 (0: automatic)");
+  o.max_order = m.Int("max_order", o.max_order);
+  if (o.max_order < 1 || o.max_order > 5)
+    ctx_.Fail(*m.Find("max_order"), "must be in 1..5, got " + std::to_string(o.max_order));
+  o.max_steps_per_output = m.Int("max_steps_per_output", static_cast<int>(o.max_steps_per_output));
+  if (o.max_steps_per_output < 1)
+    ctx_.Fail(*m.Find("max_steps_per_output"), "must be >= 1");
+  // Generalized-alpha.
+  o.step = checked("step", o.step, positive, "> 0");
+  o.rho_inf = checked("rho_inf", o.rho_inf, [](double x) { return x >= 0 && x <= 1; }, "in [0, 1]");
+  const int explicit_params = int(m.Has("alpha_m")) + int(m.Has("alpha_f")) + int(m.Has("beta")) +
+                              int(m.Has("gamma"));
+  if (explicit_params != 0 && explicit_params != 4)
+    ctx_.Fail(m.item(), "give all four of alpha_m, alpha_f, beta, gamma or none (rho_inf sets them)");
+  if (explicit_params == 4) {
+    o.alpha_m = m.Number("alpha_m");
+    o.alpha_f = m.Number("alpha_f");
+    o.beta = checked("beta", 0, positive, "> 0");
+    o.gamma = checked("gamma", 0, positive, "> 0");
+  }
+  o.max_newton_iterations = m.Int("max_newton_iterations", o.max_newton_iterations);
+  if (o.max_newton_iterations < 1) ctx_.Fail(*m.Find("max_newton_iterations"), "must be >= 1");
+  o.newton_tolerance = checked("newton_tolerance", o.newton_tolerance, positive, "> 0");
+}
+
+void Loader::ReadOutput(const MapReader& root, Scene& scene) {
+  const MapReader m(ctx_, root.Need("output"), {"interval", "file", "flush_interval"});
+  scene.simulation.output_interval = m.Number("interval");
+  if (!(scene.simulation.output_interval > 0))
+    ctx_.Fail(m.Need("interval"), "must be > 0, got " + Num(scene.simulation.output_interval));
+  scene.simulation.flush_interval_s = m.Number("flush_interval", scene.simulation.flush_interval_s);
+  if (!(scene.simulation.flush_interval_s > 0))
+    ctx_.Fail(m.Need("flush_interval"), "must be > 0 (wall-clock seconds)");
+  if (const auto f = m.Find("file")) scene.output_path = ToString(ctx_, *f);
+}
+
+Scene Loader::Load(const YAML::Node& root_node) {
+  const MapReader root(ctx_, Item{root_node, "", root_node.Mark()},
+                       {"name", "units", "gravity", "bodies", "world_frames", "joints",
+                        "loop_closures", "drivers", "force_elements", "solver", "output"});
+  Scene scene;
+  scene.name = root.Has("name") ? root.String("name") : name_;
+  ReadUnits(root);
+  // Model: bodies and frames, joints, constraints, loads.
+  bodies_["world"] = Named{kWorldBody, root.item()};
+  frames_["world"] = Named{kWorldFrame, root.item()};
+  ReadBodies(root);
+  for (const Item& frame : ListItems(ctx_, root.Find("world_frames"))) ReadFrame(frame, kWorldBody);
+  ReadJoints(root);
+  // Every body hangs from a joint (the builder would say so only at Finalize, without a line).
+  for (const auto& [name, named] : bodies_)
+    if (named.index != kWorldBody && builder_.draft().bodies[named.index].parent_joint < 0)
+      ctx_.Fail(named.item, "body '" + name + "' is not the child of any joint; give a floating "
+                                             "body a free joint to world");
+  ReadLoopClosures(root);
+  ReadDrivers(root);
+  ReadForceElements(root);
+  builder_.SetGravity(Length(root.Vector("gravity", Vec3::Zero())));
+  // Finalize; its errors name a joint, or concern the constraints as a whole.
+  try {
+    scene.model = std::move(builder_).Finalize();
+  } catch (const std::invalid_argument& e) {
+    const std::string what = e.what();
+    for (const auto& [name, named] : joints_)
+      if (what.find("joint '" + name + "'") != std::string::npos) ctx_.Fail(named.item, what);
+    for (const char* key : {"loop_closures", "drivers", "joints"})
+      if (const auto it = root.Find(key)) ctx_.Fail(*it, what);
+    ctx_.Fail(root.item(), what);
+  }
+  ReadSolver(root, scene);
+  ReadOutput(root, scene);
+  scene.simulation.scene_name = scene.name;
+  return scene;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Overrides: "a.b.c=value", maps by key, lists by item name (or index)
+
+// "bodies.bob.mass" or "bodies[bob].mass" -> {"bodies", "bob", "mass"}.
+std::vector<std::string> SplitKeyPath(const Context& ctx, const std::string& key) {
+  std::vector<std::string> parts;
+  std::string current;
+  bool in_bracket = false, closed = false;
+  for (char c : key) {
+    if (in_bracket) {
+      if (c == ']') in_bracket = false, closed = true, parts.push_back(current), current.clear();
+      else current += c;
+    } else if (c == '.' || c == '[') {
+      if (!closed || !current.empty()) {
+        if (current.empty()) ctx.FailOverride(key, "empty element in the key path");
+        parts.push_back(current);
+      }
+      current.clear();
+      closed = false;
+      in_bracket = c == '[';
+    } else {
+      if (closed) ctx.FailOverride(key, "expected '.' or '[' after ']'");
+      current += c;
+    }
+  }
+  if (in_bracket) ctx.FailOverride(key, "unclosed '['");
+  if (!closed || !current.empty()) {
+    if (current.empty()) ctx.FailOverride(key, "empty element in the key path");
+    parts.push_back(current);
+  }
+  return parts;
+}
+
+// The child of a map (by key) or of a list (by item name, else by index), with the line to
+// report (the key's for map entries); nullopt if none.
+std::optional<std::pair<YAML::Node, YAML::Mark>> ChildOf(YAML::Node node, const std::string& part) {
+  if (node.IsMap()) {
+    for (auto it = node.begin(); it != node.end(); ++it)
+      if (it->first.IsScalar() && it->first.Scalar() == part)
+        return std::make_pair(YAML::Node(it->second), it->first.Mark());
+  } else if (node.IsSequence()) {
+    for (size_t i = 0; i < node.size(); ++i) {
+      YAML::Node item = node[i];
+      if (item.IsMap())
+        for (auto it = item.begin(); it != item.end(); ++it)
+          if (it->first.IsScalar() && it->first.Scalar() == "name" && it->second.IsScalar() &&
+              it->second.Scalar() == part)
+            return std::make_pair(item, item.Mark());
+    }
+    if (!part.empty() && std::all_of(part.begin(), part.end(), ::isdigit)) {
+      const size_t i = std::stoul(part);
+      if (i < node.size()) return std::make_pair(YAML::Node(node[i]), node[i].Mark());
+    }
+  }
+  return std::nullopt;
+}
+
+// Names a lookup could have meant: map keys or list item names.
+std::vector<std::string> ChildNames(const YAML::Node& node) {
+  std::vector<std::string> names;
+  if (node.IsMap()) {
+    for (auto it = node.begin(); it != node.end(); ++it)
+      if (it->first.IsScalar()) names.push_back(it->first.Scalar());
+  } else if (node.IsSequence()) {
+    for (size_t i = 0; i < node.size(); ++i)
+      if (node[i].IsMap())
+        for (auto it = node[i].begin(); it != node[i].end(); ++it)
+          if (it->first.IsScalar() && it->first.Scalar() == "name" && it->second.IsScalar())
+            names.push_back(it->second.Scalar());
+  }
+  return names;
+}
+
+void ApplyOverride(Context& ctx, YAML::Node& root, const std::string& setting) {
+  const size_t eq = setting.find('=');
+  if (eq == std::string::npos)
+    ctx.FailOverride(setting, "expected KEY.PATH=VALUE (e.g. solver.end_time=2)");
+  const std::string key = setting.substr(0, eq), text = setting.substr(eq + 1);
+  const std::vector<std::string> parts = SplitKeyPath(ctx, key);
+  if (parts.empty()) ctx.FailOverride(key, "empty key path");
+  // The value, parsed as YAML.
+  YAML::Node value;
+  try {
+    value = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    ctx.FailOverride(key, "cannot parse the value '" + text + "' as YAML: " + e.msg);
+  }
+  if (value.IsNull() && text.find_first_not_of(" \t") == std::string::npos)
+    ctx.FailOverride(key, "no value after '='");
+  // Walk to the parent of the last element; every element on the way must exist.
+  YAML::Node node = root;
+  YAML::Mark mark = root.Mark();
+  std::string path;
+  for (size_t i = 0; i < parts.size(); ++i) {
+    const std::string& part = parts[i];
+    const bool last = i + 1 == parts.size();
+    const std::string where =
+        path.empty() ? "the scene"
+                     : "'" + path + "'" +
+                           (mark.line >= 0 ? " (line " + std::to_string(mark.line + 1) + ")" : "");
+    if (!node.IsMap() && !node.IsSequence())
+      ctx.FailOverride(key, where + " is " + Describe(node) + ", not a map or a list");
+    const std::string next = node.IsMap() ? (path.empty() ? part : path + "." + part)
+                                          : path + "[" + part + "]";
+    const auto child = ChildOf(node, part);
+    if (!child) {
+      // A missing last key of a map is added (so optional keys can be set).
+      if (last && node.IsMap()) {
+        node[part] = value;
+        ctx.overrides().push_back({key, next, value});
+        return;
+      }
+      const std::string what = node.IsMap() ? "no key '" + part + "' in " + where
+                                             : "no item named '" + part + "' in " + where;
+      std::string hint = SuggestOrList(part, ChildNames(node), "known");
+      if (node.IsMap()) hint += "; only the last element of a path may be new";
+      ctx.FailOverride(key, what + hint);
+    }
+    if (last) {
+      YAML::Node target = child->first;
+      target = value;  // the tree's node now refers to the override's value
+      ctx.overrides().push_back({key, next, value});
+      return;
+    }
+    node.reset(child->first);  // rebind (assignment would overwrite the tree)
+    mark = child->second;
+    path = next;
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Scene text: the tree after overrides, emitted with quoted strings kept quoted
+
+void Emit(YAML::Emitter& out, const YAML::Node& n) {
+  switch (n.Type()) {
+    case YAML::NodeType::Sequence:
+      if (n.Style() == YAML::EmitterStyle::Flow) out << YAML::Flow;
+      out << YAML::BeginSeq;
+      for (const YAML::Node& item : n) Emit(out, item);
+      out << YAML::EndSeq;
+      break;
+    case YAML::NodeType::Map:
+      if (n.Style() == YAML::EmitterStyle::Flow) out << YAML::Flow;
+      out << YAML::BeginMap;
+      for (auto it = n.begin(); it != n.end(); ++it) {
+        out << YAML::Key;
+        Emit(out, it->first);
+        out << YAML::Value;
+        Emit(out, it->second);
+      }
+      out << YAML::EndMap;
+      break;
+    case YAML::NodeType::Scalar:
+      if (n.Tag() == "!") out << YAML::DoubleQuoted;
+      out << n.Scalar();
+      break;
+    default: out << YAML::Null; break;
+  }
+}
+
+std::string SceneText(const std::string& original, const std::string& file, const YAML::Node& root,
+                      const std::vector<std::string>& overrides) {
+  if (overrides.empty()) return original;
+  std::string text = "# " + file + " with overrides:\n";
+  for (const std::string& o : overrides) text += "#   --set " + o + "\n";
+  YAML::Emitter out;
+  Emit(out, root);
+  return text + out.c_str() + "\n";
+}
+
+Scene Load(const std::string& text, const std::string& file, const std::string& source_path,
+           const std::vector<std::string>& overrides) {
+  Context ctx(file);
+  // Parse.
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::ParserException& e) {
+    throw SceneError(file + ":" + std::to_string(e.mark.line + 1) + ": YAML syntax error: " + e.msg);
+  } catch (const YAML::Exception& e) {
+    throw SceneError(file + ": YAML error: " + e.msg);
+  }
+  if (root.IsNull()) throw SceneError(file + ": the scene is empty");
+  if (!root.IsMap()) throw SceneError(file + ":1: the scene must be a map of sections, got " + Describe(root));
+  // Overrides, then the whole tree is validated as if it had been written so.
+  for (const std::string& o : overrides) ApplyOverride(ctx, root, o);
+  const std::string stem = std::filesystem::path(file).stem().string();
+  Loader loader(ctx, stem.empty() ? "scene" : stem);
+  Scene scene = loader.Load(root);
+  scene.source_path = source_path;
+  if (scene.output_path.empty()) scene.output_path = (stem.empty() ? "scene" : stem) + ".h5";
+  scene.simulation.scene_text = SceneText(text, file, root, overrides);
+  return scene;
+}
+
+}  // namespace
+
+Scene LoadScene(const std::string& path, const std::vector<std::string>& overrides) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw SceneError(path + ": cannot open the scene file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return Load(text.str(), path, path, overrides);
+}
+
+Scene LoadSceneFromString(const std::string& text, const std::string& name,
+                          const std::vector<std::string>& overrides) {
+  return Load(text, name, "", overrides);
+}
+
+}  // namespace orrery
