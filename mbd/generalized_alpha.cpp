@@ -10,8 +10,12 @@
 // with the equations of motion, Phi(q_{n+1}) = 0 (index 3) and the speed constraints enforced at
 // t_{n+1}. Newton on (vdot_{n+1}, lambda_{n+1}) with constraint rows scaled by 1/(h^2 beta') and
 // 1/(h gamma'). After each step the velocities are projected onto G v + g_t = 0 in the metric of
-// M, so the velocity constraints hold too (the drift report shows the rest).
+// M, so the velocity constraints hold too (the drift report shows the rest). The projected
+// velocities are what state() reports; the recurrence carries its own, unprojected ones (v_alpha_):
+// feeding projected velocities back into it leaves the pseudo-acceleration a inconsistent with v,
+// which costs an O(h) error in vdot and lambda (driver efforts, reactions) instead of O(h^2).
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -70,6 +74,7 @@ class GeneralizedAlpha final : public Integrator {
     a_ = vdot_;
     q_new_ = state_.q;
     v_new_ = state_.v;
+    v_alpha_ = state_.v;
     RecordDrift();
   }
 
@@ -96,13 +101,15 @@ class GeneralizedAlpha final : public Integrator {
   // Predicts a, v, q at t + h from the current vdot_new_ (the unknown).
   void UpdateKinematics(double h) {
     a_new_ = ((1 - af_) * vdot_new_ + af_ * vdot_ - am_ * a_) / (1 - am_);
-    v_new_ = state_.v + h * (1 - gamma_) * a_ + h * gamma_ * a_new_;
-    dq_ = h * state_.v + h * h * (0.5 - beta_) * a_ + h * h * beta_ * a_new_;
+    v_new_ = v_alpha_ + h * (1 - gamma_) * a_ + h * gamma_ * a_new_;
+    dq_ = h * v_alpha_ + h * h * (0.5 - beta_) * a_ + h * h * beta_ * a_new_;
     q_new_ = state_.q;
     IntegratePositions(model_, dq_, q_new_);
   }
 
-  // Residual (scaled) at the predicted state into rhs_; returns its max norm.
+  // Residual (scaled) at the predicted state into rhs_; returns its max norm. Also sets
+  // position_floor_: the rounding level of the scaled position rows, |Phi| ~ eps * (size of the
+  // positions), which 1/(h^2 beta') can lift above newton_tolerance at small steps.
   double Residual(double t, double h) {
     const int nv = model_.nv, nh = model_.n_holonomic, nc = model_.n_constraints;
     const double ca = (1 - af_) / (1 - am_);
@@ -113,9 +120,22 @@ class GeneralizedAlpha final : public Integrator {
     if (nc > 0) {
       rhs_.head(nv).noalias() += d.G.transpose() * lambda_new_;
       rhs_.segment(nv, nh) = d.phi / (h * h * beta_ * ca);
-      rhs_.tail(nc - nh) = (d.G.bottomRows(nc - nh) * v_new_ + d.g_t.tail(nc - nh)) / (h * gamma_ * ca);
+      rhs_.tail(nc - nh).noalias() = d.G.bottomRows(nc - nh) * v_new_;
+      rhs_.tail(nc - nh) += d.g_t.tail(nc - nh);
+      rhs_.tail(nc - nh) /= h * gamma_ * ca;
     }
+    double size = std::max(1.0, q_new_.lpNorm<Eigen::Infinity>());
+    for (const Transform& X : d.X_WFrame) size = std::max(size, X.p.lpNorm<Eigen::Infinity>());
+    position_floor_ = 64 * std::numeric_limits<double>::epsilon() * size / (h * h * beta_ * ca);
     return rhs_.lpNorm<Eigen::Infinity>();
+  }
+
+  // Convergence of rhs_: every row within tol, the position rows within their rounding floor.
+  bool ResidualBelow(double tol) const {
+    const int nv = model_.nv, nh = model_.n_holonomic, nc = model_.n_constraints;
+    return rhs_.head(nv).lpNorm<Eigen::Infinity>() <= tol &&
+           (nh == 0 || rhs_.segment(nv, nh).lpNorm<Eigen::Infinity>() <= std::max(tol, position_floor_)) &&
+           (nc == nh || rhs_.tail(nc - nh).lpNorm<Eigen::Infinity>() <= tol);
   }
 
   void Step(double h) {
@@ -145,7 +165,7 @@ class GeneralizedAlpha final : public Integrator {
     for (int it = 0; it < options_.max_newton_iterations; ++it) {
       norm = Residual(t, h);
       ++stats_.newton_iterations;
-      if (norm <= options_.newton_tolerance * scale && it > 0) {
+      if (it > 0 && ResidualBelow(options_.newton_tolerance * scale)) {
         converged = true;
         break;
       }
@@ -172,6 +192,7 @@ class GeneralizedAlpha final : public Integrator {
     state_.q = q_new_;
     NormalizeQuaternions(model_, state_.q);
     state_.v = v_new_;
+    v_alpha_ = v_new_;
     vdot_ = vdot_new_;
     a_ = a_new_;
     lambda_ = lambda_new_;
@@ -202,9 +223,12 @@ class GeneralizedAlpha final : public Integrator {
     Data& d = dae_.data();
     EvaluateDynamics(model_, state_.t, state_.q, state_.v, vdot_, d);
     if (model_.n_holonomic > 0) stats_.max_abs_phi = std::max(stats_.max_abs_phi, d.phi.lpNorm<Eigen::Infinity>());
-    if (model_.n_constraints > 0)
-      stats_.max_abs_phidot =
-          std::max(stats_.max_abs_phidot, (d.G * state_.v + d.g_t).lpNorm<Eigen::Infinity>());
+    if (model_.n_constraints > 0) {
+      auto phidot = proj_rhs_.tail(model_.n_constraints);  // scratch: no allocation
+      phidot.noalias() = d.G * state_.v;
+      phidot += d.g_t;
+      stats_.max_abs_phidot = std::max(stats_.max_abs_phidot, phidot.lpNorm<Eigen::Infinity>());
+    }
   }
 
   const Model& model_;
@@ -214,11 +238,13 @@ class GeneralizedAlpha final : public Integrator {
   State state_;
   Eigen::VectorXd vdot_, a_, lambda_;                 // at state_.t
   Eigen::VectorXd vdot_new_, a_new_, lambda_new_, q_new_, v_new_, dq_;  // iterates at t + h
+  Eigen::VectorXd v_alpha_;  // the recurrence's velocity at state_.t (before projection)
   Eigen::MatrixXd Kq_, Cv_, iteration_, proj_;
   Eigen::VectorXd rhs_, delta_, proj_rhs_;
   Eigen::PartialPivLU<Eigen::MatrixXd> lu_, proj_lu_;
   IntegratorStats stats_;
   long pipeline_evaluations_ = 0;
+  double position_floor_ = 0;  // set by Residual
 };
 
 }  // namespace

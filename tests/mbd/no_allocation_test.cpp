@@ -1,0 +1,218 @@
+// The step pipeline allocates nothing once Data (and the integrator's workspace) is sized
+// (STYLE.md, "no allocation in a step"). Global operator new/delete are replaced here by counting
+// versions; since Eigen allocates with std::malloc rather than operator new, malloc, calloc and
+// realloc are interposed too (glibc: forwarded to __libc_*). Counting is off unless a test turns
+// it on, so the rest of the test program is unaffected.
+//
+// Model: a slider-crank closed by a spherical loop (speed driver on the crank), a pendulum with
+// a position driver, and a floating body on a free joint (quaternions), with one force element of
+// every kind.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <atomic>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <memory>
+#include <new>
+#include <string>
+
+#include "mbd/dae.h"
+#include "mbd/data.h"
+#include "mbd/dynamics.h"
+#include "mbd/evaluate.h"
+#include "mbd/integrator.h"
+#include "mbd/kinematics.h"
+#include "mbd/model.h"
+#include "mbd/result_file.h"
+#include "mbd/result_recorder.h"
+#include "mbd/state.h"
+
+namespace {
+std::atomic<long> g_allocations{0};
+std::atomic<bool> g_counting{false};
+inline void Count() {
+  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
+}
+}  // namespace
+
+extern "C" {
+void* __libc_malloc(std::size_t);
+void* __libc_calloc(std::size_t, std::size_t);
+void* __libc_realloc(void*, std::size_t);
+void* malloc(std::size_t n) {
+  Count();
+  return __libc_malloc(n);
+}
+void* calloc(std::size_t n, std::size_t s) {
+  Count();
+  return __libc_calloc(n, s);
+}
+void* realloc(void* p, std::size_t n) {
+  Count();
+  return __libc_realloc(p, n);
+}
+}
+
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
+void* operator new(std::size_t n) {
+  Count();
+  if (void* p = __libc_malloc(n ? n : 1)) return p;
+  throw std::bad_alloc();
+}
+void* operator new[](std::size_t n) { return operator new(n); }
+void* operator new(std::size_t n, const std::nothrow_t&) noexcept {
+  Count();
+  return __libc_malloc(n ? n : 1);
+}
+void* operator new[](std::size_t n, const std::nothrow_t&) noexcept { return operator new(n, std::nothrow); }
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete[](void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+void* operator new(std::size_t n, std::align_val_t a) {
+  Count();
+  void* p = nullptr;
+  if (posix_memalign(&p, std::max(sizeof(void*), static_cast<std::size_t>(a)), n ? n : 1) != 0) throw std::bad_alloc();
+  return p;
+}
+void* operator new[](std::size_t n, std::align_val_t a) { return operator new(n, a); }
+void operator delete(void* p, std::align_val_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::align_val_t) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
+#pragma GCC diagnostic pop
+
+namespace orrery {
+namespace {
+
+// Counts allocations in `f` (run once after `warmup` calls, so lazily sized buffers are sized).
+template <class F>
+long AllocationsIn(F&& f, int warmup = 1) {
+  for (int k = 0; k < warmup; ++k) f();
+  g_allocations = 0;
+  g_counting = true;
+  f();
+  g_counting = false;
+  return g_allocations.load();
+}
+
+TEST(NoAllocation, CounterSeesEigenAndOperatorNew) {
+  // The counter must be able to fail: a dynamic Eigen temporary and a std::string are counted.
+  Eigen::MatrixXd a = Eigen::MatrixXd::Random(30, 30), b = a;
+  EXPECT_GT(AllocationsIn([&] { b = (a * a + a).eval(); }, 0), 0);
+  EXPECT_GT(AllocationsIn([&] { std::string s(100, 'x'); (void)s; }, 0), 0);
+}
+
+JointSpec Joint(const std::string& name, JointType type, BodyIndex parent, BodyIndex child,
+                const Transform& X_PF = Transform(), const Vec3& axis = Vec3::UnitZ(),
+                const Vec3& axis2 = Vec3::UnitX()) {
+  JointSpec j;
+  j.name = name, j.type = type, j.parent = parent, j.child = child, j.X_PF = X_PF;
+  j.axis = axis, j.axis2 = axis2;
+  return j;
+}
+
+std::shared_ptr<const Model> BuildModel() {
+  const double r = 0.1, l = 0.35, theta = 0.3;
+  ModelBuilder b;
+  const Mat3 I = Vec3(2e-3, 3e-3, 4e-3).asDiagonal();
+  const BodyIndex crank = b.AddBody("crank", 1.0, Vec3(r / 2, 0, 0), I);
+  const BodyIndex rod = b.AddBody("rod", 0.5, Vec3(l / 2, 0, 0), I);
+  const BodyIndex slider = b.AddBody("slider", 2.0, Vec3::Zero(), I);
+  const BodyIndex pendulum = b.AddBody("pendulum", 1.0, Vec3(0, -0.3, 0), I);
+  const BodyIndex floater = b.AddBody("floater", 3.0, Vec3(0.01, 0.02, 0), I);
+  const JointIndex jc = b.AddJoint(Joint("crank", JointType::kRevolute, kWorldBody, crank));
+  const JointIndex jr = b.AddJoint(Joint("rod", JointType::kUniversal, crank, rod,
+                                         Transform::Translation(Vec3(r, 0, 0)), Vec3::UnitZ(), Vec3::UnitY()));
+  const JointIndex js = b.AddJoint(Joint("slider", JointType::kPrismatic, kWorldBody, slider, Transform(), Vec3::UnitX()));
+  const JointIndex jp = b.AddJoint(Joint("pendulum", JointType::kRevolute, kWorldBody, pendulum,
+                                         Transform::Translation(Vec3(0, 1, 0))));
+  b.AddJoint(Joint("floater", JointType::kFree, kWorldBody, floater, Transform::Translation(Vec3(0, 0, 1))));
+  const FrameIndex rod_end = b.AddFrame("rod_end", rod, Transform::Translation(Vec3(l, 0, 0)));
+  b.AddLoopClosure({"wrist", JointType::kSpherical, rod_end, b.body_frame(slider)});
+  b.AddDriver({"motor", jc, 0, DriverSpec::Mode::kSpeed, TimeFunction::Trapezoid(5, 10, 5, 1.0, 0.1, 0.1, 0.6)});
+  b.AddDriver({"swing", jp, 0, DriverSpec::Mode::kPosition, TimeFunction::Sine(0.2, 1.0, 0.0, 0.0)});
+  b.SetGravity(Vec3(0, -9.81, 0));
+  const FrameIndex anchor = b.AddFrame("anchor", kWorldBody, Transform::Translation(Vec3(0, 0, 1)));
+  const FrameIndex mark = b.AddFrame("mark", floater, Transform(AxisAngle(Vec3::UnitX(), 0.3), Vec3(0.05, 0, 0)));
+  b.AddAppliedLoad({"push", rod_end, Vec3(1, 2, 0), Vec3(0, 0, 0.1), TimeFunction::Ramp(0, 1, 0, 1), true});
+  b.AddJointLoad({"brake", js, 0, TimeFunction::Table({0, 0.5, 1}, {0, -1, 0})});
+  b.AddTranslationalSpring({"spring", kWorldFrame, b.body_frame(slider), 100, 1, 0.4, 2});
+  b.AddRotationalSpring({"torsion", kWorldFrame, b.body_frame(pendulum), 5, 0.1, 0});
+  b.AddCoordinateSpring({"coord", js, 0, 50, 0.5, 0.4});
+  Mat6 K = Mat6::Identity() * 1e4;
+  K.topRightCorner<3, 3>() = Mat3::Identity() * 100;
+  K.bottomLeftCorner<3, 3>() = Mat3::Identity() * 100;
+  K.bottomRightCorner<3, 3>() = Mat3::Identity() * 1e3;
+  b.AddBushing({"mount", anchor, mark, K, K * 1e-3});
+  const double s = std::sin(theta), x = r * std::cos(theta) + std::sqrt(l * l - r * r * s * s);
+  b.SetJointPosition(jc, Eigen::VectorXd::Constant(1, theta));
+  b.SetJointPosition(jr, Eigen::Vector2d(std::atan2(-r * s, x - r * std::cos(theta)) - theta, 0));
+  b.SetJointPosition(js, Eigen::VectorXd::Constant(1, x));
+  b.SetJointVelocity(jc, Eigen::VectorXd::Constant(1, 5.0));
+  return std::move(b).Finalize();
+}
+
+// A state with nonzero velocities and accelerations everywhere.
+State TestState(const Model& m) {
+  State s = State::Initial(m);
+  s.t = 0.05;
+  for (int k = 0; k < m.nv; ++k) s.v(k) = 0.1 * (k + 1);
+  return s;
+}
+
+TEST(NoAllocation, EvaluateDynamicsAndMassMatrix) {
+  const std::shared_ptr<const Model> model = BuildModel();
+  const Model& m = *model;
+  Data data(m);
+  const State s = TestState(m);
+  const Eigen::VectorXd vdot = Eigen::VectorXd::LinSpaced(m.nv, -1, 1);
+  EXPECT_EQ(AllocationsIn([&] { EvaluateDynamics(m, s.t, s.q, s.v, vdot, data); }), 0);
+  EXPECT_EQ(AllocationsIn([&] { CalcMassMatrix(m, data); }), 0);
+  EXPECT_EQ(AllocationsIn([&] { (void)CalcKineticEnergy(m, data); }), 0);
+}
+
+TEST(NoAllocation, DaeResidualAndJacobian) {
+  const std::shared_ptr<const Model> model = BuildModel();
+  DaeSystem dae(*model);
+  Eigen::VectorXd y(dae.size()), yp(dae.size()), r(dae.size());
+  Eigen::MatrixXd J(dae.size(), dae.size());
+  State s = TestState(*model);
+  dae.ConsistentInitial(s, y, yp);
+  EXPECT_EQ(AllocationsIn([&] { dae.Residual(s.t, y, yp, r); }), 0);
+  EXPECT_EQ(AllocationsIn([&] { dae.Jacobian(s.t, 1e3, y, yp, J); }), 0);
+}
+
+TEST(NoAllocation, GeneralizedAlphaStep) {
+  const std::shared_ptr<const Model> model = BuildModel();
+  IntegratorOptions o;
+  o.kind = IntegratorKind::kGeneralizedAlpha;
+  o.step = 1e-3;
+  std::unique_ptr<Integrator> integ = MakeIntegrator(*model, o);
+  integ->Initialize(State::Initial(*model));
+  integ->AdvanceTo(1e-3);
+  int k = 1;
+  EXPECT_EQ(AllocationsIn([&] { integ->AdvanceTo(++k * 1e-3); }), 0);
+}
+
+TEST(NoAllocation, ResultRecorderBetweenBlocks) {
+  const std::shared_ptr<const Model> model = BuildModel();
+  const std::string path = ::testing::TempDir() + "orrery_no_alloc_" + std::to_string(::getpid()) + ".h5";
+  {
+    ResultFile out = ResultFile::Create(path);
+    ResultRecorder rec(*model, out);
+    const State s = TestState(*model);
+    const Eigen::VectorXd vdot = Eigen::VectorXd::Zero(model->nv);
+    const Eigen::VectorXd lambda = Eigen::VectorXd::Ones(model->n_constraints);
+    // The first row sizes every series' block; later rows (well within a block) must not allocate.
+    EXPECT_EQ(AllocationsIn([&] { rec.Record(s, vdot, lambda); }, 2), 0);
+  }
+  std::filesystem::remove(path);
+}
+
+}  // namespace
+}  // namespace orrery
