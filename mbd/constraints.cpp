@@ -15,7 +15,7 @@ void AddBodyRow(const Model& model, Data& data, int row, BodyIndex body, const V
   for (JointIndex j = model.bodies[body].parent_joint; j >= 0;
        j = model.bodies[model.joints[j].spec.parent].parent_joint) {
     const Joint& jt = model.joints[j];
-    data.G.row(row).segment(jt.v_start, jt.nv).noalias() += c.transpose() * data.S.middleCols(jt.v_start, jt.nv);
+    for (int k = 0; k < jt.nv; ++k) data.G(row, jt.v_start + k) += c.dot(data.S.col(jt.v_start + k));
   }
 }
 

@@ -54,4 +54,13 @@ struct Data {
   Eigen::VectorXd scratch_nv;         // nv
 };
 
+// S_j x: the spatial motion of joint columns [v_start, v_start + nv) times the matching entries
+// of x (nv-length loops beat Eigen's dynamic-size products for the 1-6 columns of a joint).
+template <class Vector>
+inline Vec6 JointMotion(const Data& data, int v_start, int nv, const Vector& x) {
+  Vec6 m = Vec6::Zero();
+  for (int k = 0; k < nv; ++k) m.noalias() += data.S.col(v_start + k) * x(v_start + k);
+  return m;
+}
+
 }  // namespace orrery

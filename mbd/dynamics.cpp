@@ -9,9 +9,7 @@ void CalcInverseDynamics(const Model& model, const Eigen::Ref<const Eigen::Vecto
   for (const JointIndex j : model.tree_order) {
     const Joint& jt = model.joints[j];
     const BodyIndex b = jt.spec.child;
-    data.A_WB[b] = data.A_WB[jt.spec.parent] +
-                   data.S.middleCols(jt.v_start, jt.nv) * vdot.segment(jt.v_start, jt.nv) +
-                   data.c_J[j];
+    data.A_WB[b] = data.A_WB[jt.spec.parent] + JointMotion(data, jt.v_start, jt.nv, vdot) + data.c_J[j];
     const SpatialInertia& I = data.I_W[b];
     const Vec6& V = data.V_WB[b];
     data.f_joint[b] = I * data.A_WB[b] + CrossForce(V, I * V) - data.f_ext[b];
@@ -20,8 +18,8 @@ void CalcInverseDynamics(const Model& model, const Eigen::Ref<const Eigen::Vecto
   for (auto it = model.tree_order.rbegin(); it != model.tree_order.rend(); ++it) {
     const Joint& jt = model.joints[*it];
     const BodyIndex b = jt.spec.child;
-    data.tau_id.segment(jt.v_start, jt.nv).noalias() =
-        data.S.middleCols(jt.v_start, jt.nv).transpose() * data.f_joint[b];
+    for (int k = 0; k < jt.nv; ++k)
+      data.tau_id(jt.v_start + k) = data.S.col(jt.v_start + k).dot(data.f_joint[b]);
     if (jt.spec.parent != kWorldBody) data.f_joint[jt.spec.parent] += data.f_joint[b];
   }
   data.tau_id -= data.tau_applied;

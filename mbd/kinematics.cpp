@@ -29,7 +29,7 @@ void CalcPositionKinematics(const Model& model, const Eigen::Ref<const Eigen::Ve
     const Joint& jt = model.joints[j];
     const int qs = jt.q_start, vs = jt.v_start;
     const Transform& X_WP = data.X_WB[jt.spec.parent];
-    const Transform X_WF = X_WP * jt.spec.X_PF;
+    const Transform X_WF = jt.X_PF_is_identity ? X_WP : X_WP * jt.spec.X_PF;
     Transform& X_FM = data.X_FM[j];
     // Joint transform and motion subspace S_F (about F's origin, F axes), mapped to world.
     auto set_col = [&](int k, const Vec3& w_F, const Vec3& v_F) {
@@ -86,12 +86,15 @@ void CalcPositionKinematics(const Model& model, const Eigen::Ref<const Eigen::Ve
     }
     data.X_WF[j] = X_WF;
     const BodyIndex b = jt.spec.child;
-    data.X_WB[b] = X_WF * X_FM * jt.X_MC;
+    data.X_WB[b] = X_WF * X_FM;
+    if (!jt.X_MC_is_identity) data.X_WB[b] = data.X_WB[b] * jt.X_MC;
   }
 
   // Named frames and world-origin inertias.
-  for (size_t f = 0; f < model.frames.size(); ++f)
-    data.X_WFrame[f] = data.X_WB[model.frames[f].body] * model.frames[f].X_BF;
+  for (size_t f = 0; f < model.frames.size(); ++f) {
+    const Frame& frame = model.frames[f];
+    data.X_WFrame[f] = frame.is_body_frame ? data.X_WB[frame.body] : data.X_WB[frame.body] * frame.X_BF;
+  }
   for (BodyIndex b = 1; b < model.nbodies; ++b) {
     const Body& body = model.bodies[b];
     const Transform& X = data.X_WB[b];
@@ -108,7 +111,7 @@ void CalcVelocityKinematics(const Model& model, const Eigen::Ref<const Eigen::Ve
     const Joint& jt = model.joints[j];
     const int qs = jt.q_start, vs = jt.v_start;
     const Vec6& V_WP = data.V_WB[jt.spec.parent];
-    const Vec6 V_joint = data.S.middleCols(vs, jt.nv) * v.segment(vs, jt.nv);
+    const Vec6 V_joint = JointMotion(data, vs, jt.nv, v);
     data.V_WB[jt.spec.child] = V_WP + V_joint;
     // S-dot v: frame F moves with the parent, plus the joint's own dS_F/dt v (in F).
     Vec6 c = CrossMotion(V_WP, V_joint);

@@ -152,11 +152,13 @@ struct Frame {
   std::string name;
   BodyIndex body = kWorldBody;
   Transform X_BF;  // pose of the frame on its body
+  bool is_body_frame = false;  // X_BF is the identity (a body's own frame)
 };
 
 struct Joint {
   JointSpec spec;
   Transform X_MC;   // inverse of spec.X_CM (child frame from M)
+  bool X_PF_is_identity = false, X_MC_is_identity = false;  // skip the products in kinematics
   int q_start = 0;  // offset in q
   int v_start = 0;  // offset in v
   int nq = 0, nv = 0;

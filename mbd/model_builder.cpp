@@ -87,7 +87,7 @@ ModelBuilder::ModelBuilder() : model_(std::make_unique<Model>()) {
   // Body 0 is the world, frame 0 its frame.
   model_->bodies.push_back(Body{"world", 0.0, Vec3::Zero(), Mat3::Zero(), -1});
   model_->body_by_name_["world"] = 0;
-  model_->frames.push_back(Frame{"world", kWorldBody, Transform::Identity()});
+  model_->frames.push_back(Frame{"world", kWorldBody, Transform::Identity(), true});
   model_->frame_by_name_["world"] = 0;
   body_frames_.push_back(0);
 }
@@ -133,7 +133,7 @@ BodyIndex ModelBuilder::AddBody(const std::string& name, double mass, const Vec3
   model_->bodies.push_back(Body{name, mass, com_B, I, -1});
   model_->body_by_name_[name] = b;
   const FrameIndex f = static_cast<FrameIndex>(model_->frames.size());
-  model_->frames.push_back(Frame{name, b, Transform::Identity()});
+  model_->frames.push_back(Frame{name, b, Transform::Identity(), true});
   model_->frame_by_name_[name] = f;
   body_frames_.push_back(f);
   return b;
@@ -148,7 +148,7 @@ FrameIndex ModelBuilder::AddFrame(const std::string& name, BodyIndex body, const
       (X_BF.R.transpose() * X_BF.R - Mat3::Identity()).norm() > 1e-9 || X_BF.R.determinant() < 0)
     Fail("frame '" + name + "': pose rotation is not a proper rotation matrix");
   const FrameIndex f = static_cast<FrameIndex>(model_->frames.size());
-  model_->frames.push_back(Frame{name, body, X_BF});
+  model_->frames.push_back(Frame{name, body, X_BF, X_BF.IsIdentity()});
   model_->frame_by_name_[name] = f;
   return f;
 }
@@ -171,6 +171,8 @@ JointIndex ModelBuilder::AddJoint(const JointSpec& spec) {
   j.nq = JointNq(spec.type);
   j.nv = JointNv(spec.type);
   j.X_MC = spec.X_CM.Inverse();
+  j.X_PF_is_identity = spec.X_PF.IsIdentity();
+  j.X_MC_is_identity = j.X_MC.IsIdentity();
   const bool needs_axis = spec.type != JointType::kFixed && spec.type != JointType::kSpherical &&
                           spec.type != JointType::kFree;
   if (needs_axis) {

@@ -40,6 +40,7 @@ struct Transform {
   // p_AoQ_A from p_BoQ_B.
   Vec3 operator*(const Vec3& p_BoQ_B) const { return R * p_BoQ_B + p; }
   Transform Inverse() const { return {R.transpose(), -(R.transpose() * p)}; }
+  bool IsIdentity() const { return R == Mat3::Identity() && p == Vec3::Zero(); }
 };
 
 // Rotation of `angle` rad about the unit axis `axis`.
@@ -114,8 +115,9 @@ struct SpatialInertia {
     SpatialInertia s;
     s.m = m;
     s.h = m * p_WoBcm_W;
-    const Mat3 c = Skew(p_WoBcm_W);
-    s.I = I_cm_W - m * c * c;
+    // I_cm - m [c]x [c]x = I_cm + m (|c|^2 1 - c c^T)
+    s.I = I_cm_W - m * p_WoBcm_W * p_WoBcm_W.transpose();
+    s.I.diagonal().array() += m * p_WoBcm_W.squaredNorm();
     return s;
   }
   // Momentum I * V (V about the same reference point).
