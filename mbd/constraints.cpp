@@ -5,6 +5,7 @@
 
 #include <Eigen/QR>
 
+#include "mbd/gear_mesh.h"
 #include "mbd/kinematics.h"
 
 namespace orrery {
@@ -81,6 +82,22 @@ void CalcConstraints(const Model& model, double t, Data& data) {
       case JointType::kFree: break;
     }
   }
+  // Ideal gear meshes: drive-flank deflection = 0; G row = n . (v_a(P) - v_b(P)).
+  for (size_t k = 0; k < model.gear_constraints.size(); ++k) {
+    const GearConstraint& gc = model.gear_constraints[k];
+    const GearConstraintSpec& s = gc.spec;
+    const MeshState st = CalcMeshState(gc.geometry, data, s.gear_a, s.gear_b, s.reference,
+                                       s.base_radius_a, s.base_radius_b, 0.0);
+    const int row = model.gear_constraint_row[k];
+    Vec6 ca, cb;
+    ca << st.p_a_W.cross(st.n_drive_W), st.n_drive_W;
+    cb << -st.p_b_W.cross(st.n_drive_W), -st.n_drive_W;
+    data.phi(row) = st.delta_drive;
+    data.c_gear_a[k] = ca;
+    data.c_gear_b[k] = cb;
+    AddBodyRow(model, data, row, model.frames[s.gear_a].body, ca);
+    AddBodyRow(model, data, row, model.frames[s.gear_b].body, cb);
+  }
   // Drivers: position rows q_k - f(t) (holonomic), speed rows v_k - f(t).
   for (size_t d = 0; d < model.drivers.size(); ++d) {
     const Driver& dr = model.drivers[d];
@@ -98,6 +115,12 @@ void CalcConstraints(const Model& model, double t, Data& data) {
 void AddConstraintBodyForces(const Model& model, const Data& data,
                              const Eigen::Ref<const Eigen::VectorXd>& lambda,
                              std::vector<Vec6>& f) {
+  for (size_t k = 0; k < model.gear_constraints.size(); ++k) {
+    const GearConstraintSpec& s = model.gear_constraints[k].spec;
+    const double lam = lambda(model.gear_constraint_row[k]);
+    f[model.frames[s.gear_a].body] -= lam * data.c_gear_a[k];
+    f[model.frames[s.gear_b].body] -= lam * data.c_gear_b[k];
+  }
   int loop_row = 0;
   for (size_t l = 0; l < model.loop_closures.size(); ++l) {
     const LoopClosureSpec& lc = model.loop_closures[l];
@@ -115,6 +138,9 @@ std::string ConstraintRowName(const Model& model, int row) {
     if (row >= model.loop_row_start[l] && row < model.loop_row_start[l] + model.loop_rows[l])
       return "loop closure '" + model.loop_closures[l].name + "' row " +
              std::to_string(row - model.loop_row_start[l]);
+  for (size_t k = 0; k < model.gear_constraints.size(); ++k)
+    if (model.gear_constraint_row[k] == row)
+      return "gear constraint '" + model.gear_constraints[k].spec.name + "'";
   for (size_t d = 0; d < model.drivers.size(); ++d)
     if (model.driver_row[d] == row) return "driver '" + model.drivers[d].spec.name + "'";
   return "row " + std::to_string(row);

@@ -29,6 +29,14 @@ Data::Data(const Model& model) {
   c_rows_a.assign(loop_rows, Vec6::Zero());
   c_rows_b.assign(loop_rows, Vec6::Zero());
   scratch_nv = Eigen::VectorXd::Zero(model.nv);
+  const size_t nm = model.gear_meshes.size();
+  mesh_force.assign(nm, 0.0);
+  mesh_deflection.assign(nm, 0.0);
+  mesh_stiffness.assign(nm, 0.0);
+  mesh_phase.assign(nm, 0.0);
+  mesh_contact.assign(nm, 0);
+  c_gear_a.assign(model.gear_constraints.size(), Vec6::Zero());
+  c_gear_b.assign(model.gear_constraints.size(), Vec6::Zero());
 }
 
 }  // namespace orrery

@@ -1,6 +1,9 @@
 #include "mbd/force_elements.h"
 
+#include <algorithm>
 #include <cmath>
+
+#include "mbd/gear_mesh.h"
 
 namespace orrery {
 namespace {
@@ -91,6 +94,37 @@ void CalcForceElements(const Model& model, double t, const Eigen::Ref<const Eige
     const Vec6 f = ForceAtPoint(Xb.p, Ra * w_A.head<3>(), Ra * w_A.tail<3>());
     AddBodyForce(data, bb, f);
     AddBodyForce(data, ba, -f);
+  }
+  // Lumped gear meshes: spring-damper on the engaged flank's line of action.
+  for (size_t i = 0; i < model.gear_meshes.size(); ++i) {
+    const GearMesh& mesh = model.gear_meshes[i];
+    const GearMeshSpec& s = mesh.spec;
+    const bool two_sided = s.contact == GearMeshSpec::Contact::kTwoSided;
+    const MeshState st = CalcMeshState(mesh.geometry, data, s.gear_a, s.gear_b, s.reference,
+                                       s.base_radius_a, s.base_radius_b, two_sided ? s.backlash : 0.0);
+    const double psi = MeshPhase(s, mesh.geometry, st);
+    const double k = MeshStiffness(s, psi);
+    const double ste = MeshTransmissionError(s, psi);
+    // Engaged flank.
+    int side = s.contact == GearMeshSpec::Contact::kLinearCoast ? -1 : 1;
+    if (two_sided) side = st.delta_drive - ste > 0 ? 1 : (st.delta_coast - ste > 0 ? -1 : 0);
+    double force = 0, delta = 0;
+    if (side != 0) {
+      const Vec3& n = side > 0 ? st.n_drive_W : st.n_coast_W;
+      delta = side > 0 ? st.delta_drive : st.delta_coast;
+      const double rate = side * CalcMeshRate(model, data, s.gear_a, s.gear_b, st, n);
+      force = k * (delta - ste) + mesh.c * rate;
+      if (two_sided) force = std::max(force, 0.0);  // teeth push, never pull
+      const Vec3 f_b = (side * force) * n;
+      AddBodyForce(data, model.frames[s.gear_b].body, ForceAtPoint(st.p_b_W, f_b));
+      AddBodyForce(data, model.frames[s.gear_a].body, ForceAtPoint(st.p_a_W, -f_b));
+      energy += 0.5 * k * (delta - ste) * (delta - ste);
+    }
+    data.mesh_force[i] = force;
+    data.mesh_deflection[i] = delta;
+    data.mesh_stiffness[i] = k;
+    data.mesh_phase[i] = psi;
+    data.mesh_contact[i] = side;
   }
   data.potential_energy = energy;
 }

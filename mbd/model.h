@@ -138,7 +138,92 @@ struct BushingSpec {
   Mat6 damping = Mat6::Zero();
 };
 
+// Lumped gear mesh between two gears (the `lumped` rung of DESIGN.md; seed 001 eqs. 7-9 and
+// 14-17, Lin & Parker 1999, seed 002 eqs. 7-9): a spring-damper along the line of action.
+//
+// Geometry, in the reference frame C (the carrier, or the world) that holds both gear centres:
+// u points from gear a's centre to the pitch point P (towards b for an external pair, away from
+// the ring's centre for an internal one), t = z x u, and the transverse lines of action through P
+// are n_drive = cos(alpha_w) t + sin(alpha_w) u (the flank gear a drives with when turning +z) and
+// n_coast = cos(alpha_w) t - sin(alpha_w) u. With the base helix angle beta_b the contact normals
+// are n = cos(beta_b) n_t + sin(beta_b) z. Deflections (positive = compression), linear in small
+// translations and tilts of the centres in C:
+//   e = r_ba theta_a + sigma r_bb theta_b   (theta relative to C and to the initial configuration,
+//                                            sigma = +1 external, -1 internal; wrapped to one
+//                                            base pitch, so turns never accumulate)
+//   delta_drive = cos(beta_b) (e + n_drive.dc) + sin(beta_b) dz,
+//   delta_coast = -cos(beta_b) (e + n_coast.dc) - sin(beta_b) dz - cos(beta_b) backlash,
+// with dc, dz the transverse and axial displacement of gear a's point at P relative to gear b's.
+// Force F = k (delta - e_ste) + c delta-dot while in contact (never pulling), on gear b along +n
+// (drive) or -n (coast) at P, the opposite on gear a. k is constant or read from a table over the
+// mesh cycle (or over all teeth of one gear, for faults) at the mesh phase of gear a (or b);
+// e_ste = sum_k A_k cos(2 pi k psi + phi_k) is the static transmission error (seed 001 eq. 14).
+// Linear contact keeps one flank engaged for all deflections (the linear models of seed 001 and
+// Lin & Parker); two-sided contact separates and hits the back flank across the backlash.
+struct GearMeshSpec {
+  std::string name;
+  FrameIndex gear_a = -1, gear_b = -1;  // gear frames: origin at the centre, z along the axis
+  FrameIndex reference = kWorldFrame;   // C: holds the gear centres; its z parallel to the axes
+  int teeth_a = 0, teeth_b = 0;
+  double base_radius_a = 0, base_radius_b = 0;  // m
+  double working_pressure_angle = 0;            // rad, transverse
+  double base_helix_angle = 0;                  // rad, signed by hand (+: axial force +z on b)
+  bool internal_b = false;                      // gear b is an internal gear (a ring)
+  enum class Contact { kTwoSided, kLinearDrive, kLinearCoast } contact = Contact::kTwoSided;
+  double backlash = 0;                    // m, along the transverse line of action (two-sided)
+  double stiffness = 0;                   // N/m, used when stiffness_table is empty
+  std::vector<double> stiffness_table;    // N/m, uniform samples over table_cycles mesh cycles
+  int table_cycles = 1;                   // 1, or the tooth count of the phase gear (per tooth)
+  enum class PhaseGear { kA, kB } phase_gear = PhaseGear::kA;
+  double phase = 0;                       // mesh phase at the initial configuration (cycles)
+  double damping = 0;                     // N s/m, or:
+  double damping_ratio = 0;               // c = 2 zeta sqrt(k_mean m_eq), m_eq from the inertias
+  std::vector<double> ste_amplitudes;     // m, harmonics 1, 2, ... of the mesh frequency
+  std::vector<double> ste_phases;         // rad
+  // false: a published lumped model entered as printed, whose centre distance need not agree
+  // with its base radii and pressure angle; forces then act at the lever points r_b / cos(alpha_w)
+  // from each centre along u (which coincide when the geometry is consistent).
+  bool check_centre_distance = true;
+};
+
+// Ideal gear mesh (the `kinematic` rung): the constraint delta_drive = 0 of the geometry above,
+// one row whose multiplier is the tooth force along n_drive (on gear b).
+struct GearConstraintSpec {
+  std::string name;
+  FrameIndex gear_a = -1, gear_b = -1, reference = kWorldFrame;
+  int teeth_a = 0, teeth_b = 0;  // for the base pitch that the angles wrap to
+  double base_radius_a = 0, base_radius_b = 0, working_pressure_angle = 0, base_helix_angle = 0;
+  bool internal_b = false;
+  bool check_centre_distance = true;
+};
+
 // Model ------------------------------------------------------------------------------------
+
+// Line-of-action geometry of a gear mesh or gear constraint, in its reference frame C, taken at
+// the initial configuration by Finalize().
+struct MeshGeometry {
+  Vec3 n_drive_C = Vec3::Zero(), n_coast_C = Vec3::Zero();  // transverse unit normals
+  Vec3 r_a_C = Vec3::Zero(), r_b_C = Vec3::Zero();  // lever points from the centres of a, b:
+                                                    // the pitch point P for consistent geometry
+  Vec3 dc0_C = Vec3::Zero();             // centre of a - centre of b at the start
+  Mat3 R_CA0 = Mat3::Identity(), R_CB0 = Mat3::Identity();  // gear orientations in C at the
+                                         // start (angles are measured from them)
+  double sigma = 1;                      // +1 external, -1 internal
+  double cos_beta = 1, sin_beta = 0;
+  double base_pitch = 0;                 // m, transverse: 2 pi r_ba / z_a (0 if z unknown)
+};
+
+struct GearMesh {
+  GearMeshSpec spec;
+  MeshGeometry geometry;
+  double k_mean = 0;   // N/m
+  double c = 0;        // N s/m (resolved from the damping ratio if given)
+};
+
+struct GearConstraint {
+  GearConstraintSpec spec;
+  MeshGeometry geometry;
+};
 
 struct Body {
   std::string name;
@@ -172,8 +257,9 @@ struct Driver {
 };
 
 // Constraint rows: each holonomic row has a position level Phi and a velocity row of G; velocity
-// rows (speed drivers) only a row of G. Rows are ordered: loop closures, position drivers, speed
-// drivers; holonomic rows come first, so Phi has the first n_holonomic rows of G.
+// rows (speed drivers) only a row of G. Rows are ordered: loop closures, gear constraints,
+// position drivers, speed drivers; holonomic rows come first, so Phi has the first n_holonomic
+// rows of G.
 class Model {
  public:
   // Sizes.
@@ -200,6 +286,9 @@ class Model {
   std::vector<CoordinateSpringSpec> coordinate_springs;
   std::vector<int> coordinate_spring_q_index, coordinate_spring_v_index;
   std::vector<BushingSpec> bushings;
+  std::vector<GearMesh> gear_meshes;
+  std::vector<GearConstraint> gear_constraints;
+  std::vector<int> gear_constraint_row;  // constraint row of each gear constraint (holonomic)
 
   Vec3 gravity = Vec3::Zero();  // m/s^2, world axes
   Eigen::VectorXd q_initial;    // nq, from joint defaults (quaternions identity) and user values
@@ -254,6 +343,8 @@ class ModelBuilder {
   void AddRotationalSpring(const RotationalSpringSpec& spec);
   void AddCoordinateSpring(const CoordinateSpringSpec& spec);
   void AddBushing(const BushingSpec& spec);
+  void AddGearMesh(const GearMeshSpec& spec);
+  void AddGearConstraint(const GearConstraintSpec& spec);
 
   int num_bodies() const { return static_cast<int>(model_->bodies.size()); }
   const Model& draft() const { return *model_; }

@@ -1,11 +1,16 @@
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
 #include <Eigen/Eigenvalues>
 
 #include "mbd/model.h"
+
+#include "mbd/data.h"
+#include "mbd/gear_mesh.h"
+#include "mbd/kinematics.h"
 
 namespace orrery {
 namespace {
@@ -315,6 +320,55 @@ void ModelBuilder::AddBushing(const BushingSpec& spec) {
   model_->bushings.push_back(spec);
 }
 
+void ModelBuilder::AddGearMesh(const GearMeshSpec& spec) {
+  CheckName("gear mesh", spec.name);
+  const std::string what = "gear mesh '" + spec.name + "'";
+  CheckFrame(what, spec.gear_a);
+  CheckFrame(what, spec.gear_b);
+  CheckFrame(what, spec.reference);
+  if (model_->frames[spec.gear_a].body == model_->frames[spec.gear_b].body)
+    Fail(what + ": both gears are on the same body");
+  if (spec.teeth_a < 1 || spec.teeth_b < 1) Fail(what + ": tooth counts must be >= 1");
+  if (!(spec.backlash >= 0)) Fail(what + ": backlash must be >= 0, got " + std::to_string(spec.backlash));
+  CheckSpring(what, spec.stiffness, spec.damping);
+  if (!(spec.damping_ratio >= 0)) Fail(what + ": damping ratio must be >= 0");
+  if (spec.damping > 0 && spec.damping_ratio > 0) Fail(what + ": give a damping coefficient or a ratio, not both");
+  for (double k : spec.stiffness_table)
+    if (!(k >= 0) || !std::isfinite(k)) Fail(what + ": stiffness table values must be >= 0");
+  if (spec.stiffness_table.empty() && !(spec.stiffness > 0)) Fail(what + ": stiffness must be > 0");
+  if (spec.table_cycles < 1) Fail(what + ": table_cycles must be >= 1");
+  if (spec.ste_phases.size() > spec.ste_amplitudes.size())
+    Fail(what + ": more transmission-error phases than amplitudes");
+  GearMesh mesh;
+  mesh.spec = spec;
+  model_->gear_meshes.push_back(mesh);
+}
+
+void ModelBuilder::AddGearConstraint(const GearConstraintSpec& spec) {
+  CheckName("gear constraint", spec.name);
+  const std::string what = "gear constraint '" + spec.name + "'";
+  CheckFrame(what, spec.gear_a);
+  CheckFrame(what, spec.gear_b);
+  CheckFrame(what, spec.reference);
+  if (model_->frames[spec.gear_a].body == model_->frames[spec.gear_b].body)
+    Fail(what + ": both gears are on the same body");
+  if (spec.teeth_a < 1 || spec.teeth_b < 1) Fail(what + ": tooth counts must be >= 1");
+  GearConstraint c;
+  c.spec = spec;
+  model_->gear_constraints.push_back(c);
+}
+
+// Moment of inertia of a frame's body about the frame's z axis (infinite for the world).
+static double InertiaAboutAxis(const Model& m, FrameIndex f) {
+  const Frame& frame = m.frames[f];
+  if (frame.body == kWorldBody) return std::numeric_limits<double>::infinity();
+  const Body& b = m.bodies[frame.body];
+  const Vec3 z = frame.X_BF.R.col(2);
+  Vec3 r = b.com_B - frame.X_BF.p;
+  r -= r.dot(z) * z;
+  return z.dot(b.inertia_cm_B * z) + b.mass * r.squaredNorm();
+}
+
 std::shared_ptr<const Model> ModelBuilder::Finalize() && {
   Model& m = *model_;
   m.nbodies = static_cast<int>(m.bodies.size());
@@ -377,7 +431,8 @@ std::shared_ptr<const Model> ModelBuilder::Finalize() && {
     }
     if (joint_v_[j].size()) m.v_initial.segment(jt.v_start, jt.nv) = joint_v_[j];
   }
-  // Constraint rows: loop closures, position drivers (holonomic), then speed drivers.
+  // Constraint rows: loop closures, gear constraints, position drivers (holonomic), then speed
+  // drivers.
   int row = 0;
   m.loop_row_start.clear();
   m.loop_rows.clear();
@@ -386,6 +441,8 @@ std::shared_ptr<const Model> ModelBuilder::Finalize() && {
     m.loop_rows.push_back(LoopRows(lc.type));
     row += LoopRows(lc.type);
   }
+  m.gear_constraint_row.clear();
+  for (size_t k = 0; k < m.gear_constraints.size(); ++k) m.gear_constraint_row.push_back(row++);
   m.driver_row.assign(m.drivers.size(), -1);
   for (size_t d = 0; d < m.drivers.size(); ++d) {
     Driver& dr = m.drivers[d];
@@ -410,6 +467,46 @@ std::shared_ptr<const Model> ModelBuilder::Finalize() && {
   for (const CoordinateSpringSpec& s : m.coordinate_springs) {
     m.coordinate_spring_q_index.push_back(m.joints[s.joint].q_start + s.coordinate);
     m.coordinate_spring_v_index.push_back(m.joints[s.joint].v_start + s.coordinate);
+  }
+  // Gear meshes: line-of-action geometry at the initial configuration, resolved damping.
+  if (!m.gear_meshes.empty() || !m.gear_constraints.empty()) {
+    Data data(m);
+    CalcPositionKinematics(m, m.q_initial, data);
+    for (GearMesh& mesh : m.gear_meshes) {
+      const GearMeshSpec& s = mesh.spec;
+      const std::string what = "gear mesh '" + s.name + "'";
+      mesh.geometry = ComputeMeshGeometry(what, data, s.gear_a, s.gear_b, s.reference, s.base_radius_a,
+                                          s.base_radius_b, s.working_pressure_angle,
+                                          s.base_helix_angle, s.internal_b, s.teeth_a,
+                                          s.check_centre_distance);
+      if (s.teeth_a > 1 && s.teeth_b > 1 &&
+          std::abs(s.base_radius_b / s.base_radius_a - double(s.teeth_b) / s.teeth_a) >
+              1e-6 * double(s.teeth_b) / s.teeth_a)
+        Fail(what + ": base radius ratio " + std::to_string(s.base_radius_b / s.base_radius_a) +
+             " differs from the tooth ratio " + std::to_string(double(s.teeth_b) / s.teeth_a));
+      if (s.backlash >= mesh.geometry.base_pitch)
+        Fail(what + ": backlash " + std::to_string(s.backlash) + " m is not below the base pitch " +
+             std::to_string(mesh.geometry.base_pitch) + " m");
+      mesh.k_mean = s.stiffness;
+      if (!s.stiffness_table.empty()) {
+        mesh.k_mean = 0;
+        for (double k : s.stiffness_table) mesh.k_mean += k / s.stiffness_table.size();
+      }
+      mesh.c = s.damping;
+      if (s.damping_ratio > 0) {
+        const double inv_m = s.base_radius_a * s.base_radius_a / InertiaAboutAxis(m, s.gear_a) +
+                             s.base_radius_b * s.base_radius_b / InertiaAboutAxis(m, s.gear_b);
+        if (!(inv_m > 0)) Fail(what + ": a damping ratio needs at least one gear that can turn");
+        mesh.c = 2 * s.damping_ratio * std::sqrt(mesh.k_mean / inv_m);
+      }
+    }
+    for (GearConstraint& gc : m.gear_constraints) {
+      const GearConstraintSpec& s = gc.spec;
+      gc.geometry = ComputeMeshGeometry("gear constraint '" + s.name + "'", data, s.gear_a, s.gear_b,
+                                        s.reference, s.base_radius_a, s.base_radius_b,
+                                        s.working_pressure_angle, s.base_helix_angle, s.internal_b, s.teeth_a,
+                                        s.check_centre_distance);
+    }
   }
   return std::shared_ptr<const Model>(std::move(model_));
 }

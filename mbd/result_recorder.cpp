@@ -67,6 +67,14 @@ ResultRecorder::ResultRecorder(const Model& model, ResultFile& out)
                         (type == JointType::kFree && d.spec.coordinate < 3);
     driver_effort_.push_back(out.AddSeries("/drivers/" + d.spec.name + "/effort", 1, linear ? "N" : "N m"));
   }
+  for (const GearMesh& m : model.gear_meshes) {
+    const std::string g = "/gear_meshes/" + m.spec.name + "/";
+    meshes_.push_back({out.AddSeries(g + "force", 1, "N"), out.AddSeries(g + "deflection", 1, "m"),
+                       out.AddSeries(g + "stiffness", 1, "N/m"), out.AddSeries(g + "contact", 1, "1"),
+                       out.AddSeries(g + "phase", 1, "1")});
+  }
+  for (const GearConstraint& c : model.gear_constraints)
+    gear_constraint_force_.push_back(out.AddSeries("/gear_constraints/" + c.spec.name + "/force", 1, "N"));
   energy_ = out.AddSeries("/energy", 3, "J", {"kinetic", "gravity_potential", "elastic_potential"});
   drift_ = out.AddSeries("/constraints/drift", 2, "m, m/s (rad, rad/s for angular rows)",
                          {"max_abs_phi", "max_abs_phidot"});
@@ -133,6 +141,17 @@ void ResultRecorder::Record(const State& s, const Eigen::VectorXd& vdot,
     row_.segment<3>(3) = fB.head<3>();
     out_.Append(loop_reaction_[l], row_.data());
   }
+  // Gear meshes (filled by CalcForceElements above) and ideal meshes.
+  for (size_t i = 0; i < meshes_.size(); ++i) {
+    const double contact = d.mesh_contact[i];
+    out_.Append(meshes_[i].force, &d.mesh_force[i]);
+    out_.Append(meshes_[i].deflection, &d.mesh_deflection[i]);
+    out_.Append(meshes_[i].stiffness, &d.mesh_stiffness[i]);
+    out_.Append(meshes_[i].contact, &contact);
+    out_.Append(meshes_[i].phase, &d.mesh_phase[i]);
+  }
+  for (size_t k = 0; k < gear_constraint_force_.size(); ++k)
+    out_.Append(gear_constraint_force_[k], lambda.data() + model_.gear_constraint_row[k]);
   // Drivers: effort = -lambda of the driver's row.
   for (size_t k = 0; k < model_.drivers.size(); ++k) {
     const double effort = -lambda(model_.driver_row[k]);

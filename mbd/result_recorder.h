@@ -14,6 +14,12 @@
 //                                          the joint, at the origin of frame M, world axes
 //   /loop_closures/<name>/reaction         N, N m: wrench on frame B's body at B's origin
 //   /drivers/<name>/effort                 N m or N: the driving torque or force (-lambda)
+//   /gear_meshes/<name>/force              N: tooth force along the engaged flank's normal
+//   /gear_meshes/<name>/deflection         m: compression of the engaged flank
+//   /gear_meshes/<name>/stiffness          N/m at the current mesh phase
+//   /gear_meshes/<name>/contact            1: +1 drive flank, -1 coast flank, 0 teeth apart
+//   /gear_meshes/<name>/phase              cycles: mesh phase
+//   /gear_constraints/<name>/force         N: tooth force of an ideal mesh (its multiplier)
 //   /energy                                J: kinetic, gravity potential, elastic potential
 //   /constraints/drift                     max |Phi|, max |G v + g_t| per row
 #include <string>
@@ -44,6 +50,9 @@ class ResultRecorder {
   std::vector<BodySeries> bodies_;          // per body (index 0 unused)
   std::vector<ResultFile::SeriesId> joint_q_, joint_v_, joint_reaction_;  // per joint
   std::vector<ResultFile::SeriesId> loop_reaction_, driver_effort_;
+  struct MeshSeries { ResultFile::SeriesId force, deflection, stiffness, contact, phase; };
+  std::vector<MeshSeries> meshes_;
+  std::vector<ResultFile::SeriesId> gear_constraint_force_;
   Eigen::VectorXd row_;                     // scratch
 };
 

@@ -1,0 +1,126 @@
+#include "mbd/gear_mesh.h"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace orrery {
+namespace {
+
+constexpr double kTwoPi = 6.283185307179586476925;
+
+// Angle of a gear frame about the reference z axis.
+double SpinAngle(const Mat3& R_CG) { return std::atan2(R_CG(1, 0), R_CG(0, 0)); }
+
+}  // namespace
+
+MeshGeometry ComputeMeshGeometry(const std::string& what, const Data& data, FrameIndex gear_a,
+                                 FrameIndex gear_b, FrameIndex reference, double rba, double rbb,
+                                 double alpha_w, double beta_b, bool internal_b, int teeth_a,
+                                 bool check_centre_distance) {
+  auto fail = [&](const std::string& msg) { throw std::invalid_argument(what + ": " + msg); };
+  if (!(rba > 0) || !(rbb > 0)) fail("base radii must be > 0");
+  if (!(alpha_w > 0 && alpha_w < 1.2)) fail("working pressure angle must be in (0, 1.2) rad");
+  if (internal_b && !(rbb > rba)) fail("an internal gear b must be larger than gear a");
+  const Transform X_CW = data.X_WFrame[reference].Inverse();
+  const Transform X_CA = X_CW * data.X_WFrame[gear_a];
+  const Transform X_CB = X_CW * data.X_WFrame[gear_b];
+  const Vec3 z = Vec3::UnitZ();
+  if ((X_CA.R.col(2) - z).norm() > 1e-6 || (X_CB.R.col(2) - z).norm() > 1e-6)
+    fail("gear frames' z axes must be parallel to the reference frame's z axis");
+  Vec3 d = X_CB.p - X_CA.p;
+  d.z() = 0;
+  const double dist = d.norm();
+  const double expected = (internal_b ? rbb - rba : rba + rbb) / std::cos(alpha_w);
+  if (!(dist > 0)) fail("the gear centres coincide");
+  if (check_centre_distance && std::abs(dist - expected) > 1e-6 * expected) {
+    std::ostringstream s;
+    s << "centre distance " << dist << " m in the initial configuration, but base radii " << rba
+      << ", " << rbb << " m and working pressure angle " << alpha_w << " rad give " << expected << " m";
+    fail(s.str());
+  }
+  MeshGeometry g;
+  const Vec3 u = (internal_b ? -d : d) / dist;
+  const Vec3 t = z.cross(u);
+  const double ca = std::cos(alpha_w), sa = std::sin(alpha_w);
+  g.n_drive_C = ca * t + sa * u;
+  g.n_coast_C = ca * t - sa * u;
+  g.r_a_C = (rba / ca) * u;
+  g.r_b_C = (internal_b ? 1.0 : -1.0) * (rbb / ca) * u;
+  g.dc0_C = X_CA.p - X_CB.p;
+  g.R_CA0 = X_CA.R;
+  g.R_CB0 = X_CB.R;
+  g.sigma = internal_b ? -1.0 : 1.0;
+  g.cos_beta = std::cos(beta_b);
+  g.sin_beta = std::sin(beta_b);
+  g.base_pitch = teeth_a > 0 ? kTwoPi * rba / teeth_a : 0.0;
+  return g;
+}
+
+MeshState CalcMeshState(const MeshGeometry& g, const Data& data, FrameIndex gear_a,
+                        FrameIndex gear_b, FrameIndex reference, double rba, double rbb,
+                        double backlash) {
+  MeshState s;
+  const Transform& X_WC = data.X_WFrame[reference];
+  const Mat3 R_CW = X_WC.R.transpose();
+  const Transform& X_WA = data.X_WFrame[gear_a];
+  const Transform& X_WB = data.X_WFrame[gear_b];
+  const Mat3 R_CA = R_CW * X_WA.R, R_CB = R_CW * X_WB.R;
+  const Vec3 c_a = R_CW * (X_WA.p - X_WC.p), c_b = R_CW * (X_WB.p - X_WC.p);
+  // Rotational part, wrapped to one base pitch around the middle of the backlash.
+  s.theta_a = SpinAngle(R_CA * g.R_CA0.transpose());
+  s.theta_b = SpinAngle(R_CB * g.R_CB0.transpose());
+  double e = rba * s.theta_a + g.sigma * rbb * s.theta_b;
+  if (g.base_pitch > 0) e -= g.base_pitch * std::round((e + 0.5 * backlash) / g.base_pitch);
+  s.e = e;
+  // Small displacements of the material points at P: centre translation plus tilt.
+  const Vec3 dc = (c_a - c_b) - g.dc0_C;
+  const Vec3 za = R_CA.col(2), zb = R_CB.col(2);
+  const double tilt_a = -(za.x() * g.r_a_C.x() + za.y() * g.r_a_C.y());
+  const double tilt_b = -(zb.x() * g.r_b_C.x() + zb.y() * g.r_b_C.y());
+  const double dz = dc.z() + tilt_a - tilt_b;
+  s.delta_drive = g.cos_beta * (e + g.n_drive_C.dot(dc)) + g.sin_beta * dz;
+  s.delta_coast = -g.cos_beta * (e + g.n_coast_C.dot(dc)) - g.sin_beta * dz - g.cos_beta * backlash;
+  // World quantities for the forces.
+  s.p_a_W = X_WA.p + X_WC.R * g.r_a_C;
+  s.p_b_W = X_WB.p + X_WC.R * g.r_b_C;
+  s.n_drive_W = X_WC.R * (g.cos_beta * g.n_drive_C + g.sin_beta * Vec3::UnitZ());
+  s.n_coast_W = X_WC.R * (g.cos_beta * g.n_coast_C + g.sin_beta * Vec3::UnitZ());
+  return s;
+}
+
+double CalcMeshRate(const Model& model, const Data& data, FrameIndex gear_a, FrameIndex gear_b,
+                    const MeshState& s, const Vec3& n_W) {
+  const Vec6& Va = data.V_WB[model.frames[gear_a].body];
+  const Vec6& Vb = data.V_WB[model.frames[gear_b].body];
+  return n_W.dot(PointVelocity(Va, s.p_a_W) - PointVelocity(Vb, s.p_b_W));
+}
+
+double MeshPhase(const GearMeshSpec& spec, const MeshGeometry& g, const MeshState& s) {
+  if (spec.phase_gear == GearMeshSpec::PhaseGear::kA)
+    return spec.phase + spec.teeth_a * s.theta_a / kTwoPi;
+  return spec.phase - g.sigma * spec.teeth_b * s.theta_b / kTwoPi;
+}
+
+double MeshStiffness(const GearMeshSpec& spec, double psi) {
+  const auto& table = spec.stiffness_table;
+  if (table.empty()) return spec.stiffness;
+  const int n = static_cast<int>(table.size());
+  const double cycles = spec.table_cycles;
+  double tau = std::fmod(psi, cycles);
+  if (tau < 0) tau += cycles;
+  const double x = tau / cycles * n;
+  const int i = std::min(static_cast<int>(x), n - 1);
+  const double f = x - i;
+  return (1 - f) * table[i] + f * table[(i + 1) % n];
+}
+
+double MeshTransmissionError(const GearMeshSpec& spec, double psi) {
+  double e = 0;
+  for (size_t k = 0; k < spec.ste_amplitudes.size(); ++k)
+    e += spec.ste_amplitudes[k] *
+         std::cos(kTwoPi * double(k + 1) * psi + (k < spec.ste_phases.size() ? spec.ste_phases[k] : 0.0));
+  return e;
+}
+
+}  // namespace orrery
