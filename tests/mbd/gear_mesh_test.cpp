@@ -1,0 +1,181 @@
+// Lumped gear mesh and ideal gear constraint on a parallel-axis pair (two gears on revolute
+// joints), against closed forms: torsional natural frequency, static deflection under torque,
+// mesh damping decay, backlash free play, and the ideal ratio with its tooth force.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include <Eigen/Eigenvalues>
+
+#include "mbd/dynamics.h"
+#include "mbd/evaluate.h"
+#include "mbd/integrator.h"
+#include "mbd/linearization.h"
+#include "mbd/model.h"
+
+namespace orrery {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kAlpha = 20 * kPi / 180;
+
+struct Pair {
+  double rba = 0.03, rbb = 0.05;  // base radii (m): 30 and 50 teeth
+  int za = 30, zb = 50;
+  double Ja = 2e-4, Jb = 1e-3;    // kg m^2
+  double k = 4e8;                 // N/m
+  bool internal = false;
+};
+
+struct Built {
+  std::shared_ptr<const Model> model;
+  JointIndex a = -1, b = -1;
+};
+
+// Gear a at the origin, gear b at the centre distance along x; both on revolute joints about z.
+Built Build(const Pair& p, const GearMeshSpec& extra, bool constraint = false, double load_on_a = 0) {
+  ModelBuilder mb;
+  const Mat3 Ia = Vec3(p.Ja / 2, p.Ja / 2, p.Ja).asDiagonal(), Ib = Vec3(p.Jb / 2, p.Jb / 2, p.Jb).asDiagonal();
+  const BodyIndex ga = mb.AddBody("a", 1.0, Vec3::Zero(), Ia);
+  const BodyIndex gb = mb.AddBody("b", 2.0, Vec3::Zero(), Ib);
+  const double d = (p.internal ? p.rbb - p.rba : p.rba + p.rbb) / std::cos(kAlpha);
+  Built out;
+  out.a = mb.AddJoint({.name = "ja", .type = JointType::kRevolute, .parent = kWorldBody, .child = ga, .axis = Vec3::UnitZ()});
+  out.b = mb.AddJoint({.name = "jb", .type = JointType::kRevolute, .parent = kWorldBody, .child = gb,
+                       .X_PF = Transform::Translation(Vec3(p.internal ? -d : d, 0, 0)), .axis = Vec3::UnitZ()});
+  if (constraint) {
+    mb.AddGearConstraint({.name = "ideal", .gear_a = mb.body_frame(ga), .gear_b = mb.body_frame(gb),
+                          .teeth_a = p.za, .teeth_b = p.zb, .base_radius_a = p.rba, .base_radius_b = p.rbb,
+                          .working_pressure_angle = kAlpha, .internal_b = p.internal});
+  } else {
+    GearMeshSpec s = extra;
+    s.name = "mesh";
+    s.gear_a = mb.body_frame(ga);
+    s.gear_b = mb.body_frame(gb);
+    s.teeth_a = p.za;
+    s.teeth_b = p.zb;
+    s.base_radius_a = p.rba;
+    s.base_radius_b = p.rbb;
+    s.working_pressure_angle = kAlpha;
+    s.internal_b = p.internal;
+    if (s.stiffness_table.empty() && s.stiffness == 0) s.stiffness = p.k;
+    mb.AddGearMesh(s);
+  }
+  if (load_on_a != 0)
+    mb.AddJointLoad({.name = "torque", .joint = out.a, .coordinate = 0, .function = TimeFunction::Constant(load_on_a)});
+  out.model = std::move(mb).Finalize();
+  return out;
+}
+
+// Torsional mode of a free pair: w^2 = k (r_a^2 / J_a + r_b^2 / J_b) (one rigid-body mode at 0).
+TEST(GearMesh, TorsionalNaturalFrequencyMatchesClosedForm) {
+  for (bool internal : {false, true}) {
+    Pair p;
+    p.internal = internal;
+    if (internal) p.rbb = 0.09, p.zb = 90;
+    GearMeshSpec s;
+    s.contact = GearMeshSpec::Contact::kLinearDrive;
+    const Built b = Build(p, s);
+    const ModalResult modes = CalcModes(Linearize(*b.model, State::Initial(*b.model)));
+    ASSERT_EQ(modes.frequencies_hz.size(), 2u);
+    const double f = std::sqrt(p.k * (p.rba * p.rba / p.Ja + p.rbb * p.rbb / p.Jb)) / (2 * kPi);
+    EXPECT_NEAR(modes.frequencies_hz[0], 0.0, 1e-3 * f);
+    // Central differences of a linear spring: exact up to rounding of the force (1e-9 relative).
+    EXPECT_NEAR(modes.frequencies_hz[1], f, 1e-7 * f) << (internal ? "internal" : "external");
+  }
+}
+
+// Gear b held (ideal pair against a fixed gear): a torque T on a deflects the mesh by
+// T / (r_ba k) and the tooth force is T / r_ba.
+TEST(GearMesh, StaticDeflectionUnderTorque) {
+  Pair p;
+  GearMeshSpec s;
+  s.contact = GearMeshSpec::Contact::kTwoSided;
+  const double T = 50;
+  const Built b = Build(p, s, false, T);
+  Data d(*b.model);
+  State st = State::Initial(*b.model);
+  const double delta = T / (p.rba * p.k);
+  st.q(b.model->joints[b.a].q_start) = delta / p.rba;  // a turned forward by delta / r_ba
+  EvaluateDynamics(*b.model, 0, st.q, st.v, Eigen::VectorXd::Zero(2), d);
+  EXPECT_EQ(d.mesh_contact[0], 1);
+  EXPECT_NEAR(d.mesh_deflection[0], delta, 1e-12 * delta);
+  EXPECT_NEAR(d.mesh_force[0], T / p.rba, 1e-9 * T / p.rba);
+  // Equilibrium of a: the generalized force on its coordinate vanishes.
+  EXPECT_NEAR(d.tau_id(b.model->joints[b.a].v_start), 0.0, 1e-9 * T);
+  // Reaction torque on b: F r_bb (external pair: b is pushed to turn -z).
+  EXPECT_NEAR(d.tau_id(b.model->joints[b.b].v_start), T * p.rbb / p.rba, 1e-9 * T);
+}
+
+// Backlash: inside the gap no force; the coast flank engages past it.
+TEST(GearMesh, BacklashFreePlayAndCoastFlank) {
+  Pair p;
+  GearMeshSpec s;
+  s.backlash = 100e-6;
+  const Built b = Build(p, s);
+  Data d(*b.model);
+  State st = State::Initial(*b.model);
+  const int ia = b.model->joints[b.a].q_start;
+  for (double e : {-50e-6, -1e-6, -99e-6}) {
+    st.q(ia) = e / p.rba;
+    EvaluateDynamics(*b.model, 0, st.q, st.v, Eigen::VectorXd::Zero(2), d);
+    EXPECT_EQ(d.mesh_contact[0], 0) << e;
+    EXPECT_EQ(d.mesh_force[0], 0.0);
+  }
+  st.q(ia) = -120e-6 / p.rba;  // 20 um past the gap: coast flank compressed by 20 um cos(beta)
+  EvaluateDynamics(*b.model, 0, st.q, st.v, Eigen::VectorXd::Zero(2), d);
+  EXPECT_EQ(d.mesh_contact[0], -1);
+  EXPECT_NEAR(d.mesh_deflection[0], 20e-6, 1e-12);
+  EXPECT_NEAR(d.mesh_force[0], p.k * 20e-6, 1e-6 * p.k * 20e-6);
+  // A whole base pitch later the same tooth state repeats (mesh periodicity).
+  st.q(ia) = (-120e-6 + 2 * kPi * p.rba / p.za) / p.rba;
+  EvaluateDynamics(*b.model, 0, st.q, st.v, Eigen::VectorXd::Zero(2), d);
+  EXPECT_EQ(d.mesh_contact[0], -1);
+  EXPECT_NEAR(d.mesh_deflection[0], 20e-6, 1e-11);
+}
+
+// Mesh damping ratio: free decay of the torsional mode, logarithmic decrement 2 pi zeta/sqrt(1-zeta^2).
+TEST(GearMesh, DampingRatioGivesTheDecayOfTheTorsionalMode) {
+  Pair p;
+  GearMeshSpec s;
+  s.contact = GearMeshSpec::Contact::kLinearDrive;
+  s.damping_ratio = 0.05;
+  const Built b = Build(p, s);
+  const LinearModel lin = Linearize(*b.model, State::Initial(*b.model));
+  // Damped eigenvalues of the state matrix: -zeta w +- i w sqrt(1 - zeta^2).
+  const int n = lin.M_r.rows();
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(2 * n, 2 * n);
+  A.topRightCorner(n, n).setIdentity();
+  A.bottomLeftCorner(n, n) = -lin.M_r.inverse() * lin.K_r;
+  A.bottomRightCorner(n, n) = -lin.M_r.inverse() * lin.D_r;
+  const Eigen::VectorXcd ev = A.eigenvalues();
+  double zeta = 0;
+  for (int i = 0; i < ev.size(); ++i)
+    if (std::abs(ev(i)) > 1) zeta = -ev(i).real() / std::abs(ev(i));
+  EXPECT_NEAR(zeta, 0.05, 1e-6);
+}
+
+// Ideal mesh: speed ratio -r_ba / r_bb, and the multiplier is the tooth force T / r_ba.
+TEST(GearConstraint, RatioAndToothForce) {
+  Pair p;
+  const double T = 20;
+  const Built b = Build(p, GearMeshSpec{}, true, T);
+  IntegratorOptions o;
+  o.rtol = 1e-9;
+  o.atol = 1e-11;
+  auto integ = MakeIntegrator(*b.model, o);
+  integ->Initialize(State::Initial(*b.model));
+  integ->AdvanceTo(0.1);
+  const State& s = integ->state();
+  const double wa = s.v(b.model->joints[b.a].v_start), wb = s.v(b.model->joints[b.b].v_start);
+  EXPECT_NEAR(wb / wa, -p.rba / p.rbb, 1e-8);
+  // Angular acceleration of a under T with b reflected: T / (J_a + J_b (r_a/r_b)^2).
+  const double alpha = T / (p.Ja + p.Jb * (p.rba / p.rbb) * (p.rba / p.rbb));
+  EXPECT_NEAR(wa, alpha * 0.1, 1e-6 * alpha * 0.1);
+  // Tooth force: b accelerates at alpha r_a/r_b, so F r_bb = J_b alpha r_a / r_b.
+  const double F = p.Jb * alpha * (p.rba / p.rbb) / p.rbb;
+  EXPECT_NEAR(integ->lambda()(b.model->gear_constraint_row[0]), F, 1e-6 * F);
+}
+
+}  // namespace
+}  // namespace orrery
