@@ -13,7 +13,7 @@ namespace {
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
 // Index of a gear's speed in the speed vector (members first, then planet sets).
-int SpeedIndex(const PlanetaryTrain& train, const Gear& g) {
+int SpeedIndex(const PlanetaryTrain& train, const TrainGear& g) {
   return g.member >= 0 ? g.member : train.num_members() + g.planet_set;
 }
 
@@ -44,9 +44,9 @@ ConstraintRows AssembleConstraints(const PlanetaryTrain& train, int range) {
   };
   // Meshes (seed 001 eqs. 1a/2a/2c external, 1b/2b internal).
   for (int m = 0; m < static_cast<int>(train.meshes.size()); ++m) {
-    const Mesh& mesh = train.meshes[m];
-    const Gear& a = train.gears[mesh.gear_a];
-    const Gear& b = train.gears[mesh.gear_b];
+    const TrainMesh& mesh = train.meshes[m];
+    const TrainGear& a = train.gears[mesh.gear_a];
+    const TrainGear& b = train.gears[mesh.gear_b];
     const int carrier = train.stages[mesh.stage].carrier;
     const int r = add(ConstraintKind::kMesh, m, "mesh " + mesh.name);
     const double sign_b = mesh.kind == MeshKind::kExternal ? 1.0 : -1.0;
@@ -171,8 +171,8 @@ PlanetaryKinematics SolvePlanetaryKinematics(const PlanetaryTrain& train, int ra
   k.mesh_frequencies_hz.resize(train.meshes.size());
   k.stage_mesh_frequencies_hz = Eigen::VectorXd::Zero(train.stages.size());
   for (int m = 0; m < static_cast<int>(train.meshes.size()); ++m) {
-    const Mesh& mesh = train.meshes[m];
-    const Gear& a = train.gears[mesh.gear_a];
+    const TrainMesh& mesh = train.meshes[m];
+    const TrainGear& a = train.gears[mesh.gear_a];
     const double wc = k.speeds_rad_s(train.stages[mesh.stage].carrier);
     k.mesh_frequencies_hz(m) = a.teeth * std::abs(k.speeds_rad_s(SpeedIndex(train, a)) - wc) / kTwoPi;
     k.stage_mesh_frequencies_hz(mesh.stage) =
@@ -181,7 +181,7 @@ PlanetaryKinematics SolvePlanetaryKinematics(const PlanetaryTrain& train, int ra
   // Local tooth-fault frequencies: n f_m / Z for central gears, k f_m / Z_p for planets.
   k.gear_fault_frequencies_hz.resize(train.gears.size());
   for (int g = 0; g < static_cast<int>(train.gears.size()); ++g) {
-    const Gear& gear = train.gears[g];
+    const TrainGear& gear = train.gears[g];
     const double fm = k.stage_mesh_frequencies_hz(gear.stage);
     const double hits = gear.member >= 0 ? train.stages[gear.stage].num_planets
                                          : train.planet_sets[gear.planet_set].num_meshes;

@@ -94,7 +94,7 @@ PlanetaryPowerFlow CalcPlanetaryPowerFlow(const PlanetaryTrain& train,
   p.mesh_line_of_action_forces_N = Eigen::VectorXd::Constant(nmesh, nan);
   p.mesh_normal_forces_N = Eigen::VectorXd::Constant(nmesh, nan);
   for (int m = 0; m < nmesh; ++m) {
-    const Gear& a = train.gears[train.meshes[m].gear_a];
+    const TrainGear& a = train.gears[train.meshes[m].gear_a];
     const double planets = train.stages[train.meshes[m].stage].num_planets;
     const double ta = a.teeth * p.mesh_loads_Nm(m);
     p.mesh_gear_a_torques_Nm(m) = ta;

@@ -34,9 +34,9 @@ std::shared_ptr<const PlanetaryTrain> MakeSeed001AutomaticTransmission() {
   PlanetaryTrainBuilder b;
   // Three identical gear sets (Table 1): outside diameters as tip radii, pin circle 78 mm.
   const ToothForm form = Spur(0.0015, 21.3);
-  const GearSpec sun{.teeth = 34, .tip_radius_m = 0.5 * 0.05274};
-  const GearSpec planet{.teeth = 18, .tip_radius_m = 0.5 * 0.0305};
-  const GearSpec ring{.teeth = 70};
+  const TrainGearSpec sun{.teeth = 34, .tip_radius_m = 0.5 * 0.05274};
+  const TrainGearSpec planet{.teeth = 18, .tip_radius_m = 0.5 * 0.0305};
+  const TrainGearSpec ring{.teeth = 70};
   const std::vector<double> three = AssemblablePlanetAngles(34 + 70, 3);
   b.AddSinglePlanetStage({.name = "S1", .sun = sun, .planet = planet, .ring = ring,
                           .num_planets = 4, .tooth_form = form, .pin_radius_m = 0.039});

@@ -30,7 +30,7 @@ struct CheckRadii {
   double pitch = 0, tip = 0;
 };
 
-CheckRadii RadiiForChecks(const Gear& g) {
+CheckRadii RadiiForChecks(const TrainGear& g) {
   if (g.has_tooth_form) return {g.pitch_radius_m, g.tip_radius_m};
   const double r = 0.5 * g.teeth;
   return {r, g.internal ? r - 1.0 : r + 1.0};
@@ -204,11 +204,11 @@ int PlanetaryTrainBuilder::NewStage(const std::string& name, StageType type, int
   return static_cast<int>(train_->stages.size()) - 1;
 }
 
-int PlanetaryTrainBuilder::AddGear(int stage, const std::string& suffix, const GearSpec& spec,
+int PlanetaryTrainBuilder::AddGear(int stage, const std::string& suffix, const TrainGearSpec& spec,
                                    bool internal, const std::optional<ToothForm>& stage_form) {
   const std::string name = train_->stages[stage].name + "." + suffix;
   if (spec.teeth < 1) Fail("gear '" + name + "': teeth = " + std::to_string(spec.teeth) + " < 1");
-  Gear g;
+  TrainGear g;
   g.name = name;
   g.stage = stage;
   g.teeth = spec.teeth;
@@ -274,15 +274,15 @@ int PlanetaryTrainBuilder::AddPlanetSet(int stage, const std::string& suffix, in
 }
 
 int PlanetaryTrainBuilder::AddMesh(int stage, MeshKind kind, int gear_a, int gear_b) {
-  const Gear& a = train_->gears[gear_a];
-  const Gear& b = train_->gears[gear_b];
+  const TrainGear& a = train_->gears[gear_a];
+  const TrainGear& b = train_->gears[gear_b];
   // Gears in mesh share the tooth form (or both lack one).
   if (a.has_tooth_form != b.has_tooth_form)
     Fail("mesh of '" + a.name + "' and '" + b.name + "': only one of them has a tooth form");
   if (a.has_tooth_form && !SameToothForm(a.tooth_form, b.tooth_form))
     Fail("mesh of '" + a.name + "' and '" + b.name +
          "': normal module, pressure angle or |helix angle| differ");
-  Mesh m;
+  TrainMesh m;
   const std::string short_a = a.name.substr(a.name.find('.') + 1);
   const std::string short_b = b.name.substr(b.name.find('.') + 1);
   m.name = train_->stages[stage].name + "." + short_a + "-" + short_b;
@@ -526,7 +526,7 @@ std::shared_ptr<const PlanetaryTrain> PlanetaryTrainBuilder::Finalize() && {
     Fail("planetary train: output '" + t.members[t.output].name + "' is also an input");
   if (t.ranges.empty()) Fail("planetary train: no gear range");
   // Speed indices: members first, then planet sets.
-  for (Gear& g : t.gears)
+  for (TrainGear& g : t.gears)
     g.speed_index = g.member >= 0 ? g.member : t.num_members() + g.planet_set;
   // Every range must be kinematically determinate.
   for (int r = 0; r < static_cast<int>(t.ranges.size()); ++r) {

@@ -68,7 +68,7 @@ struct ToothForm {
 
 // One gear as given to the builder: tooth count and optional tooth form (falls back to the
 // stage's). tip_radius_m > 0 overrides the computed tip radius (e.g. a measured outside diameter).
-struct GearSpec {
+struct TrainGearSpec {
   int teeth = 0;
   std::optional<ToothForm> tooth_form;
   double tip_radius_m = 0;
@@ -80,7 +80,7 @@ struct GearSpec {
 // AssemblablePlanetAngles() gives the valid angles nearest to equal spacing.
 struct SinglePlanetStageSpec {
   std::string name;
-  GearSpec sun, planet, ring;
+  TrainGearSpec sun, planet, ring;
   int num_planets = 3;
   std::optional<ToothForm> tooth_form;     // for gears without their own
   std::vector<double> planet_angles_rad;   // empty: equally spaced
@@ -89,7 +89,7 @@ struct SinglePlanetStageSpec {
 
 struct DoublePlanetStageSpec {
   std::string name;
-  GearSpec sun, inner_planet, outer_planet, ring;  // s-b, b-d, d-r
+  TrainGearSpec sun, inner_planet, outer_planet, ring;  // s-b, b-d, d-r
   int num_planets = 3;                              // branches (pairs)
   std::optional<ToothForm> tooth_form;
   std::vector<double> planet_angles_rad;            // of the inner planets
@@ -97,7 +97,7 @@ struct DoublePlanetStageSpec {
 
 struct RavigneauxStageSpec {
   std::string name;
-  GearSpec small_sun, large_sun, short_planet, long_planet, ring;  // s1-a, a-b, s2-b, r-b
+  TrainGearSpec small_sun, large_sun, short_planet, long_planet, ring;  // s1-a, a-b, s2-b, r-b
   int num_planets = 3;                                              // branches (a, b pairs)
   std::optional<ToothForm> tooth_form;
   std::vector<double> planet_angles_rad;                            // of the long planets
@@ -106,14 +106,14 @@ struct RavigneauxStageSpec {
 // ---- The finalized train. Every field is filled by PlanetaryTrainBuilder (Add* / Finalize). ----
 
 // A gear (central gear or planet) with its derived geometry.
-struct Gear {
+struct TrainGear {
   std::string name;          // "<stage>.sun", "<stage>.planet", ...
   int stage = -1;
   int teeth = 0;
   bool internal = false;     // ring gears
   bool has_tooth_form = false;
   ToothForm tooth_form;      // valid if has_tooth_form
-  // Geometry in metres/radians, NaN without tooth form (tip_radius_m also set by GearSpec).
+  // Geometry in metres/radians, NaN without tooth form (tip_radius_m also set by TrainGearSpec).
   double transverse_module_m = 0, pitch_radius_m = 0, base_radius_m = 0, tip_radius_m = 0;
   double transverse_pressure_angle_rad = 0;
   int member = -1;           // central gear: index into members; planet: -1
@@ -144,7 +144,7 @@ struct PlanetSet {
 // a central gear or (planet-planet mesh) the other planet. Kinematic row (seed 001 eqs. 1-2):
 //   external: Z_a w_a + Z_b w_b - (Z_a + Z_b) w_c = 0
 //   internal: Z_a w_a - Z_b w_b - (Z_a - Z_b) w_c = 0     (a = ring)
-struct Mesh {
+struct TrainMesh {
   std::string name;          // "<stage>.sun-planet", ...
   int stage = -1;
   MeshKind kind = MeshKind::kExternal;
@@ -184,9 +184,9 @@ struct GearRange {
 struct PlanetaryTrain {
   std::vector<Stage> stages;
   std::vector<Member> members;
-  std::vector<Gear> gears;
+  std::vector<TrainGear> gears;
   std::vector<PlanetSet> planet_sets;
-  std::vector<Mesh> meshes;
+  std::vector<TrainMesh> meshes;
   std::vector<Coupling> connections;
   std::vector<Coupling> clutches;
   std::vector<Brake> brakes;
@@ -257,7 +257,7 @@ class PlanetaryTrainBuilder {
 
  private:
   int AddMember(int stage, const std::string& suffix, MemberKind kind, int gear);
-  int AddGear(int stage, const std::string& suffix, const GearSpec& spec, bool internal,
+  int AddGear(int stage, const std::string& suffix, const TrainGearSpec& spec, bool internal,
               const std::optional<ToothForm>& stage_form);
   int AddPlanetSet(int stage, const std::string& suffix, int gear, int num_meshes);
   int AddMesh(int stage, MeshKind kind, int gear_a, int gear_b);

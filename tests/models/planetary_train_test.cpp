@@ -50,7 +50,7 @@ TEST(PlanetaryTrain, HelicalReferenceGeometryMatchesBasePitchIdentity) {
                                                   .helix_angle_rad = beta}});
   const double beta_b = std::asin(std::sin(beta) * std::cos(an));
   const double p_bt = std::numbers::pi * mn * std::cos(an) / std::cos(beta_b);
-  for (const Gear& g : b.draft().gears) {
+  for (const TrainGear& g : b.draft().gears) {
     // Pitch radius by definition, base radius through the base pitch.
     EXPECT_NEAR(g.pitch_radius_m, mn * g.teeth / (2 * std::cos(beta)), 1e-15) << g.name;
     EXPECT_NEAR(2 * std::numbers::pi * g.base_radius_m / g.teeth, p_bt, 1e-15) << g.name;
