@@ -95,6 +95,31 @@ void CalcForceElements(const Model& model, double t, const Eigen::Ref<const Eige
     AddBodyForce(data, bb, f);
     AddBodyForce(data, ba, -f);
   }
+  // Bearings: radial/axial springs on B's displacement in A's axes, tilt springs on z_A x z_B.
+  for (const BearingSpec& s : model.bearings) {
+    const BodyIndex ba = model.frames[s.frame_a].body, bb = model.frames[s.frame_b].body;
+    const Transform& Xa = data.X_WFrame[s.frame_a];
+    const Transform& Xb = data.X_WFrame[s.frame_b];
+    const Mat3& Ra = Xa.R;
+    const Vec3 delta = Xb.p - Xa.p;
+    const Vec3 w_a = data.V_WB[ba].head<3>(), w_b = data.V_WB[bb].head<3>();
+    const Vec3 delta_dot = PointVelocity(data.V_WB[bb], Xb.p) - PointVelocity(data.V_WB[ba], Xa.p);
+    const Vec3 d = Ra.transpose() * delta;
+    const Vec3 d_dot = Ra.transpose() * (delta_dot - w_a.cross(delta));
+    const Vec3 zb_A = Ra.transpose() * Xb.R.col(2);
+    const Vec3 tilt(-zb_A.y(), zb_A.x(), 0.0);  // e_z x z_B in A's axes
+    Vec3 tilt_rate = Ra.transpose() * (w_b - w_a);
+    tilt_rate.z() = 0;
+    const Vec3 k(s.radial_stiffness, s.radial_stiffness, s.axial_stiffness);
+    const Vec3 c(s.radial_damping, s.radial_damping, s.axial_damping);
+    const Vec3 f_A = -(k.cwiseProduct(d) + c.cwiseProduct(d_dot));
+    const Vec3 m_A = -(s.tilt_stiffness * tilt + s.tilt_damping * tilt_rate);
+    energy += 0.5 * d.dot(k.cwiseProduct(d)) + 0.5 * s.tilt_stiffness * tilt.squaredNorm();
+    const Vec6 f = ForceAtPoint(Xb.p, Ra * f_A, Ra * m_A);
+    AddBodyForce(data, bb, f);
+    AddBodyForce(data, ba, -f);
+  }
+
   // Lumped gear meshes: spring-damper on the engaged flank's line of action.
   for (size_t i = 0; i < model.gear_meshes.size(); ++i) {
     const GearMesh& mesh = model.gear_meshes[i];

@@ -138,6 +138,17 @@ struct BushingSpec {
   Mat6 damping = Mat6::Zero();
 };
 
+// Rolling-element bearing between a housing (or pin) frame A and a shaft frame B whose common
+// axis is z: radial and axial springs on B's displacement in A's axes, tilt springs on the angle
+// between the axes (z_A x z_B), and free rotation about the axis however far it turns (a
+// bushing's rotation vector would wrap at half a turn). A planet-pin bearing of seed 002 eq. 10.
+struct BearingSpec {
+  std::string name;
+  FrameIndex frame_a = -1, frame_b = -1;
+  double radial_stiffness = 0, axial_stiffness = 0, tilt_stiffness = 0;  // N/m, N/m, N m/rad
+  double radial_damping = 0, axial_damping = 0, tilt_damping = 0;        // N s/m, N m s/rad
+};
+
 // Lumped gear mesh between two gears (the `lumped` rung of DESIGN.md; seed 001 eqs. 7-9 and
 // 14-17, Lin & Parker 1999, seed 002 eqs. 7-9): a spring-damper along the line of action.
 //
@@ -286,6 +297,7 @@ class Model {
   std::vector<CoordinateSpringSpec> coordinate_springs;
   std::vector<int> coordinate_spring_q_index, coordinate_spring_v_index;
   std::vector<BushingSpec> bushings;
+  std::vector<BearingSpec> bearings;
   std::vector<GearMesh> gear_meshes;
   std::vector<GearConstraint> gear_constraints;
   std::vector<int> gear_constraint_row;  // constraint row of each gear constraint (holonomic)
@@ -343,6 +355,7 @@ class ModelBuilder {
   void AddRotationalSpring(const RotationalSpringSpec& spec);
   void AddCoordinateSpring(const CoordinateSpringSpec& spec);
   void AddBushing(const BushingSpec& spec);
+  void AddBearing(const BearingSpec& spec);
   void AddGearMesh(const GearMeshSpec& spec);
   void AddGearConstraint(const GearConstraintSpec& spec);
 

@@ -320,6 +320,17 @@ void ModelBuilder::AddBushing(const BushingSpec& spec) {
   model_->bushings.push_back(spec);
 }
 
+void ModelBuilder::AddBearing(const BearingSpec& spec) {
+  CheckName("bearing", spec.name);
+  const std::string what = "bearing '" + spec.name + "'";
+  CheckFrame(what, spec.frame_a);
+  CheckFrame(what, spec.frame_b);
+  CheckSpring(what + " (radial)", spec.radial_stiffness, spec.radial_damping);
+  CheckSpring(what + " (axial)", spec.axial_stiffness, spec.axial_damping);
+  CheckSpring(what + " (tilt)", spec.tilt_stiffness, spec.tilt_damping);
+  model_->bearings.push_back(spec);
+}
+
 void ModelBuilder::AddGearMesh(const GearMeshSpec& spec) {
   CheckName("gear mesh", spec.name);
   const std::string what = "gear mesh '" + spec.name + "'";

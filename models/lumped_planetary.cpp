@@ -53,12 +53,13 @@ LumpedStage BuildLumpedStage(const LumpedStageParams& p) {
         b.AddCoordinateSpring({.name = name + "_torsion", .joint = joint, .coordinate = 0,
                                .stiffness = m.torsional_stiffness, .damping = m.torsional_damping});
     } else if (spatial) {
-      BushingSpec bearing{.name = name + "_bearing", .frame_a = kWorldFrame, .frame_b = b.body_frame(body)};
-      bearing.stiffness.diagonal() << m.bearing_stiffness, m.bearing_stiffness, m.axial_stiffness,
-          m.tilt_stiffness, m.tilt_stiffness, m.torsional_stiffness;
-      bearing.damping.diagonal() << m.bearing_damping, m.bearing_damping, m.bearing_damping, 0, 0,
-          m.torsional_damping;
-      b.AddBushing(bearing);
+      b.AddBearing({.name = name + "_bearing", .frame_a = kWorldFrame, .frame_b = b.body_frame(body),
+                    .radial_stiffness = m.bearing_stiffness, .axial_stiffness = m.axial_stiffness,
+                    .tilt_stiffness = m.tilt_stiffness, .radial_damping = m.bearing_damping,
+                    .axial_damping = m.bearing_damping});
+      if (m.torsional_stiffness > 0 || m.torsional_damping > 0)
+        b.AddRotationalSpring({.name = name + "_torsion", .frame_a = kWorldFrame, .frame_b = b.body_frame(body),
+                               .stiffness = m.torsional_stiffness, .damping = m.torsional_damping});
     } else {
       for (int k = 0; k < 2; ++k)
         b.AddCoordinateSpring({.name = name + (k ? "_bearing_y" : "_bearing_x"), .joint = joint, .coordinate = k,
@@ -90,12 +91,10 @@ LumpedStage BuildLumpedStage(const LumpedStageParams& p) {
     stage.planets.push_back(joint);
     if (spatial) {
       const FrameIndex pin = b.AddFrame(name + "_pin", carrier, j.X_PF);
-      BushingSpec bearing{.name = name + "_bearing", .frame_a = pin, .frame_b = b.body_frame(planet)};
-      bearing.stiffness.diagonal() << p.planet.bearing_stiffness, p.planet.bearing_stiffness,
-          p.planet.axial_stiffness, p.planet.tilt_stiffness, p.planet.tilt_stiffness, 0;
-      bearing.damping.diagonal() << p.planet.bearing_damping, p.planet.bearing_damping,
-          p.planet.bearing_damping, 0, 0, 0;
-      b.AddBushing(bearing);
+      b.AddBearing({.name = name + "_bearing", .frame_a = pin, .frame_b = b.body_frame(planet),
+                    .radial_stiffness = p.planet.bearing_stiffness, .axial_stiffness = p.planet.axial_stiffness,
+                    .tilt_stiffness = p.planet.tilt_stiffness, .radial_damping = p.planet.bearing_damping,
+                    .axial_damping = p.planet.bearing_damping});
     } else if (!torsional) {
       for (int k = 0; k < 2; ++k)
         b.AddCoordinateSpring({.name = name + (k ? "_bearing_y" : "_bearing_x"), .joint = joint, .coordinate = k,
