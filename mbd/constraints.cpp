@@ -97,6 +97,10 @@ void CalcConstraints(const Model& model, double t, Data& data) {
     data.c_gear_b[k] = cb;
     AddBodyRow(model, data, row, model.frames[s.gear_a].body, ca);
     AddBodyRow(model, data, row, model.frames[s.gear_b].body, cb);
+    Vec6 cc;
+    cc << -st.KSpin(st.n_drive_W) * st.z_W, Vec3::Zero();
+    data.c_gear_c[k] = cc;
+    AddBodyRow(model, data, row, model.frames[s.reference].body, cc);
   }
   // Drivers: position rows q_k - f(t) (holonomic), speed rows v_k - f(t).
   for (size_t d = 0; d < model.drivers.size(); ++d) {
@@ -120,6 +124,7 @@ void AddConstraintBodyForces(const Model& model, const Data& data,
     const double lam = lambda(model.gear_constraint_row[k]);
     f[model.frames[s.gear_a].body] -= lam * data.c_gear_a[k];
     f[model.frames[s.gear_b].body] -= lam * data.c_gear_b[k];
+    f[model.frames[s.reference].body] -= lam * data.c_gear_c[k];
   }
   int loop_row = 0;
   for (size_t l = 0; l < model.loop_closures.size(); ++l) {

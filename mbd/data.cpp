@@ -37,6 +37,7 @@ Data::Data(const Model& model) {
   mesh_contact.assign(nm, 0);
   c_gear_a.assign(model.gear_constraints.size(), Vec6::Zero());
   c_gear_b.assign(model.gear_constraints.size(), Vec6::Zero());
+  c_gear_c.assign(model.gear_constraints.size(), Vec6::Zero());
 }
 
 }  // namespace orrery

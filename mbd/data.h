@@ -30,6 +30,8 @@ struct Data {
   std::vector<Vec6> f_ext;            // nbodies: external spatial forces on bodies, world origin
   Eigen::VectorXd tau_applied;        // nv: generalized forces applied on joint coordinates
   double potential_energy = 0;        // J: elastic energy of force elements (gravity excluded)
+  double power_applied = 0;           // W: power of applied loads and joint loads
+  double power_dissipated = 0;        // W: power taken out by the dampers (>= 0)
   std::vector<double> mesh_force;     // n_meshes: tooth force along the contact normal (N)
   std::vector<double> mesh_deflection;  // n_meshes: compression of the engaged flank (m)
   std::vector<double> mesh_stiffness;   // n_meshes: k at the current mesh phase (N/m)
@@ -54,8 +56,8 @@ struct Data {
   Eigen::VectorXd g_t;                // n_constraints: G v + g_t = 0 is the velocity constraint
   std::vector<Vec6> c_rows_a, c_rows_b;  // n_loop_rows: each loop row's partials w.r.t. the
                                       //   spatial velocities of bodies a and b (world origin)
-  std::vector<Vec6> c_gear_a, c_gear_b;  // n_gear_constraints: partials w.r.t. the spatial
-                                      //   velocities of gears a and b
+  std::vector<Vec6> c_gear_a, c_gear_b, c_gear_c;  // n_gear_constraints: partials w.r.t. the
+                                      //   spatial velocities of gears a, b and the reference body
 
   // --- scratch for the stages above ---
   Eigen::VectorXd scratch_nv;         // nv

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "mbd/gear_mesh.h"
 
@@ -19,7 +20,7 @@ void CalcForceElements(const Model& model, double t, const Eigen::Ref<const Eige
                        Data& data) {
   for (auto& f : data.f_ext) f.setZero();
   data.tau_applied.setZero();
-  double energy = 0;
+  double energy = 0, applied = 0, dissipated = 0;
   const Eigen::VectorXd& q = data.q_normalized;
 
   // Applied forces and torques on frames.
@@ -29,11 +30,17 @@ void CalcForceElements(const Model& model, double t, const Eigen::Ref<const Eige
     const Vec3 f = s * (l.in_frame_axes ? Vec3(X.R * l.force) : l.force);
     const Vec3 n = s * (l.in_frame_axes ? Vec3(X.R * l.torque) : l.torque);
     AddBodyForce(data, model.frames[l.frame].body, ForceAtPoint(X.p, f, n));
+    const Vec6& V = data.V_WB[model.frames[l.frame].body];
+    applied += f.dot(PointVelocity(V, X.p)) + n.dot(V.head<3>());
   }
 
   // Generalized forces on joint coordinates.
   for (size_t i = 0; i < model.joint_loads.size(); ++i)
-    data.tau_applied(model.joint_load_v_index[i]) += model.joint_loads[i].function.Value(t);
+  {
+    const double tau = model.joint_loads[i].function.Value(t);
+    data.tau_applied(model.joint_load_v_index[i]) += tau;
+    applied += tau * v(model.joint_load_v_index[i]);
+  }
 
   // Point-to-point spring-dampers.
   for (const TranslationalSpringSpec& s : model.translational_springs) {
@@ -48,6 +55,7 @@ void CalcForceElements(const Model& model, double t, const Eigen::Ref<const Eige
     const double Ldot =
         u.dot(PointVelocity(data.V_WB[bb], pb) - PointVelocity(data.V_WB[ba], pa));
     const double tension = s.stiffness * (L - s.free_length) + s.damping * Ldot + s.preload;
+    dissipated += s.damping * Ldot * Ldot;
     AddBodyForce(data, bb, ForceAtPoint(pb, -tension * u));
     AddBodyForce(data, ba, ForceAtPoint(pa, tension * u));
   }
@@ -61,6 +69,7 @@ void CalcForceElements(const Model& model, double t, const Eigen::Ref<const Eige
     const double angle = std::atan2(R_AB(1, 0), R_AB(0, 0));
     const double rate = z.dot(data.V_WB[bb].head<3>() - data.V_WB[ba].head<3>());
     const double torque = -s.stiffness * (angle - s.angle0) - s.damping * rate;
+    dissipated += s.damping * rate * rate;
     energy += 0.5 * s.stiffness * (angle - s.angle0) * (angle - s.angle0);
     Vec6 couple;
     couple << torque * z, Vec3::Zero();
@@ -74,6 +83,7 @@ void CalcForceElements(const Model& model, double t, const Eigen::Ref<const Eige
     const double dq = q(model.coordinate_spring_q_index[i]) - s.q0;
     const double dv = v(model.coordinate_spring_v_index[i]);
     data.tau_applied(model.coordinate_spring_v_index[i]) -= s.stiffness * dq + s.damping * dv;
+    dissipated += s.damping * dv * dv;
     energy += 0.5 * s.stiffness * dq * dq;
   }
 
@@ -91,6 +101,7 @@ void CalcForceElements(const Model& model, double t, const Eigen::Ref<const Eige
     d_dot << Ra.transpose() * (delta_dot - w_a.cross(delta)), Ra.transpose() * (w_b - w_a);
     const Vec6 w_A = -s.stiffness * d - s.damping * d_dot;  // (force, torque) in A axes
     energy += 0.5 * d.dot(s.stiffness * d);
+    dissipated += d_dot.dot(s.damping * d_dot);
     const Vec6 f = ForceAtPoint(Xb.p, Ra * w_A.head<3>(), Ra * w_A.tail<3>());
     AddBodyForce(data, bb, f);
     AddBodyForce(data, ba, -f);
@@ -115,6 +126,7 @@ void CalcForceElements(const Model& model, double t, const Eigen::Ref<const Eige
     const Vec3 f_A = -(k.cwiseProduct(d) + c.cwiseProduct(d_dot));
     const Vec3 m_A = -(s.tilt_stiffness * tilt + s.tilt_damping * tilt_rate);
     energy += 0.5 * d.dot(k.cwiseProduct(d)) + 0.5 * s.tilt_stiffness * tilt.squaredNorm();
+    dissipated += d_dot.dot(c.cwiseProduct(d_dot)) + s.tilt_damping * tilt_rate.squaredNorm();
     const Vec6 f = ForceAtPoint(Xb.p, Ra * f_A, Ra * m_A);
     AddBodyForce(data, bb, f);
     AddBodyForce(data, ba, -f);
@@ -127,6 +139,10 @@ void CalcForceElements(const Model& model, double t, const Eigen::Ref<const Eige
     const bool two_sided = s.contact == GearMeshSpec::Contact::kTwoSided;
     const MeshState st = CalcMeshState(mesh.geometry, data, s.gear_a, s.gear_b, s.reference,
                                        s.base_radius_a, s.base_radius_b, two_sided ? s.backlash : 0.0);
+    if (mesh.small_rotations_only && (std::abs(st.theta_a) > 1 || std::abs(st.theta_b) > 1))
+      throw std::runtime_error("gear mesh '" + s.name +
+                               "' has no tooth counts and holds for small rotations only, but its "
+                               "gears turned more than 1 rad; give teeth_a and teeth_b");
     const double psi = MeshPhase(s, mesh.geometry, st);
     const double k = MeshStiffness(s, psi);
     const double ste = MeshTransmissionError(s, psi);
@@ -137,13 +153,19 @@ void CalcForceElements(const Model& model, double t, const Eigen::Ref<const Eige
     if (side != 0) {
       const Vec3& n = side > 0 ? st.n_drive_W : st.n_coast_W;
       delta = side > 0 ? st.delta_drive : st.delta_coast;
-      const double rate = side * CalcMeshRate(model, data, s.gear_a, s.gear_b, st, n);
+      const double rate = side * CalcMeshRate(model, data, s.gear_a, s.gear_b, s.reference, st, n);
       force = k * (delta - ste) + mesh.c * rate;
       if (two_sided) force = std::max(force, 0.0);  // teeth push, never pull
       const Vec3 f_b = (side * force) * n;
       AddBodyForce(data, model.frames[s.gear_b].body, ForceAtPoint(st.p_b_W, f_b));
       AddBodyForce(data, model.frames[s.gear_a].body, ForceAtPoint(st.p_a_W, -f_b));
+      // Reaction moment on the reference body (zero for consistent, undisplaced geometry).
+      Vec6 moment_c;
+      moment_c << (side * force * st.KSpin(n)) * st.z_W, Vec3::Zero();
+      AddBodyForce(data, model.frames[s.reference].body, moment_c);
       energy += 0.5 * k * (delta - ste) * (delta - ste);
+      // Damping power; a clamped (releasing) contact dissipates only what its force does.
+      dissipated += force > 0 || !two_sided ? mesh.c * rate * rate : 0.0;
     }
     data.mesh_force[i] = force;
     data.mesh_deflection[i] = delta;
@@ -152,6 +174,8 @@ void CalcForceElements(const Model& model, double t, const Eigen::Ref<const Eige
     data.mesh_contact[i] = side;
   }
   data.potential_energy = energy;
+  data.power_applied = applied;
+  data.power_dissipated = dissipated;
 }
 
 }  // namespace orrery

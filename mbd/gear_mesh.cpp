@@ -86,14 +86,19 @@ MeshState CalcMeshState(const MeshGeometry& g, const Data& data, FrameIndex gear
   s.p_b_W = X_WB.p + X_WC.R * g.r_b_C;
   s.n_drive_W = X_WC.R * (g.cos_beta * g.n_drive_C + g.sin_beta * Vec3::UnitZ());
   s.n_coast_W = X_WC.R * (g.cos_beta * g.n_coast_C + g.sin_beta * Vec3::UnitZ());
+  s.z_W = X_WC.R.col(2);
+  s.dc_W = X_WA.p - X_WB.p;
+  s.k_spin_base = g.cos_beta * (rba + g.sigma * rbb);
   return s;
 }
 
 double CalcMeshRate(const Model& model, const Data& data, FrameIndex gear_a, FrameIndex gear_b,
-                    const MeshState& s, const Vec3& n_W) {
+                    FrameIndex reference, const MeshState& s, const Vec3& n_W) {
   const Vec6& Va = data.V_WB[model.frames[gear_a].body];
   const Vec6& Vb = data.V_WB[model.frames[gear_b].body];
-  return n_W.dot(PointVelocity(Va, s.p_a_W) - PointVelocity(Vb, s.p_b_W));
+  const Vec6& Vc = data.V_WB[model.frames[reference].body];
+  return n_W.dot(PointVelocity(Va, s.p_a_W) - PointVelocity(Vb, s.p_b_W)) -
+         Vc.head<3>().dot(s.z_W) * s.KSpin(n_W);
 }
 
 double MeshPhase(const GearMeshSpec& spec, const MeshGeometry& g, const MeshState& s) {

@@ -28,15 +28,24 @@ struct MeshState {
   Vec3 p_a_W = Vec3::Zero(), p_b_W = Vec3::Zero();  // lever points on a and b (world): both the
                                                     // pitch point for consistent geometry
   Vec3 n_drive_W = Vec3::Zero(), n_coast_W = Vec3::Zero();  // contact normals (helix included)
+  // Spin of the reference frame: the deflections use angles relative to it, so their rates have
+  // the term -w_C.z * k_spin(n) with k_spin(n) = cos(beta_b) (r_ba + sigma r_bb) + z.((c_a - c_b) x n),
+  // which vanishes for consistent geometry and undisplaced centres (the mesh's reaction moment
+  // on the reference body).
+  Vec3 z_W = Vec3::UnitZ();         // reference frame's z axis, world
+  Vec3 dc_W = Vec3::Zero();         // centre of a minus centre of b, world
+  double k_spin_base = 0;           // cos(beta_b) (r_ba + sigma r_bb)
+  double KSpin(const Vec3& n_W) const { return k_spin_base + z_W.dot(dc_W.cross(n_W)); }
 };
 MeshState CalcMeshState(const MeshGeometry& g, const Data& data, FrameIndex gear_a,
                         FrameIndex gear_b, FrameIndex reference, double base_radius_a,
                         double base_radius_b, double backlash);
 
-// Velocity of gear a's material point at its lever point relative to gear b's at its own, along
-// `n_W`: the rate of the drive-flank compression for n_W = n_drive_W.
+// Rate of the drive-flank compression for n_W = n_drive_W (of minus the coast-flank one for
+// n_coast_W): velocity of gear a's material point at its lever point relative to gear b's at its
+// own, along n_W, minus the reference frame's spin times s.KSpin(n_W).
 double CalcMeshRate(const Model& model, const Data& data, FrameIndex gear_a, FrameIndex gear_b,
-                    const MeshState& s, const Vec3& n_W);
+                    FrameIndex reference, const MeshState& s, const Vec3& n_W);
 
 // Mesh stiffness at mesh phase psi (cycles) from the spec's table (or its constant).
 double MeshStiffness(const GearMeshSpec& spec, double psi);

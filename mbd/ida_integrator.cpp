@@ -115,6 +115,10 @@ class IdaIntegrator final : public Integrator {
     state_.v = y.segment(dae_.nq(), dae_.nv());
     vdot_ = yp.segment(dae_.nq(), dae_.nv());
     lambda_ = y.segment(dae_.nq() + dae_.nv(), dae_.nc());
+    // With constraints, accelerations and multipliers (driver efforts, reactions) come from the
+    // equations of motion at the output state: the multipliers are index-2 variables with a loose
+    // Newton tolerance (see atol_multiplier) and their interpolant is not error-controlled.
+    if (dae_.nc() > 0) dae_.SolveAccelerations(state_.t, state_.q, state_.v, vdot_, lambda_);
   }
 
   const State& state() const override { return state_; }

@@ -229,6 +229,9 @@ struct GearMesh {
   MeshGeometry geometry;
   double k_mean = 0;   // N/m
   double c = 0;        // N s/m (resolved from the damping ratio if given)
+  // Without tooth counts (1 and 1) the angles cannot be wrapped to a base pitch: the mesh then
+  // holds for small rotations only (a published linear model), and a run stops past 1 rad.
+  bool small_rotations_only = false;
 };
 
 struct GearConstraint {

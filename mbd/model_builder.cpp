@@ -498,6 +498,7 @@ std::shared_ptr<const Model> ModelBuilder::Finalize() && {
       if (s.backlash >= mesh.geometry.base_pitch)
         Fail(what + ": backlash " + std::to_string(s.backlash) + " m is not below the base pitch " +
              std::to_string(mesh.geometry.base_pitch) + " m");
+      mesh.small_rotations_only = s.teeth_a <= 1 || s.teeth_b <= 1;
       mesh.k_mean = s.stiffness;
       if (!s.stiffness_table.empty()) {
         mesh.k_mean = 0;

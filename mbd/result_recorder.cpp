@@ -76,6 +76,7 @@ ResultRecorder::ResultRecorder(const Model& model, ResultFile& out)
   for (const GearConstraint& c : model.gear_constraints)
     gear_constraint_force_.push_back(out.AddSeries("/gear_constraints/" + c.spec.name + "/force", 1, "N"));
   energy_ = out.AddSeries("/energy", 3, "J", {"kinetic", "gravity_potential", "elastic_potential"});
+  power_ = out.AddSeries("/power", 3, "W", {"applied", "drivers", "dissipated"});
   drift_ = out.AddSeries("/constraints/drift", 2, "m, m/s (rad, rad/s for angular rows)",
                          {"max_abs_phi", "max_abs_phidot"});
   row_.setZero(8);
@@ -91,6 +92,12 @@ void ResultRecorder::Record(const State& s, const Eigen::VectorXd& vdot,
   row_(1) = CalcGravityPotential(model_, d);
   row_(2) = d.potential_energy;
   out_.Append(energy_, row_.data());
+  row_(0) = d.power_applied;
+  row_(1) = 0;
+  for (size_t k = 0; k < model_.drivers.size(); ++k)
+    row_(1) += -lambda(model_.driver_row[k]) * s.v(model_.drivers[k].v_index);
+  row_(2) = d.power_dissipated;
+  out_.Append(power_, row_.data());
   row_(0) = model_.n_holonomic > 0 ? d.phi.lpNorm<Eigen::Infinity>() : 0.0;
   row_(1) = 0;
   if (model_.n_constraints > 0) {

@@ -21,6 +21,8 @@
 //   /gear_meshes/<name>/phase              cycles: mesh phase
 //   /gear_constraints/<name>/force         N: tooth force of an ideal mesh (its multiplier)
 //   /energy                                J: kinetic, gravity potential, elastic potential
+//   /power                                 W: applied loads, drivers, dissipated by dampers
+//                                          (integrated, the energy balance of a run)
 //   /constraints/drift                     max |Phi|, max |G v + g_t| per row
 #include <string>
 #include <vector>
@@ -45,7 +47,7 @@ class ResultRecorder {
   const Model& model_;
   ResultFile& out_;
   Data data_;
-  ResultFile::SeriesId time_, energy_, drift_;
+  ResultFile::SeriesId time_, energy_, power_, drift_;
   struct BodySeries { ResultFile::SeriesId p, quat, v, w, a, alpha; };
   std::vector<BodySeries> bodies_;          // per body (index 0 unused)
   std::vector<ResultFile::SeriesId> joint_q_, joint_v_, joint_reaction_;  // per joint

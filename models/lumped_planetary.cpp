@@ -27,7 +27,7 @@ void CheckMember(const std::string& name, const LumpedMember& m) {
 
 }  // namespace
 
-LumpedStage BuildLumpedStage(const LumpedStageParams& p) {
+LumpedStage BuildLumpedStage(const LumpedStageParams& p, const LumpedStageExtras& extras) {
   CheckMember("sun", p.sun);
   CheckMember("ring", p.ring);
   CheckMember("carrier", p.carrier);
@@ -118,6 +118,7 @@ LumpedStage BuildLumpedStage(const LumpedStageParams& p) {
                     .damping_ratio = p.mesh_damping_ratio, .check_centre_distance = p.check_centre_distance};
     b.AddGearMesh(rp);
   }
+  if (extras) extras(b, stage);
   stage.model = std::move(b).Finalize();
   return stage;
 }

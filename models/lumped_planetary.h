@@ -19,6 +19,7 @@
 //   LumpedStageParams p = LinParker1999Example(3);
 //   LumpedStage stage = BuildLumpedStage(p);
 //   ModalResult modes = CalcModes(Linearize(*stage.model, State::Initial(*stage.model)));
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -63,9 +64,13 @@ struct LumpedStage {
   std::vector<JointIndex> planets;
 };
 
+// Called with the builder and the stage's joints before Finalize: add drivers, loads, output
+// shafts (e.g. b.AddDriver({... .joint = stage.sun ...})).
+using LumpedStageExtras = std::function<void(ModelBuilder&, const LumpedStage&)>;
+
 // Builds the stage. Throws std::invalid_argument naming the parameter that is missing or
 // non-physical.
-LumpedStage BuildLumpedStage(const LumpedStageParams& params);
+LumpedStage BuildLumpedStage(const LumpedStageParams& params, const LumpedStageExtras& extras = {});
 
 // The example system of Lin & Parker (1999), Table 1 (../shared/validation/lin_parker_1999.md).
 LumpedStageParams LinParker1999Example(int planets);
