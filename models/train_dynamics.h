@@ -1,0 +1,232 @@
+#pragma once
+// Lumped dynamic model of an N-stage planetary train in one gear range (the `lumped` rung of
+// DESIGN.md): an mbd Model built from a PlanetaryTrain (planetary_train.h), its kinematics
+// (planetary_kinematics.h) and power flow (planetary_power_flow.h).
+//
+// DOF sets (TrainDofs):
+//   torsional: every member on a revolute joint to the world, every planet on a revolute joint on
+//              its carrier (seed 001 eqs. 7-9: single-planet, double-planet, Ravigneaux; the
+//              carrier inertia of eq. 7a, I_c + n I_p + n M_p r_cp^2, comes out of the tree);
+//   planar:    3 DOF per member (planar joints, x y bearing springs), planets 3 DOF on the carrier
+//              (Lin & Parker 1999);
+//   spatial:   6 DOF per member (free joints, 6-DOF bearing bushings to the housing), planets on
+//              6-DOF pin bushings (seed 002 eqs. 7-11; the long planet of a Ravigneaux stage is
+//              modelled in one transverse plane).
+// Mesh deflections. The mesh element (GearMeshSpec in mbd/model.h) measures gear angles relative
+// to the carrier, so the sun-planet deflection is r_s (th_s - th_c) + r_p (th_p - th_c): seed 001
+// eq. 7's delta_spi = r_s th_s - r_cp th_c + r_p th_pic with th_pic read as the absolute planet
+// angle in delta (the reading consistent with Willis' eq. 1a; eq. 7d's inertia terms use the
+// relative angle, as the planet joint on the carrier does here).
+//
+// Elements: one GearMeshSpec per sun-planet, ring-planet and planet-planet mesh of every branch,
+// lines of action in the carrier frame; connections and engaged clutches as RotationalSpringSpec
+// between the members (seed 001: 1e8 N m/rad); engaged brakes as torsional springs to ground
+// (seed 001: 1e10 N m/rad); the inputs driven at a speed or loaded by a torque, the other ports
+// loaded by their power-flow torques.
+//
+// Loaded flank (linear contact, seed 001 section 2.4): from the sign of the power-flow mesh load
+// (tooth torque lambda, planetary_power_flow.h). The mesh element's drive flank is the one gear a
+// pushes with when it turns +z, i.e. the mesh torque on gear a is negative. Unloaded meshes (an
+// unloaded stage) get a stiffness scaled by `unloaded_mesh_stiffness_factor`, as seed 001 does
+// ("very small gear mesh stiffnesses"), so they add near-zero modes (Table 3).
+//
+// Mesh phasing (GearMeshSpec::phase, in mesh cycles). Phase 0 of a mesh: a tooth pair of its
+// loaded flank touches at the pitch point; the phase advances with gear a's rotation relative to
+// the carrier, Z_a th_a / 2 pi. For an external gear G of the mesh (derived in train_dynamics.cpp
+// from the involute: the contact point on the line of action lies r_b (chi - phi_P) +-
+// r_b (theta_b - inv alpha_w) from the pitch point, with chi a tooth centre angle):
+//   phase = eps_G [ Z_G (chi_G - phi_P,G) / 2 pi + sigma Z_G (theta_bG - inv alpha_w) / 2 pi ]
+//   eps_G = +1 if G is gear a, -1 if gear b;  sigma = +1 drive flank, -1 coast flank;
+//   phi_P,G: direction from G's centre to the pitch point;  theta_bG = pi / (2 Z_G) + inv alpha_t,
+//   half the base-circle tooth angle of a gear of standard tooth thickness (no profile shift).
+// The sun's teeth fix the first mesh, every planet's teeth follow from its mesh with the sun
+// (conjugacy: both gears give the same contact point), every other mesh of the branch is read
+// from a planet. This reproduces Parker & Lin (2004), "Mesh phasing relationships in planetary
+// and epicyclic gears", J. Mech. Des. 126: in the convention above,
+//   sun-planet n:  phase_sn = phase_s1 - Z_s psi_n / 2 pi        (mod 1)
+//   ring-planet n: phase_rn = phase_r1 - Z_r psi_n / 2 pi        (mod 1)
+// (Parker & Lin's gamma_sn = Z_s psi_n / 2 pi, gamma_rn = -Z_r psi_n / 2 pi are time lags for a
+// sun turning +z: the ring mesh phase runs backwards in time, hence the sign flip), and the
+// sun-ring phase of one planet
+//   phase_r1 + phase_s1 = Z_p / 2 - (Z_p / pi) theta_bp + Z_p (inv alpha_s + inv alpha_r) / 2 pi,
+// which for standard gears at the reference centre distance is (Z_p - 1) / 2 mod 1: 0 for an odd
+// planet tooth count, 1/2 for an even one (a planet tooth facing the sun faces a ring tooth or a
+// ring space). Seed 001 eqs. 15-17 write the same phases as l Z_s psi_i, l gamma_sr per harmonic;
+// the stage phase Gamma^(j) of eq. 15 is `stage_phase_cycles`.
+// The static transmission error of each mesh (seed 001 eqs. 14-17, `ste_amplitudes_m`) is
+// evaluated by the mesh element at its own phase, so planet-to-planet and sun-to-ring phasing of
+// the excitation follows from GearMeshSpec::phase. Seed 001 writes E sin(l w t + phi); the mesh
+// element's series is A cos(2 pi l psi + phi'): phi' = phi - pi / 2.
+//
+// Parameters. Every value is derived when not given and overridable per member (by member or
+// planet-set name) and per mesh (by train mesh name), so a published lumped model is entered as
+// printed:
+//   external gears: steel annulus of face width b from the bore to the pitch radius;
+//   rings: annulus from the pitch radius to pitch radius + `ring_rim_modules` m_n;
+//   carriers: a crude default (steel disc of the planet tip circle radius, thickness b): give the
+//             real value as an override;
+//   mesh stiffness: MESH STIFFNESS HOOK, `mesh_stiffness` (a callable; the ISO 6336 / TVMS value of
+//             mesh_stiffness.h plugs in here), else c_gamma b with `mesh_stiffness_per_face_width`.
+//
+// Usage:
+//   auto train = MakeSeed001AutomaticTransmission();
+//   TrainModelOptions o;
+//   o.face_width_m = 0.030;
+//   o.input_torque_Nm = 300;
+//   TrainModel tm = BuildTrainModel(*train, train->RangeIndex("1st"), o);
+//   State x0 = State::Initial(*tm.model);  // members at their kinematic speeds
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "mbd/model.h"
+#include "models/planetary_kinematics.h"
+#include "models/planetary_power_flow.h"
+#include "models/planetary_train.h"
+
+namespace orrery::gears {
+
+enum class TrainDofs { kTorsional, kPlanar, kSpatial };
+
+// Per member ("S1.sun", "S1.carrier") or per planet set ("S1.planet"): every field replaces the
+// derived value.
+struct TrainMemberOverride {
+  std::optional<double> mass_kg;
+  std::optional<double> polar_inertia_kg_m2;       // about the gear axis
+  std::optional<double> transverse_inertia_kg_m2;  // about a diameter (spatial DOF set)
+  std::optional<double> base_radius_m;             // gears (a published lumped model)
+  std::optional<double> face_width_m;
+  std::optional<double> bore_radius_m;             // external gears and carriers
+  std::optional<double> outer_radius_m;            // rings, carriers
+  std::optional<double> radial_bearing_stiffness_N_m;   // planar, spatial
+  std::optional<double> axial_bearing_stiffness_N_m;    // spatial
+  std::optional<double> tilt_bearing_stiffness_N_m_rad; // spatial
+  std::optional<double> bearing_damping_N_s_m;
+  std::optional<double> ground_torsional_stiffness_N_m_rad;  // a spring to ground in every range
+                                                             // (seed 001 k_jg; Lin & Parker's ring)
+  std::optional<double> brake_stiffness_N_m_rad;   // when a brake on this member is engaged
+};
+
+// Per train mesh ("S1.sun-planet", "S1.ring-planet", ...), applied to all of its branches.
+struct TrainMeshOverride {
+  std::optional<double> stiffness_N_m;
+  std::optional<std::vector<double>> stiffness_table_N_m;  // over table_cycles mesh cycles
+  std::optional<int> table_cycles;
+  std::optional<double> working_pressure_angle_rad;  // published lumped data (no centre check)
+  std::optional<double> damping_ratio;
+  std::optional<double> backlash_m;
+  std::optional<std::vector<double>> ste_amplitudes_m;  // harmonics 1, 2, ... (seed 001 Table 4)
+  std::optional<std::vector<double>> ste_phases_rad;
+  std::optional<GearMeshSpec::Contact> contact;         // replaces the power-flow flank
+  std::optional<std::vector<double>> phase_cycles;      // per branch, replaces the derived phase
+};
+
+struct TrainModelOptions {
+  TrainDofs dofs = TrainDofs::kTorsional;
+
+  // Ports. kSpeed: every input driven at its speed (a velocity constraint); kTorque: the first
+  // input loaded by input_torque_Nm; kNone: no input element (a free train, seed 001's modal
+  // model). The other ports (further inputs, the output) carry their power-flow torques when
+  // port_loads is set.
+  enum class Input { kNone, kTorque, kSpeed } input = Input::kTorque;
+  std::vector<double> input_speeds_rad_s;  // one per train input (empty: at rest)
+  double input_torque_Nm = 0;              // on train.inputs[0]; also sets the power flow
+  bool port_loads = true;
+
+  // Geometry and material for derived parameters.
+  double face_width_m = 0;          // default for every gear (required unless all are overridden)
+  double density_kg_m3 = 7850;      // steel
+  double bore_to_pitch_ratio = 0.4; // external gears: bore radius / pitch radius
+  double ring_rim_modules = 3.5;    // ring outer radius = pitch radius + this * m_n
+  double stage_spacing_m = 0;       // axial distance between stages (spatial; 0: 3 face widths)
+
+  // Mesh stiffness. MESH STIFFNESS HOOK: when set, mesh_stiffness(train, mesh index, face width)
+  // gives the mean mesh stiffness in N/m (ISO 6336-1 c_gamma b, or the mean of the time-varying
+  // mesh stiffness of mesh_stiffness.h); else mesh_stiffness_per_face_width * b, with ISO 6336-1's
+  // typical c_gamma = 20 N/(mm um) = 2e10 N/m^2. Per-mesh overrides win over both.
+  std::function<double(const PlanetaryTrain&, int mesh, double face_width_m)> mesh_stiffness;
+  double mesh_stiffness_per_face_width_N_m2 = 2e10;
+  double unloaded_mesh_stiffness_factor = 1e-12;  // seed 001: unloaded meshes "very small"; 1 keeps
+  double mesh_damping_ratio = 0;                  // time-domain runs (GearMeshSpec::damping_ratio)
+
+  // Contact: linear on the loaded flank (the operating point), or two-sided with backlash.
+  bool two_sided_contact = false;
+  double backlash_m = 0;
+
+  // Phasing: derived mesh phases (false: all 0); stage phase Gamma^(j) / 2 pi per stage.
+  bool mesh_phasing = true;
+  std::vector<double> stage_phase_cycles;
+
+  // Couplings (seed 001 section 3).
+  double connection_stiffness_N_m_rad = 1e8;
+  double clutch_stiffness_N_m_rad = 1e8;
+  double brake_stiffness_N_m_rad = 1e10;
+
+  // Bearings (planar and spatial DOF sets), central members to the housing and planets to pins.
+  double radial_bearing_stiffness_N_m = 1e8;
+  double axial_bearing_stiffness_N_m = 1e8;
+  double tilt_bearing_stiffness_N_m_rad = 1e7;
+  double bearing_damping_N_s_m = 0;
+
+  std::unordered_map<std::string, TrainMemberOverride> members;  // by member or planet-set name
+  std::unordered_map<std::string, TrainMeshOverride> meshes;     // by train mesh name
+};
+
+// Resolved lumped parameters of a member or planet set (filled by BuildTrainModel).
+struct TrainBodyParams {
+  double mass_kg = 0, polar_inertia_kg_m2 = 0, transverse_inertia_kg_m2 = 0;
+  double base_radius_m = 0;  // gears; 0 for carriers
+  double face_width_m = 0;
+};
+
+// One GearMeshSpec of the model: mesh `train_mesh` on branch `branch`.
+struct TrainMeshElement {
+  int train_mesh = -1, branch = -1, stage = -1;
+  int model_mesh = -1;           // index into Model::gear_meshes
+  double stiffness_N_m = 0;      // mean stiffness used
+  double working_pressure_angle_rad = 0;
+  GearMeshSpec::Contact contact = GearMeshSpec::Contact::kLinearDrive;  // loaded flank
+  double phase_cycles = 0;       // GearMeshSpec::phase
+  bool loaded = false;           // power flow
+  int phase_gear_speed = -1;     // speed index of the spec's gear a (phase advances with it)
+};
+
+// Filled by BuildTrainModel.
+struct TrainModel {
+  std::shared_ptr<const Model> model;
+  std::shared_ptr<const PlanetaryTrain> train;  // a copy of the train it was built from
+  int range = -1;
+  TrainDofs dofs = TrainDofs::kTorsional;
+  PlanetaryKinematics kinematics;       // at options.input_speeds_rad_s
+  PlanetaryKinematics unit_kinematics;  // inputs scaled so that train.inputs[0] turns at 1 rad/s
+                                        // (+1 on every input if all given speeds are 0)
+  PlanetaryPowerFlow power_flow;        // at input_torque_Nm (1 N m if 0: signs only)
+  std::vector<JointIndex> member_joints;             // (members)
+  std::vector<std::vector<JointIndex>> planet_joints;  // (planet sets) x (branches)
+  std::vector<TrainBodyParams> member_params;        // (members)
+  std::vector<TrainBodyParams> planet_params;        // (planet sets)
+  std::vector<TrainMeshElement> meshes;              // (model meshes), in Model order
+  int rotation_coordinate = 0;  // index of the spin within a member joint's velocities (0, 2, 5)
+};
+
+// Builds the model of `train` in gear range `range`. Throws std::invalid_argument naming the
+// member, mesh or option that is missing or non-physical (e.g. a gear without tooth form and no
+// base radius override, an override key that names nothing), std::runtime_error from the
+// kinematics or power flow (an indeterminate range).
+TrainModel BuildTrainModel(const PlanetaryTrain& train, int range, const TrainModelOptions& options);
+
+// Mesh phases of one stage's meshes in GearMeshSpec convention (see above), per train mesh of the
+// stage (in Stage::meshes order) and branch, from the planet angles, tooth counts, flanks
+// (`drive`: true for kLinearDrive, indexed like Stage::meshes) and working pressure angles
+// (indexed like Stage::meshes). The first mesh of branch 0 has phase `reference_phase`.
+// Gears without tooth form take alpha_w for their reference pressure angle. Throws
+// std::invalid_argument if the flank or pressure-angle lists do not match the stage's meshes.
+std::vector<std::vector<double>> CalcStageMeshPhases(const PlanetaryTrain& train, int stage,
+                                                     const std::vector<bool>& drive,
+                                                     const std::vector<double>& pressure_angles,
+                                                     double reference_phase = 0);
+
+}  // namespace orrery::gears
