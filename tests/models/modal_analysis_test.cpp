@@ -93,7 +93,7 @@ TEST(ModalAnalysis, Seed001TableThreeStructureAndPlanetModes) {
       if (g.frequency_hz > 20e3) continue;
       const TrainMode& m = modes.modes[g.first_mode];
       std::string st;
-      for (int s : m.stages) st += "S" + std::to_string(s + 1) + " ";
+      for (int s : m.stages) st.append("S").append(std::to_string(s + 1)).append(" ");
       std::printf("  %8.3f (%d) %-10s %s\n", g.frequency_hz / 1e3, g.multiplicity, ModeClassName(g.mode_class), st.c_str());
     }
     std::printf("  Table 3:");
