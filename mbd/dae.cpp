@@ -40,6 +40,10 @@ DaeSystem::DaeSystem(const Model& model)
   Cv_.setZero(nv_, nv_);
   kkt_.setZero(nv_ + nc_, nv_ + nc_);
   kkt_rhs_.setZero(nv_ + nc_);
+  kkt_x_.setZero(nv_ + nc_);
+  kkt_lu_ = Eigen::PartialPivLU<Eigen::MatrixXd>(nv_ + nc_);
+  gamma_.setZero(nc_);
+  zero_nv_.setZero(nv_);
 }
 
 void DaeSystem::DynamicRows(double t, const Eigen::Ref<const Eigen::VectorXd>& q,
@@ -178,36 +182,43 @@ void DaeSystem::SolveAccelerations(double t, const Eigen::Ref<const Eigen::Vecto
                                    Eigen::Ref<Eigen::VectorXd> vdot,
                                    Eigen::Ref<Eigen::VectorXd> lambda) {
   // gamma = d/dt (G v + g_t) at fixed v, by central differences along the motion.
-  Eigen::VectorXd gamma = Eigen::VectorXd::Zero(nc_);
+  zero_nv_.setZero();
+  gamma_.setZero();
   if (nc_ > 0) {
     const double h = 1e-6 / std::max(1.0, v.lpNorm<Eigen::Infinity>());
-    Eigen::VectorXd qp = q, qm = q;
-    IntegratePositions(model_, h * v, qp);
-    IntegratePositions(model_, -h * v, qm);
-    Eigen::VectorXd zero = Eigen::VectorXd::Zero(nv_);
-    EvaluateDynamics(model_, t + h, qp, v, zero, data_);
-    gamma = data_.G * v + data_.g_t;
-    EvaluateDynamics(model_, t - h, qm, v, zero, data_);
-    gamma -= data_.G * v + data_.g_t;
-    gamma /= 2 * h;
+    q_pert_ = q;
+    dv_ = h * v;
+    IntegratePositions(model_, dv_, q_pert_);
+    EvaluateDynamics(model_, t + h, q_pert_, v, zero_nv_, data_);
+    gamma_.noalias() = data_.G * v;
+    gamma_ += data_.g_t;
+    q_pert_ = q;
+    dv_ = -h * v;
+    IntegratePositions(model_, dv_, q_pert_);
+    EvaluateDynamics(model_, t - h, q_pert_, v, zero_nv_, data_);
+    rl1_.noalias() = data_.G * v;
+    rl1_ += data_.g_t;
+    gamma_ = (gamma_ - rl1_) / (2 * h);
   }
   // KKT system at vdot = 0: tau_id is then C - Q.
-  EvaluateDynamics(model_, t, q, v, Eigen::VectorXd::Zero(nv_), data_);
+  EvaluateDynamics(model_, t, q, v, zero_nv_, data_);
   CalcMassMatrix(model_, data_);
   kkt_.setZero();
   kkt_.topLeftCorner(nv_, nv_) = data_.M;
   kkt_.topRightCorner(nv_, nc_) = data_.G.transpose();
   kkt_.bottomLeftCorner(nc_, nv_) = data_.G;
   kkt_rhs_.head(nv_) = -data_.tau_id;
-  kkt_rhs_.tail(nc_) = -gamma;
-  Eigen::FullPivLU<Eigen::MatrixXd> lu(kkt_);
-  if (!lu.isInvertible())
+  kkt_rhs_.tail(nc_) = -gamma_;
+  kkt_lu_.compute(kkt_);
+  // Singular when a free coordinate has no mass or constraints are redundant: the pivots show it.
+  const double pivot_floor = 1e-13 * kkt_.lpNorm<Eigen::Infinity>();
+  if (!(kkt_lu_.matrixLU().diagonal().cwiseAbs().minCoeff() > pivot_floor))
     throw std::runtime_error(
         "the mass matrix with the constraint Jacobian is singular: a body without mass on a "
         "free coordinate, or redundant constraints");
-  const Eigen::VectorXd x = lu.solve(kkt_rhs_);
-  vdot = x.head(nv_);
-  lambda = x.tail(nc_);
+  kkt_x_.noalias() = kkt_lu_.solve(kkt_rhs_);
+  vdot = kkt_x_.head(nv_);
+  lambda = kkt_x_.tail(nc_);
 }
 
 void DaeSystem::ConsistentInitial(const State& state, Eigen::Ref<Eigen::VectorXd> y,

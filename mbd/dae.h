@@ -11,6 +11,7 @@
 // in the original form, and no constraint partial with respect to quaternion coordinates is
 // needed. lambda and mu are algebraic (excluded from IDA's error test).
 #include <Eigen/Core>
+#include <Eigen/LU>
 
 #include "mbd/data.h"
 #include "mbd/model.h"
@@ -61,6 +62,7 @@ class DaeSystem {
                          Eigen::Ref<Eigen::VectorXd> yp);
 
   // Accelerations and multipliers at (t, q, v) (same KKT solve), into vdot (nv), lambda (nc).
+  // Allocation-free; throws std::runtime_error if the KKT matrix is singular.
   void SolveAccelerations(double t, const Eigen::Ref<const Eigen::VectorXd>& q,
                           const Eigen::Ref<const Eigen::VectorXd>& v, Eigen::Ref<Eigen::VectorXd> vdot,
                           Eigen::Ref<Eigen::VectorXd> lambda);
@@ -87,7 +89,8 @@ class DaeSystem {
   Eigen::MatrixXd dv_dq_;   // nv x nq: its left inverse (2 E(q) for quaternions)
   Eigen::MatrixXd G_ref_, Jv_, Cv_;  // nc x nv, (nv+nc) x nv, nv x nv
   Eigen::MatrixXd kkt_;
-  Eigen::VectorXd kkt_rhs_;
+  Eigen::VectorXd kkt_rhs_, kkt_x_, gamma_, zero_nv_;
+  Eigen::PartialPivLU<Eigen::MatrixXd> kkt_lu_;
 };
 
 }  // namespace orrery
