@@ -158,6 +158,31 @@ Fixture BuildEveryJointModel() {
                     .scale = TimeFunction::Sine(1.0, 0.5, 0.1, 0.5), .in_frame_axes = true});
   b.AddJointLoad({.name = "jload", .joint = j_pla, .coordinate = 0,
                   .function = TimeFunction::Sine(3.0, 0.8, 0.0, 1.0)});
+  // Gears: a carrier turning about z, two gears on planar joints on it with a lumped mesh
+  // (linear, STE, damping), a third with an ideal mesh to the first, a bearing on the second.
+  const BodyIndex carrier = body("carrier"), g1 = body("g1"), g2 = body("g2"), g3 = body("g3");
+  const double alpha = 0.35, d12 = (0.03 + 0.05) / std::cos(alpha), d13 = (0.03 + 0.04) / std::cos(alpha);
+  b.AddJoint({.name = "carrier_rev", .type = JointType::kRevolute, .parent = kWorldBody, .child = carrier,
+              .X_PF = Transform::Translation(Vec3(0.2, -0.1, 0.3)), .axis = z});
+  b.AddJoint({.name = "g1_pla", .type = JointType::kPlanar, .parent = carrier, .child = g1, .axis = z, .axis2 = x});
+  b.AddJoint({.name = "g2_pla", .type = JointType::kPlanar, .parent = carrier, .child = g2,
+              .X_PF = Transform::Translation(Vec3(d12, 0, 0)), .axis = z, .axis2 = x});
+  b.AddJoint({.name = "g3_pla", .type = JointType::kPlanar, .parent = carrier, .child = g3,
+              .X_PF = Transform::Translation(Vec3(0, d13, 0)), .axis = z, .axis2 = x});
+  GearMeshSpec mesh{.name = "mesh", .gear_a = b.body_frame(g1), .gear_b = b.body_frame(g2),
+                    .reference = b.body_frame(carrier), .teeth_a = 30, .teeth_b = 50,
+                    .base_radius_a = 0.03, .base_radius_b = 0.05, .working_pressure_angle = alpha,
+                    .base_helix_angle = 0.2, .contact = GearMeshSpec::Contact::kLinearDrive,
+                    .stiffness = 4e3, .damping = 3.0};
+  mesh.ste_amplitudes = {5e-6, 2e-6};  // micrometres, as real transmission errors
+  mesh.ste_phases = {0.3, -1.0};
+  b.AddGearMesh(mesh);
+  b.AddGearConstraint({.name = "ideal", .gear_a = b.body_frame(g1), .gear_b = b.body_frame(g3),
+                       .reference = b.body_frame(carrier), .teeth_a = 30, .teeth_b = 40,
+                       .base_radius_a = 0.03, .base_radius_b = 0.04, .working_pressure_angle = alpha});
+  b.AddBearing({.name = "bearing", .frame_a = b.AddFrame("g2_pin", carrier, Transform::Translation(Vec3(d12, 0, 0))),
+                .frame_b = b.body_frame(g2), .radial_stiffness = 300, .axial_stiffness = 100,
+                .tilt_stiffness = 20, .radial_damping = 2, .axial_damping = 1, .tilt_damping = 0.5});
   b.SetGravity(Vec3(0.5, -9.81, 0.3));
   fx.model = std::move(b).Finalize();
   return fx;
@@ -187,10 +212,10 @@ class JacobianTest : public ::testing::Test {
   void SetUp() override {
     fx_ = BuildEveryJointModel();
     const Model& m = *fx_.model;
-    ASSERT_EQ(m.nv, 19);
-    ASSERT_EQ(m.nq, 21);
-    ASSERT_EQ(m.n_holonomic, 15);  // 5 + 5 + 4 loop rows + 1 position driver
-    ASSERT_EQ(m.n_constraints, 16);
+    ASSERT_EQ(m.nv, 29);  // 19 + carrier 1 + three planar gears 9
+    ASSERT_EQ(m.nq, 31);
+    ASSERT_EQ(m.n_holonomic, 16);  // 5 + 5 + 4 loop rows + 1 gear constraint + 1 position driver
+    ASSERT_EQ(m.n_constraints, 17);
     std::mt19937 rng(7);
     for (int i = 0; i < 4; ++i) states_.push_back(RandomState(m, rng));
   }
