@@ -203,6 +203,12 @@ State RandomState(const Model& model, std::mt19937& rng) {
     const Quat r(RandomRotation(rng, 0.8));
     s.q.segment<4>(jt.q_start + quat) << r.w(), r.x(), r.y(), r.z();
   }
+  // Gear centres move by micrometres to millimetres, not by a centre distance: keep the planar
+  // gear joints' slides small (a 0.6 m slide would make the mesh carry kilonewtons whose
+  // cancelling moments on the carrier swamp the finite differences in rounding).
+  for (const Joint& jt : model.joints)
+    if (jt.spec.type == JointType::kPlanar && jt.spec.name.rfind("g", 0) == 0)
+      s.q.segment<2>(jt.q_start) *= 1e-3;
   for (int k = 0; k < model.nv; ++k) s.v(k) = u(rng);
   return s;
 }
