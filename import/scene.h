@@ -7,6 +7,12 @@
 // file, the line and the key ("pendulum.yaml:12: bodies[bob].mass: must be > 0, got -1").
 // The schema is documented in docs/scene_format.md.
 //
+// A scene holds exactly one model section: bodies + joints (a generic multibody model),
+// `lumped_stage:` (a planetary stage with explicit lumped parameters, BuildLumpedStage) or
+// `gear_train:` (an N-stage planetary train from tooth counts and tooth forms, BuildTrainModel).
+// For the two gear sections the scene also keeps what the analysis commands need (the train, the
+// gear range, the operating point, the options); Scene::model is then the model a run simulates.
+//
 // Usage:
 //   Scene scene = LoadScene("models/scenes/pendulum.yaml", {"solver.end_time=2"});
 //   ResultFile out = ResultFile::Create(scene.output_path);
@@ -18,6 +24,10 @@
 
 #include "mbd/model.h"
 #include "mbd/simulation.h"
+#include "mbd/time_function.h"
+#include "models/lumped_planetary.h"
+#include "models/planetary_train.h"
+#include "models/train_dynamics.h"
 
 namespace orrery {
 
@@ -27,12 +37,49 @@ class SceneError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+enum class SceneKind { kMultibody, kLumpedStage, kGearTrain };
+
+// A driver or load of a lumped stage's member (`input:` / `load:` entries), for reports.
+struct LumpedStagePort {
+  std::string member;         // "sun", "ring", "carrier"
+  enum class Kind { kSpeed, kTorque } kind = Kind::kTorque;
+  TimeFunction function;      // rad/s or N m
+  bool is_load = false;       // from `load:` (else `input:`)
+};
+
+// Filled by the loader for `lumped_stage:` scenes. Scene::model is stage.model.
+struct LumpedStageScene {
+  LumpedStageParams params;          // SI, as read
+  LumpedStage stage;                 // the built stage (joints of sun, ring, carrier, planets)
+  std::vector<LumpedStagePort> ports;
+  int rotation_coordinate = 0;       // spin within a member joint's velocities (0, 2 or 5)
+};
+
+// Filled by the loader for `gear_train:` scenes. Scene::model is model->model: BuildTrainModel's
+// model with the input speed drivers (and the input torque) following the scene's functions.
+struct GearTrainScene {
+  std::shared_ptr<const gears::PlanetaryTrain> train;
+  int range = 0;                                   // `range:` (default: the first range)
+  std::vector<TimeFunction> input_speed_functions; // one per train input (rad/s); empty: torque in
+  std::vector<double> input_speeds_rad_s;          // operating point of the analyses: per input,
+                                                   // the function's value of largest magnitude
+                                                   // over [0, solver.end_time]
+  double input_torque_Nm = 0;                      // on train->inputs[0] (from input_torque, or
+                                                   // from output_torque through the power flow)
+  std::string mesh_stiffness;                      // "c_gamma" (default), "value", "iso6336", "tvms"
+  gears::TrainModelOptions options;                // as built (input speeds at t = 0)
+  std::shared_ptr<const gears::TrainModel> model;  // for `range`
+};
+
 struct Scene {
   std::string name;                    // scene "name:" (default: file stem)
   std::string source_path;             // the file it came from ("" for a string)
   std::shared_ptr<const Model> model;
   SimulationOptions simulation;        // end time, output interval, integrator, scene text
   std::string output_path;             // "output: file:" or "<file stem>.h5"
+  SceneKind kind = SceneKind::kMultibody;
+  std::shared_ptr<const LumpedStageScene> lumped_stage;  // kLumpedStage only
+  std::shared_ptr<const GearTrainScene> gear_train;      // kGearTrain only
 };
 
 // Loads and validates a scene file. `overrides` are "key.path=value" settings applied to the

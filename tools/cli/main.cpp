@@ -3,6 +3,8 @@
 //
 //   orrery run SCENE [-o OUT.h5] [--end-time T] [--set key=value ...] [--integrator NAME] [--quiet]
 //   orrery inspect OUT.h5
+//   orrery kinematics SCENE [--json] [--range NAME] [--set key=value ...]
+//   orrery modes SCENE [--json] [--set key=value ...]
 //   orrery --version
 //
 // Exit codes: 0 success, 1 runtime failure, 2 bad usage, 128 + signal when interrupted.
@@ -18,6 +20,8 @@
 
 #include "tools/cli/error_message.h"
 #include "tools/cli/inspect_command.h"
+#include "tools/cli/kinematics_command.h"
+#include "tools/cli/modes_command.h"
 #include "tools/cli/run_command.h"
 
 namespace {
@@ -65,6 +69,24 @@ int Main(int argc, char** argv) {
   CLI::App* inspect = app.add_subcommand("inspect", "List the groups, datasets and attributes of a result file");
   inspect->add_option("file", inspect_args.path, "Result file (HDF5)")->required();
 
+  // orrery kinematics
+  KinematicsArgs kinematics_args;
+  CLI::App* kinematics = app.add_subcommand(
+      "kinematics", "Speeds, torques, mesh frequencies, forces and stiffnesses of a gear scene");
+  kinematics->add_option("scene", kinematics_args.scene_path, "Scene file (YAML)")->required();
+  kinematics->add_flag("--json", kinematics_args.json, "Write JSON to stdout");
+  kinematics->add_option("--range", kinematics_args.range, "Gear range (default: the scene's range:)");
+  kinematics->add_option("--set", kinematics_args.overrides, "Scene override key.path=value (repeatable)")
+      ->allow_extra_args(false);
+
+  // orrery modes
+  ModesArgs modes_args;
+  CLI::App* modes = app.add_subcommand("modes", "Natural frequencies with mode classes and multiplicities");
+  modes->add_option("scene", modes_args.scene_path, "Scene file (YAML)")->required();
+  modes->add_flag("--json", modes_args.json, "Write JSON to stdout");
+  modes->add_option("--set", modes_args.overrides, "Scene override key.path=value (repeatable)")
+      ->allow_extra_args(false);
+
   // Parse: help and version go to stdout, any other problem is one line on stderr
   try {
     app.parse(argc, argv);
@@ -75,7 +97,7 @@ int Main(int argc, char** argv) {
     const std::vector<std::string> stray = app.remaining();
     if (app.get_subcommands().empty() && !stray.empty() && !stray.front().empty())
       reason = stray.front().front() == '-' ? "unknown option '" + stray.front() + "'"
-                                            : "unknown command '" + stray.front() + "' (expected run or inspect)";
+                                            : "unknown command '" + stray.front() + "' (expected run, inspect, kinematics or modes)";
     ReportError(std::cerr, reason + "; see orrery --help");
     return kExitUsage;
   }
@@ -86,6 +108,8 @@ int Main(int argc, char** argv) {
     run_args.err_is_terminal = isatty(STDERR_FILENO) == 1;
     return RunCommand(run_args, std::cout, std::cerr);
   }
+  if (kinematics->parsed()) return KinematicsCommand(kinematics_args, std::cout, std::cerr);
+  if (modes->parsed()) return ModesCommand(modes_args, std::cout, std::cerr);
   return InspectCommand(inspect_args, std::cout, std::cerr);
 }
 

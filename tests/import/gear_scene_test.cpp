@@ -1,0 +1,188 @@
+// The gear model sections of scene files (import/gear_scene.cpp): every scene shipped in
+// models/scenes loads, the two gear sections build the models they describe (checked against the
+// C++ factories they spell out), and errors in them name file:line: key.
+#include <filesystem>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "import/scene.h"
+#include "models/lumped_planetary.h"
+#include "models/planetary_scenes.h"
+
+namespace orrery {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string ScenePath(const std::string& name) {
+  return std::string(ORRERY_SOURCE_DIR) + "/models/scenes/" + name;
+}
+
+// The message of the SceneError that loading `text` throws ("" if none).
+std::string ErrorOf(const std::string& text) {
+  try {
+    LoadSceneFromString(text, "t.yaml");
+  } catch (const SceneError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(GearScene, EverySceneInModelsScenesLoads) {
+  int count = 0;
+  for (const auto& entry : fs::directory_iterator(std::string(ORRERY_SOURCE_DIR) + "/models/scenes")) {
+    if (entry.path().extension() != ".yaml") continue;
+    SCOPED_TRACE(entry.path().string());
+    Scene scene;
+    ASSERT_NO_THROW(scene = LoadScene(entry.path().string()));
+    EXPECT_TRUE(scene.model);
+    ++count;
+  }
+  EXPECT_GE(count, 9);
+}
+
+TEST(GearScene, LinParkerScenesMatchTheCxxExample) {
+  for (int n : {3, 4, 5}) {
+    const Scene s = LoadScene(ScenePath("lin_parker_1999_n" + std::to_string(n) + ".yaml"));
+    ASSERT_EQ(s.kind, SceneKind::kLumpedStage);
+    const LumpedStageParams a = s.lumped_stage->params, b = LinParker1999Example(n);
+    EXPECT_EQ(a.planets, n);
+    for (const auto& [x, y] : {std::pair{a.sun, b.sun}, {a.ring, b.ring}, {a.carrier, b.carrier}, {a.planet, b.planet}}) {
+      EXPECT_DOUBLE_EQ(x.mass, y.mass);
+      EXPECT_NEAR(x.inertia, y.inertia, 1e-15 * y.inertia);
+      EXPECT_NEAR(x.radius, y.radius, 1e-15);
+      EXPECT_DOUBLE_EQ(x.bearing_stiffness, y.bearing_stiffness);
+      EXPECT_NEAR(x.torsional_stiffness, y.torsional_stiffness, 1e-12 * (1 + y.torsional_stiffness));
+    }
+    EXPECT_DOUBLE_EQ(a.pressure_angle_sun, b.pressure_angle_sun);
+    EXPECT_EQ(a.lines_of_action_on_carrier, b.lines_of_action_on_carrier);
+    EXPECT_EQ(s.model->nv, 3 * (3 + n));
+  }
+}
+
+TEST(GearScene, Seed001SceneIsTheFactoryTrain) {
+  const Scene s = LoadScene(ScenePath("seed001_three_stage.yaml"));
+  ASSERT_EQ(s.kind, SceneKind::kGearTrain);
+  const auto& t = *s.gear_train->train;
+  const auto f = gears::MakeSeed001AutomaticTransmission();
+  ASSERT_EQ(t.members.size(), f->members.size());
+  for (size_t i = 0; i < t.members.size(); ++i) EXPECT_EQ(t.members[i].name, f->members[i].name);
+  for (size_t i = 0; i < t.planet_sets.size(); ++i)
+    for (size_t k = 0; k < t.planet_sets[i].angles_rad.size(); ++k)
+      EXPECT_NEAR(t.planet_sets[i].angles_rad[k], f->planet_sets[i].angles_rad[k], 1e-12);
+  EXPECT_EQ(t.ranges.size(), 4u);
+  EXPECT_EQ(t.ranges[s.gear_train->range].name, "1st");
+  EXPECT_EQ(t.members[t.inputs[0]].name, "S1.ring");
+  EXPECT_EQ(t.members[t.output].name, "S2.carrier");
+  EXPECT_DOUBLE_EQ(s.gear_train->input_torque_Nm, 300.0);
+}
+
+TEST(GearScene, Seed002SpeedFollowsTheTrapezoid) {
+  const Scene s = LoadScene(ScenePath("seed002_alpha1_ramp.yaml"));
+  ASSERT_EQ(s.kind, SceneKind::kGearTrain);
+  ASSERT_EQ(s.model->drivers.size(), 1u);
+  const TimeFunction& w = s.model->drivers[0].spec.function;
+  const double w1 = 20 * 2 * 3.14159265358979323846 / 60;
+  EXPECT_NEAR(w.Value(0.0), 0.0, 1e-15);
+  EXPECT_NEAR(w.Value(0.05), w1, 1e-12);   // plateau between t1 = 8 ms and t2 = 112 ms
+  EXPECT_NEAR(w.Value(0.15), 0.0, 1e-15);  // at rest after t3 = 120 ms
+  EXPECT_NEAR(s.gear_train->input_speeds_rad_s[0], w1, 1e-12);  // operating point: the peak
+}
+
+TEST(GearScene, Seed003OutputTorqueBecomesTheRingTorque) {
+  const Scene s = LoadScene(ScenePath("seed003_stage.yaml"));
+  // T_r = 6000 Z_r / (Z_s + Z_r) on the ring for a 6000 N m carrier load.
+  EXPECT_NEAR(s.gear_train->input_torque_Nm, 6000.0 * 50 / 72, 1e-9);
+}
+
+constexpr const char* kLumped =
+    "lumped_stage:\n"                                                          // 1
+    "  planets: 3\n"                                                           // 2
+    "  sun: {mass: 0.4, inertia: 1e-4, base_diameter_mm: 77.4}\n"              // 3
+    "  ring: {mass: 2.35, inertia: 0.05, base_diameter_mm: 275}\n"             // 4
+    "  carrier: {mass: 5.4, inertia: 0.05, planet_circle_diameter_mm: 176.8}\n"  // 5
+    "  planet: {mass: 0.66, inertia: 1e-3, base_diameter_mm: 100.3}\n"         // 6
+    "  mesh_stiffness_sun: 5e8\n"                                              // 7
+    "  mesh_stiffness_ring: 5e8\n"                                             // 8
+    "  pressure_angle_sun_deg: 24.6\n"                                         // 9
+    "  pressure_angle_ring_deg: 24.6\n"                                        // 10
+    "solver: {end_time: 0.01}\n"                                               // 11
+    "output: {interval: 0.001}\n";                                             // 12
+
+std::string Replace(std::string text, const std::string& from, const std::string& to) {
+  const size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return text.replace(at, from.size(), to);
+}
+
+TEST(GearScene, LumpedStageErrorsNameFileLineKey) {
+  EXPECT_EQ(ErrorOf(kLumped), "");
+  EXPECT_EQ(ErrorOf(Replace(kLumped, "mass: 0.4,", "mas: 0.4,")),
+            "t.yaml:3: lumped_stage.sun.mas: unknown key 'mas'; did you mean 'mass'?");
+  EXPECT_EQ(ErrorOf(Replace(kLumped, "mass: 2.35", "mass: -1")),
+            "t.yaml:4: lumped_stage.ring.mass: must be > 0, got -1");
+  EXPECT_NE(ErrorOf(Replace(kLumped, "planet_circle_diameter_mm", "base_diameter_mm"))
+                .find("t.yaml:5: lumped_stage.carrier.base_diameter_mm: key not allowed here: the carrier has no base circle"),
+            std::string::npos);
+  EXPECT_EQ(ErrorOf(Replace(kLumped, "  mesh_stiffness_ring: 5e8\n", "")),
+            "t.yaml:1: lumped_stage.mesh_stiffness_ring: missing required key (one of 'mesh_stiffness_ring')");
+  EXPECT_EQ(ErrorOf(Replace(kLumped, "  planets: 3\n", "  planets: 3\n  input: {member: son, speed: 10}\n")),
+            "t.yaml:3: lumped_stage.input.member: unknown value 'son'; did you mean 'sun'?");
+  // One model section only.
+  EXPECT_NE(ErrorOf(std::string(kLumped) + "bodies: []\n").find("t.yaml:13: bodies: key not allowed with lumped_stage"),
+            std::string::npos);
+}
+
+constexpr const char* kTrain =
+    "gear_train:\n"                                                                       // 1
+    "  stages:\n"                                                                         // 2
+    "    - {name: S, type: single_planet, planets: 3, sun: 19, planet: 34, ring: 89,\n"   // 3
+    "       module_mm: 16, face_width_mm: 100}\n"                                         // 4
+    "  brakes:\n"                                                                         // 5
+    "    - {name: B, member: S.ring}\n"                                                   // 6
+    "  ranges:\n"                                                                         // 7
+    "    run: [B]\n"                                                                      // 8
+    "  inputs: [S.carrier]\n"                                                             // 9
+    "  output: S.sun\n"                                                                   // 10
+    "  input_speed_rpm: 20\n"                                                             // 11
+    "  dynamics: {dofs: planar, meshes: {S.sun-planet: {stiffness: 1e9}}}\n"              // 12
+    "solver: {end_time: 0.01}\n"                                                          // 13
+    "output: {interval: 0.001}\n";                                                        // 14
+
+TEST(GearScene, GearTrainErrorsNameFileLineKey) {
+  EXPECT_EQ(ErrorOf(kTrain), "");
+  EXPECT_EQ(ErrorOf(Replace(kTrain, "planets: 3,", "planet_count: 3,")),
+            "t.yaml:3: gear_train.stages[S].planet_count: unknown key 'planet_count' (allowed: name, "
+            "type, planets, planet_angles, planet_angles_deg, planet_spacing, addendum_coefficient, "
+            "module, module_mm, pressure_angle, pressure_angle_deg, helix_angle, helix_angle_deg, "
+            "face_width, face_width_mm, sun, planet, ring, pin_circle_diameter, pin_circle_diameter_mm, "
+            "pin_circle_radius, pin_circle_radius_mm)");
+  EXPECT_EQ(ErrorOf(Replace(kTrain, "type: single_planet", "type: single_plant")),
+            "t.yaml:3: gear_train.stages[S].type: unknown type 'single_plant'; did you mean 'single_planet'?");
+  EXPECT_EQ(ErrorOf(Replace(kTrain, "member: S.ring", "member: S.rign")),
+            "t.yaml:6: gear_train.brakes[B].member: no member named 'S.rign'; did you mean 'S.ring'?");
+  EXPECT_EQ(ErrorOf(Replace(kTrain, "run: [B]", "run: [C]")),
+            "t.yaml:8: gear_train.ranges.run[0]: no clutch or brake named 'C'; did you mean 'B'?");
+  EXPECT_EQ(ErrorOf(Replace(kTrain, "S.sun-planet:", "S.sun-planit:")),
+            "t.yaml:12: gear_train.dynamics.meshes[S.sun-planit]: no mesh named 'S.sun-planit'; did you "
+            "mean 'S.sun-planet'?");
+  EXPECT_EQ(ErrorOf(Replace(kTrain, "  output: S.sun\n", "  output: S.sun\n  range: rn\n")),
+            "t.yaml:11: gear_train.range: no gear range named 'rn'; did you mean 'run'?");
+  EXPECT_NE(ErrorOf(Replace(kTrain, "  output: S.sun\n", "  output: S.sun\n  seed: 2\n"))
+                .find("t.yaml:11: gear_train.seed: key not allowed here: scenes spell the train out"),
+            std::string::npos);
+  // Equal spacing needs (Z_s + Z_r) / n integer: reported at the planet count.
+  EXPECT_NE(ErrorOf(Replace(kTrain, "planets: 3,", "planets: 5,")).find("t.yaml:3: gear_train.stages[S].planets: "),
+            std::string::npos);
+  // An override names the key (no line).
+  try {
+    LoadSceneFromString(kTrain, "t.yaml", {"gear_train.dynamics.dofs=plane"});
+    ADD_FAILURE() << "no error";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(std::string(e.what()), "t.yaml: --set gear_train.dynamics.dofs: unknown value 'plane'; did you mean 'planar'?");
+  }
+}
+
+}  // namespace
+}  // namespace orrery
