@@ -7,6 +7,12 @@
 #include <numbers>
 #include <stdexcept>
 
+#include <Eigen/Dense>
+
+#include "mbd/evaluate.h"
+#include "mbd/kinematics.h"
+#include "mbd/linearization.h"
+
 namespace orrery::gears {
 namespace {
 
@@ -14,7 +20,7 @@ constexpr double kPi = std::numbers::pi;
 
 [[noreturn]] void Fail(const std::string& msg) { throw std::invalid_argument("train model: " + msg); }
 
-double Involute(double alpha) { return std::tan(alpha) - alpha; }
+// Involute(alpha) = tan(alpha) - alpha comes from gear_geometry.h.
 
 // x mod 1 in [0, 1).
 double Frac(double x) {
@@ -107,7 +113,75 @@ TrainBodyParams ResolveBody(const PlanetaryTrain& train, const std::string& name
   return p;
 }
 
+// Name under which a gear's member or planet set is overridden.
+const std::string& GearOwnerName(const PlanetaryTrain& train, int g) {
+  const TrainGear& gear = train.gears[g];
+  return gear.planet_set < 0 ? train.members[gear.member].name : train.planet_sets[gear.planet_set].name;
+}
+
+const TrainMemberOverride& OverrideOf(const TrainModelOptions& o, const std::string& name) {
+  static const TrainMemberOverride kNone;
+  const auto it = o.members.find(name);
+  return it == o.members.end() ? kNone : it->second;
+}
+
+// Involute gear of train gear g for the stiffness models (see the header).
+Gear MakeStiffnessGear(const PlanetaryTrain& train, int g, bool right_hand, const TrainModelOptions& o) {
+  const TrainGear& tg = train.gears[g];
+  if (!tg.has_tooth_form) Fail("gear '" + tg.name + "' has no tooth form: its stiffness cannot come from geometry");
+  const TrainMemberOverride& ov = OverrideOf(o, GearOwnerName(train, g));
+  GearSpec spec;
+  spec.teeth = tg.teeth;
+  spec.normal_module_m = tg.tooth_form.normal_module_m;
+  spec.normal_pressure_angle_rad = tg.tooth_form.normal_pressure_angle_rad;
+  spec.helix_angle_rad = std::abs(tg.tooth_form.helix_angle_rad);
+  spec.hand = right_hand ? HelixHand::kRight : HelixHand::kLeft;
+  spec.profile_shift = ov.profile_shift.value_or(0.0);
+  spec.addendum_coef = ov.addendum_coefficient.value_or(tg.internal ? o.ring_addendum_coefficient
+                                                                   : tg.tooth_form.addendum_coefficient);
+  spec.face_width_m = ov.face_width_m.value_or(o.face_width_m);
+  spec.internal = tg.internal;
+  try {
+    return Gear(spec);
+  } catch (const std::invalid_argument& e) {
+    Fail("gear '" + tg.name + "': " + e.what());
+  }
+}
+
+// Bore radius of an external gear, outer rim radius of a ring (as for the inertias).
+double RimRadius(const PlanetaryTrain& train, int g, const TrainModelOptions& o) {
+  const TrainGear& tg = train.gears[g];
+  const TrainMemberOverride& ov = OverrideOf(o, GearOwnerName(train, g));
+  if (tg.internal) return ov.outer_radius_m.value_or(tg.pitch_radius_m + o.ring_rim_modules * tg.tooth_form.normal_module_m);
+  return ov.bore_radius_m.value_or(o.bore_to_pitch_ratio * tg.pitch_radius_m);
+}
+
+// Periodic linear interpolation of TVMS samples at gear-1 cycles u.
+double TvmsAt(const Tvms& t, int samples_per_cycle, double u) {
+  const int n = static_cast<int>(t.stiffness_n_per_m.size());
+  double x = std::fmod(u * samples_per_cycle, static_cast<double>(n));
+  if (x < 0) x += n;
+  const int i = std::min(static_cast<int>(x), n - 1);
+  const double f = x - i;
+  return (1 - f) * t.stiffness_n_per_m[i] + f * t.stiffness_n_per_m[(i + 1) % n];
+}
+
 }  // namespace
+
+GearPair MakeTrainGearPair(const PlanetaryTrain& train, int mesh, const TrainModelOptions& o) {
+  const TrainMesh& m = train.meshes.at(mesh);
+  const auto [a, b] = SpecGears(m);
+  const bool internal = m.kind == MeshKind::kInternal;
+  const Gear g1 = MakeStiffnessGear(train, a, true, o);
+  const Gear g2 = MakeStiffnessGear(train, b, internal, o);
+  const double dist = (GearCentre(train, a, 0) - GearCentre(train, b, 0)).norm();
+  try {
+    return GearPair(g1, g2, dist);
+  } catch (const std::invalid_argument& e) {
+    Fail("mesh '" + m.name + "': " + e.what() +
+         " (give profile shifts or addendum coefficients as member overrides)");
+  }
+}
 
 std::vector<std::vector<double>> CalcStageMeshPhases(const PlanetaryTrain& train, int stage,
                                                      const std::vector<bool>& drive,
@@ -175,6 +249,21 @@ TrainModel BuildTrainModel(const PlanetaryTrain& train, int range, const TrainMo
   for (const auto& [name, ov] : o.meshes)
     if (!train.mesh_by_name.count(name)) Fail("mesh override '" + name + "' names no mesh");
   if (o.two_sided_contact && !(o.backlash_m >= 0)) Fail("backlash must be >= 0");
+  if (o.tvms_samples_per_cycle < 2) Fail("tvms_samples_per_cycle must be >= 2");
+  // Tooth faults: train gear index per fault.
+  std::vector<int> fault_gear;
+  for (const TrainToothFault& f : o.tooth_faults) {
+    int g = -1;
+    for (int k = 0; k < static_cast<int>(train.gears.size()); ++k)
+      if (train.gears[k].name == f.gear) g = k;
+    if (g < 0) Fail("tooth fault on '" + f.gear + "': no such gear");
+    const TrainGear& tg = train.gears[g];
+    if (tg.planet_set >= 0 && (f.branch < 0 || f.branch >= static_cast<int>(train.planet_sets[tg.planet_set].angles_rad.size())))
+      Fail("tooth fault on '" + f.gear + "': branch " + std::to_string(f.branch) + " out of range");
+    if (f.fault.tooth < 0 || f.fault.tooth >= tg.teeth)
+      Fail("tooth fault on '" + f.gear + "': tooth " + std::to_string(f.fault.tooth) + " out of range");
+    fault_gear.push_back(g);
+  }
 
   TrainModel tm;
   tm.train = std::make_shared<const PlanetaryTrain>(train);
@@ -185,8 +274,15 @@ TrainModel BuildTrainModel(const PlanetaryTrain& train, int range, const TrainMo
   tm.rotation_coordinate = torsional ? 0 : spatial ? 5 : 2;
 
   // Kinematics at the given speeds and at unit input speed (directions of the mesh phases).
+  if (!o.input_speed_functions.empty()) {
+    if (static_cast<int>(o.input_speed_functions.size()) != num_inputs)
+      Fail("input_speed_functions needs one function per train input (" + std::to_string(num_inputs) + ")");
+    if (!o.input_speeds_rad_s.empty()) Fail("give input_speeds_rad_s or input_speed_functions, not both");
+    if (o.input != TrainModelOptions::Input::kSpeed) Fail("input_speed_functions need Input::kSpeed");
+  }
   Eigen::VectorXd speeds = Eigen::VectorXd::Zero(num_inputs);
   for (int i = 0; i < static_cast<int>(o.input_speeds_rad_s.size()); ++i) speeds(i) = o.input_speeds_rad_s[i];
+  for (int i = 0; i < static_cast<int>(o.input_speed_functions.size()); ++i) speeds(i) = o.input_speed_functions[i].Value(0.0);
   tm.kinematics = SolvePlanetaryKinematics(train, range, speeds);
   Eigen::VectorXd unit = Eigen::VectorXd::Ones(num_inputs);
   if (speeds.cwiseAbs().maxCoeff() > 0) {
@@ -251,12 +347,13 @@ TrainModel BuildTrainModel(const PlanetaryTrain& train, int range, const TrainMo
     const double kr = ov.radial_bearing_stiffness_N_m.value_or(o.radial_bearing_stiffness_N_m);
     const double cr = ov.bearing_damping_N_s_m.value_or(o.bearing_damping_N_s_m);
     if (spatial) {
+      // A bearing, not a bushing: members spin past half a turn.
       const FrameIndex housing = b.AddFrame(m.name + "_housing", kWorldBody, Transform(Mat3::Identity(), origin));
-      BushingSpec bearing{.name = m.name + "_bearing", .frame_a = housing, .frame_b = b.body_frame(member_body[i])};
-      const double kt = ov.tilt_bearing_stiffness_N_m_rad.value_or(o.tilt_bearing_stiffness_N_m_rad);
-      bearing.stiffness.diagonal() << kr, kr, ov.axial_bearing_stiffness_N_m.value_or(o.axial_bearing_stiffness_N_m), kt, kt, 0;
-      bearing.damping.diagonal() << cr, cr, cr, 0, 0, 0;
-      b.AddBushing(bearing);
+      b.AddBearing({.name = m.name + "_bearing", .frame_a = housing, .frame_b = b.body_frame(member_body[i]),
+                    .radial_stiffness = kr,
+                    .axial_stiffness = ov.axial_bearing_stiffness_N_m.value_or(o.axial_bearing_stiffness_N_m),
+                    .tilt_stiffness = ov.tilt_bearing_stiffness_N_m_rad.value_or(o.tilt_bearing_stiffness_N_m_rad),
+                    .radial_damping = cr, .axial_damping = cr});
     } else if (!torsional) {
       for (int k = 0; k < 2; ++k)
         b.AddCoordinateSpring({.name = m.name + (k ? "_bearing_y" : "_bearing_x"), .joint = j,
@@ -290,18 +387,23 @@ TrainModel BuildTrainModel(const PlanetaryTrain& train, int range, const TrainMo
       // Planet bearings on the pin (seed 002 eq. 10; no torsional stiffness).
       const double kr = ov.radial_bearing_stiffness_N_m.value_or(o.radial_bearing_stiffness_N_m);
       const double cr = ov.bearing_damping_N_s_m.value_or(o.bearing_damping_N_s_m);
+      int bearing_index = -1;
       if (spatial) {
         const FrameIndex pin = b.AddFrame(name + "_pin", carrier, X_PF);
-        BushingSpec bearing{.name = name + "_bearing", .frame_a = pin, .frame_b = b.body_frame(body)};
-        const double kt = ov.tilt_bearing_stiffness_N_m_rad.value_or(o.tilt_bearing_stiffness_N_m_rad);
-        bearing.stiffness.diagonal() << kr, kr, ov.axial_bearing_stiffness_N_m.value_or(o.axial_bearing_stiffness_N_m), kt, kt, 0;
-        bearing.damping.diagonal() << cr, cr, cr, 0, 0, 0;
-        b.AddBushing(bearing);
+        bearing_index = static_cast<int>(b.draft().bearings.size());
+        b.AddBearing({.name = name + "_bearing", .frame_a = pin, .frame_b = b.body_frame(body),
+                      .radial_stiffness = kr,
+                      .axial_stiffness = ov.axial_bearing_stiffness_N_m.value_or(o.axial_bearing_stiffness_N_m),
+                      .tilt_stiffness = ov.tilt_bearing_stiffness_N_m_rad.value_or(o.tilt_bearing_stiffness_N_m_rad),
+                      .radial_damping = cr, .axial_damping = cr});
       } else if (!torsional) {
+        bearing_index = static_cast<int>(b.draft().coordinate_springs.size());
         for (int k = 0; k < 2; ++k)
           b.AddCoordinateSpring({.name = name + (k ? "_bearing_y" : "_bearing_x"), .joint = j,
                                  .coordinate = k, .stiffness = kr, .damping = cr});
       }
+      tm.planet_bearings.resize(train.planet_sets.size());
+      tm.planet_bearings[s].push_back(bearing_index);
     }
   }
 
@@ -356,16 +458,73 @@ TrainModel BuildTrainModel(const PlanetaryTrain& train, int range, const TrainMo
       const bool internal = m.kind == MeshKind::kInternal;
       const auto ito = o.meshes.find(m.name);
       const TrainMeshOverride ov = ito == o.meshes.end() ? TrainMeshOverride{} : ito->second;
-      // Mean stiffness: override, else the MESH STIFFNESS HOOK, else c_gamma b.
+      // Mean stiffness: override, else the MESH STIFFNESS HOOK, else c_gamma b; or from geometry.
       const double face = std::min(gear_params(a).face_width_m, gear_params(bb).face_width_m);
+      const bool given = ov.stiffness_N_m || ov.stiffness_table_N_m;
+      const MeshStiffnessSource source =
+          given ? MeshStiffnessSource::kGiven : ov.stiffness_source.value_or(o.mesh_stiffness_source);
       double k_mesh = ov.stiffness_N_m ? *ov.stiffness_N_m
                       : o.mesh_stiffness ? o.mesh_stiffness(train, mi, face)
                                          : o.mesh_stiffness_per_face_width_N_m2 * face;
       std::vector<double> table = ov.stiffness_table_N_m.value_or(std::vector<double>{});
+      // Faults on a gear of this mesh: (train gear, branch or -1 for every branch, fault).
+      struct MeshFault { int gear, branch; ToothFault fault; };
+      std::vector<MeshFault> faults;
+      for (size_t f = 0; f < o.tooth_faults.size(); ++f) {
+        const int g = fault_gear[f];
+        if (g != a && g != bb) continue;
+        faults.push_back({g, train.gears[g].planet_set >= 0 ? o.tooth_faults[f].branch : -1, o.tooth_faults[f].fault});
+      }
+      if (!faults.empty() && source != MeshStiffnessSource::kTvms)
+        Fail("mesh '" + m.name + "': tooth faults need the kTvms stiffness source");
+      for (const MeshFault& f : faults)
+        if (f.gear != faults[0].gear)
+          Fail("mesh '" + m.name + "': faults on both of its gears are not supported");
+      std::optional<GearPair> pair;
+      if (source != MeshStiffnessSource::kGiven) pair.emplace(MakeTrainGearPair(train, mi, o));
+      if (source == MeshStiffnessSource::kIso6336) k_mesh = CalcIso6336Stiffness(*pair, o.iso6336).c_gamma_alpha_n_per_m;
+      // TVMS tables per branch (one unless a planet is faulted): samples over `cycles` mesh cycles
+      // at psi_j = j / samples_per_cycle, read at u = u_P + sigma psi (see the header).
+      const int spc = o.tvms_samples_per_cycle;
+      const int fault_g = faults.empty() ? -1 : faults[0].gear;
+      const int cycles = fault_g < 0 ? 1 : train.gears[fault_g].teeth;
+      const double sigma = drive[k] ? 1.0 : -1.0;
+      auto tvms_table = [&](int branch) {
+        TvmsOptions to{.material1 = o.gear_material, .material2 = o.gear_material,
+                       .bore_radius1_m = RimRadius(train, a, o), .rim_radius2_m = RimRadius(train, bb, o),
+                       .samples_per_period = spc, .periods = cycles};
+        for (const MeshFault& f : faults) {
+          if (f.branch >= 0 && f.branch != branch) continue;
+          ToothFault tf = f.fault;
+          tf.gear = f.gear == a ? 1 : 2;
+          // Physical order (tooth e reaches P e-th as the phase grows) to CalcTvms' mesh order.
+          if (sigma < 0) tf.tooth = (cycles - tf.tooth) % cycles;
+          to.faults.push_back(tf);
+        }
+        const Tvms t = CalcTvms(*pair, to);
+        const double pb = pair->transverse_base_pitch_m();
+        const double u_p = (pair->pitch_point_m() - pair->contact_start_m()) / pb -
+                           0.5 * pair->face_width_m() * std::tan(pair->gear1().base_helix_angle_rad()) / pb;
+        std::vector<double> tab(static_cast<size_t>(cycles) * spc);
+        for (size_t j = 0; j < tab.size(); ++j) tab[j] = TvmsAt(t, spc, u_p + sigma * double(j) / spc);
+        return tab;
+      };
+      std::vector<std::vector<double>> branch_tables;  // (branches) when a planet is faulted
+      if (source == MeshStiffnessSource::kTvms) {
+        const bool planet_fault = fault_g >= 0 && train.gears[fault_g].planet_set >= 0;
+        if (planet_fault) {
+          for (int i = 0; i < st.num_planets; ++i) branch_tables.push_back(tvms_table(i));
+          table = branch_tables[0];
+        } else {
+          table = tvms_table(-1);
+        }
+      }
       const bool loaded = tm.power_flow.mesh_loaded[mi];
       if (!loaded) {
         k_mesh *= o.unloaded_mesh_stiffness_factor;
         for (double& x : table) x *= o.unloaded_mesh_stiffness_factor;
+        for (auto& t : branch_tables)
+          for (double& x : t) x *= o.unloaded_mesh_stiffness_factor;
       }
       if (!table.empty()) {
         k_mesh = 0;
@@ -386,7 +545,19 @@ TrainModel BuildTrainModel(const PlanetaryTrain& train, int range, const TrainMo
       const GearMeshSpec::Contact contact =
           o.two_sided_contact ? GearMeshSpec::Contact::kTwoSided
                               : (drive[k] ? GearMeshSpec::Contact::kLinearDrive : GearMeshSpec::Contact::kLinearCoast);
+      const int table_cycles = fault_g >= 0 ? cycles : ov.table_cycles.value_or(1);
+      // Phase of branch i: over Z_G cycles for a faulted central gear (one physical tooth meets
+      // every branch), else as derived.
+      auto branch_phase = [&](int i) {
+        if (ov.phase_cycles) return (*ov.phase_cycles)[i];
+        if (fault_g < 0 || train.gears[fault_g].planet_set >= 0) return phases[k][i];
+        const int ps = train.gears[internal ? a : bb].planet_set;
+        const double psi = train.planet_sets[ps].angles_rad[i] - train.planet_sets[ps].angles_rad[0];
+        const double p = std::fmod(phases[k][0] - cycles * psi / (2 * kPi), double(cycles));
+        return p < 0 ? p + cycles : p;
+      };
       for (int i = 0; i < st.num_planets; ++i) {
+        const std::vector<double>& tab = branch_tables.empty() ? table : branch_tables[i];
         GearMeshSpec spec{
             .name = m.name + "#" + std::to_string(i + 1), .gear_a = b.body_frame(gear_body(a, i)),
             .gear_b = b.body_frame(gear_body(bb, i)), .reference = reference,
@@ -394,9 +565,10 @@ TrainModel BuildTrainModel(const PlanetaryTrain& train, int range, const TrainMo
             .base_radius_a = gear_params(a).base_radius_m, .base_radius_b = gear_params(bb).base_radius_m,
             .working_pressure_angle = alpha[k], .base_helix_angle = beta_b, .internal_b = internal,
             .contact = contact, .backlash = o.two_sided_contact ? ov.backlash_m.value_or(o.backlash_m) : 0.0,
-            .stiffness = table.empty() ? k_mesh : 0.0, .stiffness_table = table,
-            .table_cycles = ov.table_cycles.value_or(1),
-            .phase = ov.phase_cycles ? (*ov.phase_cycles)[i] : phases[k][i],
+            .stiffness = tab.empty() ? k_mesh : 0.0, .stiffness_table = tab,
+            .table_cycles = table_cycles,
+            .phase_gear = fault_g == bb ? GearMeshSpec::PhaseGear::kB : GearMeshSpec::PhaseGear::kA,
+            .phase = branch_phase(i),
             .damping_ratio = ov.damping_ratio.value_or(o.mesh_damping_ratio),
             .ste_amplitudes = ov.ste_amplitudes_m.value_or(std::vector<double>{}),
             .ste_phases = ov.ste_phases_rad.value_or(std::vector<double>{}),
@@ -413,6 +585,11 @@ TrainModel BuildTrainModel(const PlanetaryTrain& train, int range, const TrainMo
         e.phase_cycles = spec.phase;
         e.loaded = loaded;
         e.phase_gear_speed = train.gears[a].speed_index;
+        e.stiffness_source = source;
+        e.stiffness_min_N_m = tab.empty() ? k_mesh : *std::min_element(tab.begin(), tab.end());
+        e.stiffness_max_N_m = tab.empty() ? k_mesh : *std::max_element(tab.begin(), tab.end());
+        e.table_cycles = table_cycles;
+        e.faulted_gear = fault_g;
         tm.meshes.push_back(e);
       }
     }
@@ -439,7 +616,9 @@ TrainModel BuildTrainModel(const PlanetaryTrain& train, int range, const TrainMo
     const JointIndex j = tm.member_joints[member];
     if (o.input == TrainModelOptions::Input::kSpeed) {
       b.AddDriver({.name = "drive_" + train.members[member].name, .joint = j, .coordinate = rot,
-                   .mode = DriverSpec::Mode::kSpeed, .function = TimeFunction::Constant(speeds(i))});
+                   .mode = DriverSpec::Mode::kSpeed,
+                   .function = o.input_speed_functions.empty() ? TimeFunction::Constant(speeds(i))
+                                                               : o.input_speed_functions[i]});
     } else if (o.input == TrainModelOptions::Input::kTorque && i == 0) {
       b.AddJointLoad({.name = "torque_" + train.members[member].name, .joint = j, .coordinate = rot,
                       .function = TimeFunction::Constant(o.input_torque_Nm)});
@@ -448,12 +627,80 @@ TrainModel BuildTrainModel(const PlanetaryTrain& train, int range, const TrainMo
                       .function = TimeFunction::Constant(tm.power_flow.port_torques_Nm(member))});
     }
   }
-  if (o.port_loads && load_scale != 0)
+  if (o.output_torque_Nm)
+    b.AddJointLoad({.name = "load_" + train.members[train.output].name, .joint = tm.member_joints[train.output],
+                    .coordinate = rot, .function = *o.output_torque_Nm});
+  else if (o.port_loads && load_scale != 0)
     b.AddJointLoad({.name = "load_" + train.members[train.output].name, .joint = tm.member_joints[train.output],
                     .coordinate = rot, .function = TimeFunction::Constant(tm.power_flow.port_torques_Nm(train.output))});
 
   tm.model = std::move(b).Finalize();
   return tm;
+}
+
+State SolveTrainStaticState(const TrainModel& tm, const State& guess, int max_iterations) {
+  const Model& m = *tm.model;
+  State x = guess;
+  Data d(m);
+  const Eigen::VectorXd zero_a = Eigen::VectorXd::Zero(m.nv);
+  const Eigen::VectorXd zero_l = Eigen::VectorXd::Zero(m.n_constraints);
+  double r0 = -1, r = 0;
+  for (int it = 0; it <= max_iterations; ++it) {
+    // Residual on the free coordinates: T^T (C - Q) at zero acceleration.
+    EvaluateDynamics(m, x.t, x.q, x.v, zero_a, d);
+    const LinearModel lin = Linearize(m, x, zero_a, zero_l);
+    const Eigen::VectorXd rr = lin.T.transpose() * d.tau_id;
+    r = rr.lpNorm<Eigen::Infinity>();
+    if (r0 < 0) r0 = r;
+    if (r <= 1e-9 * r0 || r == 0) return x;
+    if (it == max_iterations) break;
+    // Newton step on the null-space coordinates.
+    const Eigen::VectorXd dx = lin.K_r.colPivHouseholderQr().solve(-rr);
+    const Eigen::VectorXd dq = lin.T * dx;
+    IntegratePositions(m, dq, x.q);
+  }
+  throw std::runtime_error("train model: static equilibrium not found (residual " + std::to_string(r) +
+                           " of initial " + std::to_string(r0) + " after " + std::to_string(max_iterations) +
+                           " Newton iterations)");
+}
+
+std::vector<double> CalcPlanetPinForces(const TrainModel& tm, const State& x, Data& data) {
+  std::vector<double> out;
+  if (tm.dofs == TrainDofs::kTorsional) return out;
+  const Model& m = *tm.model;
+  CalcPositionKinematics(m, x.q, data);
+  CalcVelocityKinematics(m, x.v, data);
+  for (size_t s = 0; s < tm.planet_bearings.size(); ++s) {
+    for (int idx : tm.planet_bearings[s]) {
+      if (tm.dofs == TrainDofs::kPlanar) {
+        // x and y coordinate springs of the planet joint.
+        double f2 = 0;
+        for (int k = 0; k < 2; ++k) {
+          const CoordinateSpringSpec& cs = m.coordinate_springs[idx + k];
+          const double f = cs.stiffness * (x.q(m.coordinate_spring_q_index[idx + k]) - cs.q0) +
+                           cs.damping * x.v(m.coordinate_spring_v_index[idx + k]);
+          f2 += f * f;
+        }
+        out.push_back(std::sqrt(f2));
+        continue;
+      }
+      // Spatial: the bearing's radial spring-damper force in the pin frame's axes (as in
+      // force_elements.cpp).
+      const BearingSpec& bs = m.bearings[idx];
+      const BodyIndex ba = m.frames[bs.frame_a].body, bb = m.frames[bs.frame_b].body;
+      const Transform& Xa = data.X_WFrame[bs.frame_a];
+      const Transform& Xb = data.X_WFrame[bs.frame_b];
+      const Vec3 delta = Xb.p - Xa.p;
+      const Vec3 w_a = data.V_WB[ba].head<3>();
+      const Vec3 delta_dot = PointVelocity(data.V_WB[bb], Xb.p) - PointVelocity(data.V_WB[ba], Xa.p);
+      const Vec3 d = Xa.R.transpose() * delta;
+      const Vec3 d_dot = Xa.R.transpose() * (delta_dot - w_a.cross(delta));
+      const double fx = bs.radial_stiffness * d.x() + bs.radial_damping * d_dot.x();
+      const double fy = bs.radial_stiffness * d.y() + bs.radial_damping * d_dot.y();
+      out.push_back(std::hypot(fx, fy));
+    }
+  }
+  return out;
 }
 
 }  // namespace orrery::gears

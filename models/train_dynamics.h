@@ -9,9 +9,10 @@
 //              carrier inertia of eq. 7a, I_c + n I_p + n M_p r_cp^2, comes out of the tree);
 //   planar:    3 DOF per member (planar joints, x y bearing springs), planets 3 DOF on the carrier
 //              (Lin & Parker 1999);
-//   spatial:   6 DOF per member (free joints, 6-DOF bearing bushings to the housing), planets on
-//              6-DOF pin bushings (seed 002 eqs. 7-11; the long planet of a Ravigneaux stage is
-//              modelled in one transverse plane).
+//   spatial:   6 DOF per member (free joints, bearings to the housing: radial, axial and tilt
+//              springs with free spin, BearingSpec), planets on such bearings on their pins
+//              (seed 002 eqs. 7-11; the long planet of a Ravigneaux stage is modelled in one
+//              transverse plane).
 // Mesh deflections. The mesh element (GearMeshSpec in mbd/model.h) measures gear angles relative
 // to the carrier, so the sun-planet deflection is r_s (th_s - th_c) + r_p (th_p - th_c): seed 001
 // eq. 7's delta_spi = r_s th_s - r_cp th_c + r_p th_pic with th_pic read as the absolute planet
@@ -66,7 +67,38 @@
 //   carriers: a crude default (steel disc of the planet tip circle radius, thickness b): give the
 //             real value as an override;
 //   mesh stiffness: MESH STIFFNESS HOOK, `mesh_stiffness` (a callable; the ISO 6336 / TVMS value of
-//             mesh_stiffness.h plugs in here), else c_gamma b with `mesh_stiffness_per_face_width`.
+//             mesh_stiffness.h plugs in here), else c_gamma b with `mesh_stiffness_per_face_width`;
+//             or from the gear geometry, see "Mesh stiffness from geometry" below.
+//
+// Mesh stiffness from geometry (`mesh_stiffness_source`, per mesh `stiffness_source`):
+//   kGiven:   as above (override, hook, c_gamma b).
+//   kIso6336: ISO 6336-1 c_gamma_alpha b of the mesh's GearPair (mesh_stiffness.h).
+//   kTvms:    the potential-energy TVMS of the GearPair (CalcTvms) as GearMeshSpec::stiffness_table
+//             over one mesh cycle, `tvms_samples_per_cycle` samples per cycle; with a tooth fault
+//             (`tooth_faults`) on one gear G of the mesh, over Z_G cycles (one turn of G relative
+//             to the carrier) with GearMeshSpec::phase_gear = G.
+//   Explicit per-mesh stiffness_N_m / stiffness_table_N_m overrides win over every source.
+//   GearPair of a train mesh: gear 1 is the spec's gear a (the sun of a sun-planet mesh, the
+//   planet of a ring-planet mesh), gear 2 gear b, at the train's centre distance (pin radius);
+//   module, pressure and helix angle from the train's tooth forms; profile shift 0 unless given
+//   (TrainMemberOverride::profile_shift, ISO 21771 sign); external gears take the tooth form's
+//   addendum, ring gears `ring_addendum_coefficient` (default 0.9: a standard 1.0 m_n ring tip
+//   reaches into the root fillet of an 18-tooth planet, which GearPair rejects, seed 001); face
+//   widths, bores (bore_to_pitch_ratio) and ring rims (ring_rim_modules) as for the inertias.
+//   Helix hands: gear 1 right-hand, gear 2 left (external) or right (internal); the stiffness
+//   does not depend on the hand, and the model's helix signs are set as described above.
+//   Table phase (CalcTvms samples pair 0 from the start of the contact path, s_0; the mesh phase
+//   is 0 when a pair of the loaded flank is at the pitch point P): at mesh phase psi the TVMS is
+//   read at gear-1 cycles u = (s_P - s_0) / p_bt - b tan(beta_b) / (2 p_bt) + sigma psi, sigma = +1
+//   drive flank, -1 coast flank (gear a turning +z drives on its drive flank: the contact runs
+//   from T1 towards the tip of gear 1; on the coast flank it runs back), i.e. phase 0 puts a
+//   pair at P in the mid-face transverse section.
+//   Faulty teeth: tooth e of a faulted gear G is the e-th tooth of G to reach the pitch point of
+//   the mesh as the mesh phase grows, tooth 0 the one at the pitch point at phase 0 (for a central
+//   gear: at phase 0 of branch 0, so one physical tooth meets every branch; the branch-n phase
+//   over Z_G cycles is phase_0 - Z_G psi_n / 2 pi mod Z_G, psi_n - psi_0 the planet angle). A
+//   faulted planet (TrainToothFault::branch) numbers its teeth per mesh: the sun-side and
+//   ring-side flanks are not tied to one physical tooth (not modelled).
 //
 // Usage:
 //   auto train = MakeSeed001AutomaticTransmission();
@@ -75,6 +107,11 @@
 //   o.input_torque_Nm = 300;
 //   TrainModel tm = BuildTrainModel(*train, train->RangeIndex("1st"), o);
 //   State x0 = State::Initial(*tm.model);  // members at their kinematic speeds
+//   State x_static = SolveTrainStaticState(tm, x0);  // loads carried, no start-up step response
+// Seed 002 start-up with TVMS meshes (tests/models/seed002_test.cpp):
+//   o.dofs = TrainDofs::kSpatial;  o.input = TrainModelOptions::Input::kSpeed;
+//   o.input_speed_functions = {TimeFunction::Trapezoid(0, 2.094, 0, 0.2, 0.04, 0.04, 0.6)};
+//   o.mesh_stiffness_source = MeshStiffnessSource::kTvms;
 #include <functional>
 #include <memory>
 #include <optional>
@@ -82,7 +119,11 @@
 #include <unordered_map>
 #include <vector>
 
+#include "mbd/data.h"
 #include "mbd/model.h"
+#include "mbd/state.h"
+#include "mbd/time_function.h"
+#include "models/mesh_stiffness.h"
 #include "models/planetary_kinematics.h"
 #include "models/planetary_power_flow.h"
 #include "models/planetary_train.h"
@@ -90,6 +131,16 @@
 namespace orrery::gears {
 
 enum class TrainDofs { kTorsional, kPlanar, kSpatial };
+
+// Where a mesh's stiffness comes from (see "Mesh stiffness from geometry" above).
+enum class MeshStiffnessSource { kGiven, kIso6336, kTvms };
+
+// A tooth fault on one gear of the train (kTvms meshes only).
+struct TrainToothFault {
+  std::string gear;   // train gear name: "S1.sun", "S1.planet", "S1.ring", ...
+  int branch = 0;     // planets: the branch (0-based) whose planet is faulted; central gears: unused
+  ToothFault fault;   // kind, tooth (numbered as above), crack or missing fraction; `gear` ignored
+};
 
 // Per member ("S1.sun", "S1.carrier") or per planet set ("S1.planet"): every field replaces the
 // derived value.
@@ -108,6 +159,8 @@ struct TrainMemberOverride {
   std::optional<double> ground_torsional_stiffness_N_m_rad;  // a spring to ground in every range
                                                              // (seed 001 k_jg; Lin & Parker's ring)
   std::optional<double> brake_stiffness_N_m_rad;   // when a brake on this member is engaged
+  std::optional<double> profile_shift;             // gears: x (ISO 21771), stiffness geometry
+  std::optional<double> addendum_coefficient;      // gears: h_a*, stiffness geometry
 };
 
 // Per train mesh ("S1.sun-planet", "S1.ring-planet", ...), applied to all of its branches.
@@ -122,6 +175,8 @@ struct TrainMeshOverride {
   std::optional<std::vector<double>> ste_phases_rad;
   std::optional<GearMeshSpec::Contact> contact;         // replaces the power-flow flank
   std::optional<std::vector<double>> phase_cycles;      // per branch, replaces the derived phase
+                                                        // (over table_cycles cycles)
+  std::optional<MeshStiffnessSource> stiffness_source;  // replaces mesh_stiffness_source
 };
 
 struct TrainModelOptions {
@@ -133,6 +188,14 @@ struct TrainModelOptions {
   // port_loads is set.
   enum class Input { kNone, kTorque, kSpeed } input = Input::kTorque;
   std::vector<double> input_speeds_rad_s;  // one per train input (empty: at rest)
+  // kSpeed: one speed profile per input (e.g. TimeFunction::Trapezoid, seed 002 Fig. 3) replacing
+  // the constant speeds; the initial speeds are their values at t = 0 (input_speeds_rad_s must
+  // then be empty).
+  std::vector<TimeFunction> input_speed_functions;
+  // Load torque on the output member (N m, sign as PlanetaryPowerFlow::port_torques_Nm) as a
+  // function of time, replacing the power-flow constant (e.g. a load step). Applied even when
+  // port_loads is false.
+  std::optional<TimeFunction> output_torque_Nm;
   double input_torque_Nm = 0;              // on train.inputs[0]; also sets the power flow
   bool port_loads = true;
 
@@ -150,6 +213,12 @@ struct TrainModelOptions {
   std::function<double(const PlanetaryTrain&, int mesh, double face_width_m)> mesh_stiffness;
   double mesh_stiffness_per_face_width_N_m2 = 2e10;
   double unloaded_mesh_stiffness_factor = 1e-12;  // seed 001: unloaded meshes "very small"; 1 keeps
+  MeshStiffnessSource mesh_stiffness_source = MeshStiffnessSource::kGiven;
+  int tvms_samples_per_cycle = 64;                // kTvms table samples per mesh cycle
+  double ring_addendum_coefficient = 0.9;         // h_a* of ring gears in the stiffness geometry
+  GearMaterial gear_material;                     // TVMS (both gears)
+  Iso6336Options iso6336;                         // kIso6336
+  std::vector<TrainToothFault> tooth_faults;      // kTvms meshes of the faulted gear
   double mesh_damping_ratio = 0;                  // time-domain runs (GearMeshSpec::damping_ratio)
 
   // Contact: linear on the loaded flank (the operating point), or two-sided with backlash.
@@ -192,6 +261,10 @@ struct TrainMeshElement {
   double phase_cycles = 0;       // GearMeshSpec::phase
   bool loaded = false;           // power flow
   int phase_gear_speed = -1;     // speed index of the spec's gear a (phase advances with it)
+  MeshStiffnessSource stiffness_source = MeshStiffnessSource::kGiven;
+  double stiffness_min_N_m = 0, stiffness_max_N_m = 0;  // over the table (= mean if constant)
+  int table_cycles = 1;          // GearMeshSpec::table_cycles
+  int faulted_gear = -1;         // train gear index of a faulted gear of this mesh, or -1
 };
 
 // Filled by BuildTrainModel.
@@ -209,6 +282,10 @@ struct TrainModel {
   std::vector<TrainBodyParams> member_params;        // (members)
   std::vector<TrainBodyParams> planet_params;        // (planet sets)
   std::vector<TrainMeshElement> meshes;              // (model meshes), in Model order
+  std::vector<std::vector<int>> planet_bearings;     // (planet sets) x (branches): index into
+                                                     // Model::bearings (spatial) or of the x spring
+                                                     // in Model::coordinate_springs (planar); -1
+                                                     // torsional
   int rotation_coordinate = 0;  // index of the spin within a member joint's velocities (0, 2, 5)
 };
 
@@ -217,6 +294,24 @@ struct TrainModel {
 // base radius override, an override key that names nothing), std::runtime_error from the
 // kinematics or power flow (an indeterminate range).
 TrainModel BuildTrainModel(const PlanetaryTrain& train, int range, const TrainModelOptions& options);
+
+// GearPair of train mesh `mesh` with the geometry described above ("Mesh stiffness from
+// geometry"). Throws std::invalid_argument naming the mesh if a gear has no tooth form or
+// GearPair rejects the geometry (with GearPair's reason).
+GearPair MakeTrainGearPair(const PlanetaryTrain& train, int mesh, const TrainModelOptions& options);
+
+// Static equilibrium at time `guess.t` with the velocities of `guess` held (accelerations 0, so
+// centrifugal terms at a constant speed are balanced): Newton's method on the free coordinates
+// (the null space of the constraint Jacobian; speed-driven coordinates keep their values), the
+// stiffness from Linearize. Starting a run from it avoids the step response of loads applied to
+// an undeformed train. Throws std::runtime_error if the residual does not fall below 1e-9 of the
+// initial one within max_iterations.
+State SolveTrainStaticState(const TrainModel& model, const State& guess, int max_iterations = 30);
+
+// Planet-pin bearing forces (N): magnitude of the transverse (radial-plane) spring-damper force of
+// every planet bearing at `state` (seed 002's p-c pair), in (planet sets) x (branches) order,
+// flattened; empty for the torsional DOF set. Runs position and velocity kinematics in `data`.
+std::vector<double> CalcPlanetPinForces(const TrainModel& model, const State& state, Data& data);
 
 // Mesh phases of one stage's meshes in GearMeshSpec convention (see above), per train mesh of the
 // stage (in Stage::meshes order) and branch, from the planet angles, tooth counts, flanks
