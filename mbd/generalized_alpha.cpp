@@ -203,7 +203,16 @@ class GeneralizedAlpha final : public Integrator {
       lambda_new_ -= delta_.tail(nc);
       UpdateKinematics(h);
       previous = increment;
-      if (increment <= options_.newton_tolerance * std::max(1.0, vdot_new_.lpNorm<Eigen::Infinity>())) {
+      // Converged when the increment is small against the accelerations, or when it no longer
+      // moves positions and velocities beyond their rounding (stiff springs of 1e8-1e10 on
+      // angles of many radians leave a residual floor of eps |q| k).
+      const double ca = (1 - af_) / (1 - am_);
+      constexpr double kRound = 64 * std::numeric_limits<double>::epsilon();
+      const bool at_rounding =
+          beta_ * ca * h * h * increment <= kRound * std::max(1.0, q_new_.lpNorm<Eigen::Infinity>()) &&
+          gamma_ * ca * h * increment <= kRound * std::max(1.0, v_new_.lpNorm<Eigen::Infinity>());
+      if (increment <= options_.newton_tolerance * std::max(1.0, vdot_new_.lpNorm<Eigen::Infinity>()) ||
+          at_rounding) {
         norm = Residual(t, h);
         converged = true;
       }
