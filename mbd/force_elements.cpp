@@ -14,6 +14,27 @@ inline void AddBodyForce(Data& data, BodyIndex b, const Vec6& f) {
   if (b != kWorldBody) data.f_ext[b] += f;
 }
 
+// Motion of frame B relative to frame A, in A's axes: translation of B's origin and its rate
+// (as seen from A), B's orientation, and the relative angular velocity. Shared by the bushing
+// and the bearing.
+struct RelativeMotion {
+  const Transform& Xa;
+  const Transform& Xb;
+  Vec3 d, d_dot, w_rel;  // A axes
+  Mat3 R_AB;
+};
+RelativeMotion CalcRelativeMotion(const Model& model, const Data& data, FrameIndex fa, FrameIndex fb) {
+  const Transform& Xa = data.X_WFrame[fa];
+  const Transform& Xb = data.X_WFrame[fb];
+  const Vec6& Va = data.V_WB[model.frames[fa].body];
+  const Vec6& Vb = data.V_WB[model.frames[fb].body];
+  const Vec3 delta = Xb.p - Xa.p;
+  const Vec3 delta_dot = PointVelocity(Vb, Xb.p) - PointVelocity(Va, Xa.p);
+  const Mat3 RaT = Xa.R.transpose();
+  return {Xa, Xb, RaT * delta, RaT * (delta_dot - Va.head<3>().cross(delta)),
+          RaT * (Vb.head<3>() - Va.head<3>()), RaT * Xb.R};
+}
+
 }  // namespace
 
 void CalcForceElements(const Model& model, double t, const Eigen::Ref<const Eigen::VectorXd>& v,
@@ -90,36 +111,27 @@ void CalcForceElements(const Model& model, double t, const Eigen::Ref<const Eige
   // 6-DOF bushings: deflection of B relative to A in A's axes.
   for (const BushingSpec& s : model.bushings) {
     const BodyIndex ba = model.frames[s.frame_a].body, bb = model.frames[s.frame_b].body;
-    const Transform& Xa = data.X_WFrame[s.frame_a];
-    const Transform& Xb = data.X_WFrame[s.frame_b];
-    const Mat3& Ra = Xa.R;
-    const Vec3 delta = Xb.p - Xa.p;
-    const Vec3 w_a = data.V_WB[ba].head<3>(), w_b = data.V_WB[bb].head<3>();
-    const Vec3 delta_dot = PointVelocity(data.V_WB[bb], Xb.p) - PointVelocity(data.V_WB[ba], Xa.p);
+    const RelativeMotion r = CalcRelativeMotion(model, data, s.frame_a, s.frame_b);
     Vec6 d, d_dot;
-    d << Ra.transpose() * delta, RotationVector(Ra.transpose() * Xb.R);
-    d_dot << Ra.transpose() * (delta_dot - w_a.cross(delta)), Ra.transpose() * (w_b - w_a);
+    d << r.d, RotationVector(r.R_AB);
+    d_dot << r.d_dot, r.w_rel;
     const Vec6 w_A = -s.stiffness * d - s.damping * d_dot;  // (force, torque) in A axes
     energy += 0.5 * d.dot(s.stiffness * d);
     dissipated += d_dot.dot(s.damping * d_dot);
-    const Vec6 f = ForceAtPoint(Xb.p, Ra * w_A.head<3>(), Ra * w_A.tail<3>());
+    const Mat3& Ra = r.Xa.R;
+    const Vec6 f = ForceAtPoint(r.Xb.p, Ra * w_A.head<3>(), Ra * w_A.tail<3>());
     AddBodyForce(data, bb, f);
     AddBodyForce(data, ba, -f);
   }
   // Bearings: radial/axial springs on B's displacement in A's axes, tilt springs on z_A x z_B.
   for (const BearingSpec& s : model.bearings) {
     const BodyIndex ba = model.frames[s.frame_a].body, bb = model.frames[s.frame_b].body;
-    const Transform& Xa = data.X_WFrame[s.frame_a];
-    const Transform& Xb = data.X_WFrame[s.frame_b];
-    const Mat3& Ra = Xa.R;
-    const Vec3 delta = Xb.p - Xa.p;
-    const Vec3 w_a = data.V_WB[ba].head<3>(), w_b = data.V_WB[bb].head<3>();
-    const Vec3 delta_dot = PointVelocity(data.V_WB[bb], Xb.p) - PointVelocity(data.V_WB[ba], Xa.p);
-    const Vec3 d = Ra.transpose() * delta;
-    const Vec3 d_dot = Ra.transpose() * (delta_dot - w_a.cross(delta));
-    const Vec3 zb_A = Ra.transpose() * Xb.R.col(2);
+    const RelativeMotion r = CalcRelativeMotion(model, data, s.frame_a, s.frame_b);
+    const Vec3& d = r.d;
+    const Vec3& d_dot = r.d_dot;
+    const Vec3 zb_A = r.R_AB.col(2);
     const Vec3 tilt(-zb_A.y(), zb_A.x(), 0.0);  // e_z x z_B in A's axes
-    Vec3 tilt_rate = Ra.transpose() * (w_b - w_a);
+    Vec3 tilt_rate = r.w_rel;
     tilt_rate.z() = 0;
     const Vec3 k(s.radial_stiffness, s.radial_stiffness, s.axial_stiffness);
     const Vec3 c(s.radial_damping, s.radial_damping, s.axial_damping);
@@ -127,7 +139,7 @@ void CalcForceElements(const Model& model, double t, const Eigen::Ref<const Eige
     const Vec3 m_A = -(s.tilt_stiffness * tilt + s.tilt_damping * tilt_rate);
     energy += 0.5 * d.dot(k.cwiseProduct(d)) + 0.5 * s.tilt_stiffness * tilt.squaredNorm();
     dissipated += d_dot.dot(c.cwiseProduct(d_dot)) + s.tilt_damping * tilt_rate.squaredNorm();
-    const Vec6 f = ForceAtPoint(Xb.p, Ra * f_A, Ra * m_A);
+    const Vec6 f = ForceAtPoint(r.Xb.p, r.Xa.R * f_A, r.Xa.R * m_A);
     AddBodyForce(data, bb, f);
     AddBodyForce(data, ba, -f);
   }
