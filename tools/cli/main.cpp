@@ -5,6 +5,7 @@
 //   orrery inspect OUT.h5
 //   orrery kinematics SCENE [--json] [--range NAME] [--set key=value ...]
 //   orrery modes SCENE [--json] [--set key=value ...]
+//   orrery fe-modes MESH.inp --E PA --nu NU --rho KG_M3 [--fix NODESET ...] --modes N [--json]
 //   orrery --version
 //
 // Exit codes: 0 success, 1 runtime failure, 2 bad usage, 128 + signal when interrupted.
@@ -19,6 +20,7 @@
 #include <CLI/CLI.hpp>
 
 #include "tools/cli/error_message.h"
+#include "tools/cli/fe_modes_command.h"
 #include "tools/cli/inspect_command.h"
 #include "tools/cli/kinematics_command.h"
 #include "tools/cli/modes_command.h"
@@ -43,6 +45,22 @@ const CLI::Validator kPositiveSeconds(
       return "";
     },
     "SECONDS > 0");
+
+// A finite number > 0 (material constants of fe-modes)
+const CLI::Validator kPositiveValue(
+    [](std::string& text) -> std::string {
+      std::size_t used = 0;
+      double value = 0;
+      try {
+        value = std::stod(text, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used != text.size() || used == 0 || !(value > 0) || !std::isfinite(value))
+        return "must be a number > 0, got '" + text + "'";
+      return "";
+    },
+    "VALUE > 0");
 
 int Main(int argc, char** argv) {
   CLI::App app{"Orrery: multibody dynamics engine", "orrery"};
@@ -87,6 +105,17 @@ int Main(int argc, char** argv) {
   modes->add_option("--set", modes_args.overrides, "Scene override key.path=value (repeatable)")
       ->allow_extra_args(false);
 
+  // orrery fe-modes
+  FeModesArgs fe_args;
+  CLI::App* fe_modes = app.add_subcommand("fe-modes", "Natural frequencies of an FE mesh (.inp)");
+  fe_modes->add_option("mesh", fe_args.mesh_path, "Mesh file (Abaqus/CalculiX .inp)")->required();
+  fe_modes->add_option("--E", fe_args.youngs_modulus_pa, "Young's modulus (Pa)")->check(kPositiveValue);
+  fe_modes->add_option("--nu", fe_args.poissons_ratio, "Poisson's ratio")->check(CLI::Range(-1.0, 0.5));
+  fe_modes->add_option("--rho", fe_args.density_kg_m3, "Density (kg/m^3)")->check(kPositiveValue);
+  fe_modes->add_option("--fix", fe_args.fixed_node_sets, "Node set held fixed (repeatable)")->allow_extra_args(false);
+  fe_modes->add_option("--modes", fe_args.num_modes, "Number of modes")->required()->check(CLI::Range(1, 100000));
+  fe_modes->add_flag("--json", fe_args.json, "Write JSON to stdout");
+
   // Parse: help and version go to stdout, any other problem is one line on stderr
   try {
     app.parse(argc, argv);
@@ -97,7 +126,7 @@ int Main(int argc, char** argv) {
     const std::vector<std::string> stray = app.remaining();
     if (app.get_subcommands().empty() && !stray.empty() && !stray.front().empty())
       reason = stray.front().front() == '-' ? "unknown option '" + stray.front() + "'"
-                                            : "unknown command '" + stray.front() + "' (expected run, inspect, kinematics or modes)";
+                                            : "unknown command '" + stray.front() + "' (expected run, inspect, kinematics, modes or fe-modes)";
     ReportError(std::cerr, reason + "; see orrery --help");
     return kExitUsage;
   }
@@ -110,6 +139,7 @@ int Main(int argc, char** argv) {
   }
   if (kinematics->parsed()) return KinematicsCommand(kinematics_args, std::cout, std::cerr);
   if (modes->parsed()) return ModesCommand(modes_args, std::cout, std::cerr);
+  if (fe_modes->parsed()) return FeModesCommand(fe_args, std::cout, std::cerr);
   return InspectCommand(inspect_args, std::cout, std::cerr);
 }
 
