@@ -3,7 +3,8 @@
 //
 // Method: Spectra's SymGEigsShiftSolver in shift-invert mode (implicitly restarted Lanczos on
 // (K - sigma M)^-1 M, eigenvalues nu = 1 / (w^2 - sigma)) with SparseLdltShiftInvert
-// (sparse LDL^T of K - sigma M). The default shift is negative,
+// (CHOLMOD's supernodal Cholesky of K - sigma M, or a sparse LDL^T where that matrix is not
+// positive definite). The default shift is negative,
 //   sigma = -1e-6 * trace(K) / trace(M),
 // i.e. a millionth of the mesh's mean diagonal ratio (about its highest eigenvalue), so
 // K - sigma M is positive definite also for a free-free mesh (6 zero eigenvalues) with a
@@ -13,7 +14,8 @@
 // |sigma|) are reported as exactly 0 (their computed values are rounding noise of order
 // eps * cond * |sigma|); with the default tolerance 1e-6 a structure whose first flexible mode is
 // below 1e-3 times the highest requested frequency would be misread, so ask for enough modes.
-// Check: the LDL^T inertia at sigma must be 0 (no eigenvalue below the shift was skipped).
+// Check: no eigenvalue below the shift was skipped (a Cholesky factorization succeeding proves
+// it; the LDL^T fallback counts them by its inertia).
 //
 // Usage:
 //   FeSystem sys = AssembleFeSystem(mesh);
