@@ -373,6 +373,8 @@ class ModelBuilder {
   void CheckName(const std::string& kind, const std::string& name) const;
   void CheckFrame(const std::string& what, FrameIndex f) const;
   void CheckCoordinate(const std::string& what, JointIndex j, int coordinate) const;
+  void CheckGears(const std::string& what, FrameIndex gear_a, FrameIndex gear_b,
+                  FrameIndex reference, int teeth_a, int teeth_b) const;
 
   std::unique_ptr<Model> model_;
   std::vector<FrameIndex> body_frames_;

@@ -331,15 +331,20 @@ void ModelBuilder::AddBearing(const BearingSpec& spec) {
   model_->bearings.push_back(spec);
 }
 
+void ModelBuilder::CheckGears(const std::string& what, FrameIndex gear_a, FrameIndex gear_b,
+                              FrameIndex reference, int teeth_a, int teeth_b) const {
+  CheckFrame(what, gear_a);
+  CheckFrame(what, gear_b);
+  CheckFrame(what, reference);
+  if (model_->frames[gear_a].body == model_->frames[gear_b].body)
+    Fail(what + ": both gears are on the same body");
+  if (teeth_a < 1 || teeth_b < 1) Fail(what + ": tooth counts must be >= 1");
+}
+
 void ModelBuilder::AddGearMesh(const GearMeshSpec& spec) {
   CheckName("gear mesh", spec.name);
   const std::string what = "gear mesh '" + spec.name + "'";
-  CheckFrame(what, spec.gear_a);
-  CheckFrame(what, spec.gear_b);
-  CheckFrame(what, spec.reference);
-  if (model_->frames[spec.gear_a].body == model_->frames[spec.gear_b].body)
-    Fail(what + ": both gears are on the same body");
-  if (spec.teeth_a < 1 || spec.teeth_b < 1) Fail(what + ": tooth counts must be >= 1");
+  CheckGears(what, spec.gear_a, spec.gear_b, spec.reference, spec.teeth_a, spec.teeth_b);
   if (!(spec.backlash >= 0)) Fail(what + ": backlash must be >= 0, got " + std::to_string(spec.backlash));
   CheckSpring(what, spec.stiffness, spec.damping);
   if (!(spec.damping_ratio >= 0)) Fail(what + ": damping ratio must be >= 0");
@@ -358,12 +363,7 @@ void ModelBuilder::AddGearMesh(const GearMeshSpec& spec) {
 void ModelBuilder::AddGearConstraint(const GearConstraintSpec& spec) {
   CheckName("gear constraint", spec.name);
   const std::string what = "gear constraint '" + spec.name + "'";
-  CheckFrame(what, spec.gear_a);
-  CheckFrame(what, spec.gear_b);
-  CheckFrame(what, spec.reference);
-  if (model_->frames[spec.gear_a].body == model_->frames[spec.gear_b].body)
-    Fail(what + ": both gears are on the same body");
-  if (spec.teeth_a < 1 || spec.teeth_b < 1) Fail(what + ": tooth counts must be >= 1");
+  CheckGears(what, spec.gear_a, spec.gear_b, spec.reference, spec.teeth_a, spec.teeth_b);
   GearConstraint c;
   c.spec = spec;
   model_->gear_constraints.push_back(c);

@@ -30,37 +30,26 @@ namespace {
 
 using namespace orrery::cli;
 
-// A finite number > 0 (CLI11's PositiveNumber prints the whole range of double when it fails)
-const CLI::Validator kPositiveSeconds(
-    [](std::string& text) -> std::string {
-      std::size_t used = 0;
-      double value = 0;
-      try {
-        value = std::stod(text, &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (used != text.size() || used == 0 || !(value > 0) || !std::isfinite(value))
-        return "must be a number of seconds > 0, got '" + text + "'";
-      return "";
-    },
-    "SECONDS > 0");
-
-// A finite number > 0 (material constants of fe-modes)
-const CLI::Validator kPositiveValue(
-    [](std::string& text) -> std::string {
-      std::size_t used = 0;
-      double value = 0;
-      try {
-        value = std::stod(text, &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (used != text.size() || used == 0 || !(value > 0) || !std::isfinite(value))
-        return "must be a number > 0, got '" + text + "'";
-      return "";
-    },
-    "VALUE > 0");
+// A finite number > 0, with a message naming what it is (CLI11's PositiveNumber prints the
+// whole range of double when it fails).
+CLI::Validator PositiveNumber(const std::string& what, const std::string& label) {
+  return CLI::Validator(
+      [what](std::string& text) -> std::string {
+        std::size_t used = 0;
+        double value = 0;
+        try {
+          value = std::stod(text, &used);
+        } catch (const std::exception&) {
+          used = 0;
+        }
+        if (used != text.size() || used == 0 || !(value > 0) || !std::isfinite(value))
+          return "must be " + what + " > 0, got '" + text + "'";
+        return "";
+      },
+      label);
+}
+const CLI::Validator kPositiveSeconds = PositiveNumber("a number of seconds", "SECONDS > 0");
+const CLI::Validator kPositiveValue = PositiveNumber("a number", "VALUE > 0");
 
 int Main(int argc, char** argv) {
   CLI::App app{"Orrery: multibody dynamics engine", "orrery"};
