@@ -36,7 +36,7 @@ TrainModel Seed001FirstGear(const PlanetaryTrain& train) {
   const double rbp = train.gears[train.planet_sets[0].gear].base_radius_m;
   const double ip = rbp * rbp * 963e6 / std::pow(2 * kPi * 10.54e3, 2);
   for (int s = 0; s < 3; ++s) {
-    const std::string st = "S" + std::to_string(s + 1);
+    const std::string st = std::string("S").append(std::to_string(s + 1));  // (GCC 12 -Wrestrict false positive on "S" + string)
     o.members[st + ".planet"].polar_inertia_kg_m2 = ip;
     for (int m = 0; m < 2; ++m) {
       TrainMeshOverride& ov = o.meshes[st + (m == 0 ? ".sun-planet" : ".ring-planet")];
