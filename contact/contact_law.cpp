@@ -1,0 +1,56 @@
+#include "contact/contact_law.h"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace orrery::contact {
+
+void ValidateContactLaw(const ContactLaw& law) {
+  auto fail = [](const std::string& what, double value) {
+    throw std::invalid_argument("ContactLaw: " + what + ", got " + std::to_string(value));
+  };
+  if (!(law.stiffness_per_area > 0)) fail("stiffness_per_area must be > 0", law.stiffness_per_area);
+  if (!(law.exponent >= 1)) fail("exponent must be >= 1", law.exponent);
+  if (!(law.hunt_crossley_s_per_m >= 0)) fail("hunt_crossley_s_per_m must be >= 0", law.hunt_crossley_s_per_m);
+  if (!(law.friction_coefficient >= 0)) fail("friction_coefficient must be >= 0", law.friction_coefficient);
+  if (!(law.slip_velocity_m_s > 0)) fail("slip_velocity_m_s must be > 0", law.slip_velocity_m_s);
+}
+
+NodeForce EvaluateContactLaw(const ContactLaw& law, double depth, double depth_rate,
+                             const Vec3& n_W, const Vec3& v_rel_W, double area_weight) {
+  NodeForce out;
+  if (!(depth > 0)) return out;
+  // Elastic part and Hunt-Crossley damping, never pulling.
+  const double delta_e = law.exponent == 1.0 ? depth : std::pow(depth, law.exponent);
+  const double elastic = area_weight * law.stiffness_per_area * delta_e;
+  const double fn = elastic * std::max(0.0, 1.0 + law.hunt_crossley_s_per_m * depth_rate);
+  out.normal = fn;
+  out.energy = elastic * depth / (law.exponent + 1.0);
+  out.power_dissipated = (fn - elastic) * depth_rate;
+  out.f_W = fn * n_W;
+  // Regularized Coulomb friction against the tangential slip.
+  if (law.friction_coefficient > 0 && fn > 0) {
+    const Vec3 v_t = v_rel_W - v_rel_W.dot(n_W) * n_W;
+    const double speed = v_t.norm();
+    const double scale = law.friction_coefficient * fn /
+                         (speed < law.slip_velocity_m_s ? law.slip_velocity_m_s : speed);
+    const Vec3 f_t = -scale * v_t;
+    out.f_W += f_t;
+    out.friction = scale * speed;
+    out.power_dissipated += scale * speed * speed;
+  }
+  return out;
+}
+
+double HuntCrossleyFactorLankaraniNikravesh(double restitution, double impact_speed_m_s) {
+  if (!(restitution > 0 && restitution <= 1))
+    throw std::invalid_argument("HuntCrossleyFactorLankaraniNikravesh: restitution must be in "
+                                "(0, 1], got " + std::to_string(restitution));
+  if (!(impact_speed_m_s > 0))
+    throw std::invalid_argument("HuntCrossleyFactorLankaraniNikravesh: impact speed must be > 0, "
+                                "got " + std::to_string(impact_speed_m_s));
+  return 3.0 * (1.0 - restitution * restitution) / (4.0 * impact_speed_m_s);
+}
+
+}  // namespace orrery::contact

@@ -1,0 +1,56 @@
+#pragma once
+// Contact law at one node: penalty normal pressure with Hunt-Crossley damping and regularized
+// Coulomb friction, integrated over the node's area weight.
+//
+// The penalty is defined PER UNIT AREA (seed 000 eq. 20 integrates alpha_N over the contact
+// surface): with penetration delta = -g >= 0 and its rate delta_dot,
+//   pressure   p = k_A delta^e (1 + b delta_dot), clamped at p >= 0 (never pulling)
+//              e = 1: the linear penalty of seed 000 eq. 23 (k_A in N/m^3, the alpha_N of eq. 20);
+//              e = 1.5 (or any e >= 1): a Hertz-type exponent (k_A in N/m^(2+e));
+//              b: the Hunt-Crossley damping factor (s/m; Hunt & Crossley 1975: the damping force
+//              is b times the elastic force times delta_dot), chi = b k in Lankarani-Nikravesh's
+//              notation; HuntCrossleyFactorLankaraniNikravesh() sets it from a restitution;
+//   normal force F_N = A_w p, A_w the node's area weight (contact_surface.h),
+//   friction   F_T = -mu F_N v_t / v_s      for |v_t| < v_s (stiction regularized as a linear
+//                                            viscous ramp),
+//              F_T = -mu F_N v_t / |v_t|    for |v_t| >= v_s (Coulomb, seed 000 eq. 25),
+//   v_t the tangential slip velocity of the node relative to the face.
+// A flat contact of area A pressed by delta carries F = k_A A delta (e = 1) when both surfaces'
+// nodes cover the contact area (the two-way sum weighs each pass by 1/2, contact_element.h).
+//
+// Energy bookkeeping per node: elastic energy U = A_w k_A delta^(e+1) / (e+1); dissipated
+// power (F_N - A_w k_A delta^e) delta_dot (damping, also when the clamp acts) - F_T . v_t.
+#include "mbd/spatial.h"
+
+namespace orrery::contact {
+
+struct ContactLaw {
+  double stiffness_per_area = 0;    // k_A > 0: N/m^3 for e = 1, N/m^(2+e) in general
+  double exponent = 1.0;            // e >= 1
+  double hunt_crossley_s_per_m = 0; // b >= 0
+  double friction_coefficient = 0;  // mu >= 0
+  double slip_velocity_m_s = 1e-3;  // v_s > 0
+};
+
+// Throws std::invalid_argument naming the offending value.
+void ValidateContactLaw(const ContactLaw& law);
+
+struct NodeForce {
+  Vec3 f_W = Vec3::Zero();   // total force on the node side (normal + friction), world
+  double normal = 0;         // F_N >= 0
+  double friction = 0;       // |F_T|
+  double energy = 0;         // J, elastic energy
+  double power_dissipated = 0;  // W, >= 0
+};
+
+// depth = -g (> 0), depth_rate = d(depth)/dt, n_W the face normal (points towards the node
+// side), v_rel_W the velocity of the node relative to the face's material point, area_weight
+// the node's weight (m^2).
+NodeForce EvaluateContactLaw(const ContactLaw& law, double depth, double depth_rate,
+                             const Vec3& n_W, const Vec3& v_rel_W, double area_weight);
+
+// Lankarani & Nikravesh (1990, J. Mech. Des. 112:369, eq. 20): b = 3 (1 - e_r^2) / (4 v0) for a
+// coefficient of restitution e_r at impact speed v0 (derived for e_r near 1).
+double HuntCrossleyFactorLankaraniNikravesh(double restitution, double impact_speed_m_s);
+
+}  // namespace orrery::contact

@@ -1,0 +1,74 @@
+#pragma once
+// A rigid contact surface: a triangle mesh held in its body's frame B (tooth flanks, tips and
+// fillets, or any surface), split into parts (for example one per tooth) that the broad phase
+// culls separately. Built once; everything the step needs is precomputed here:
+//   - face unit normals (right-hand rule, out of the material),
+//   - vertex area weights A_i = sum over incident triangles of area / 3 (the nodal quadrature
+//     weights of the contact pressure integral, seed 000 eq. 20: sum_i A_i = surface area),
+//   - area-weighted vertex normals,
+//   - boundary-edge flags (an edge used by one triangle only: the rim of an open surface),
+//   - the culling geometry (FCL bounding-volume hierarchies per part, inflated by the margin;
+//     built by candidate_pairs.cpp, opaque here).
+//
+// margin_m: the contact search lists every triangle pair closer than this (candidate_pairs.h),
+// so it bounds the penetration that can be seen; choose it above the largest expected
+// penetration (penalty contacts: F_max / (k_A A) plus the motion slack) and well below the
+// tooth size.
+//
+// Usage:
+//   auto flank = std::make_shared<const ContactSurface>(
+//       std::vector{gears::MakeFlankMesh(gear, 0, true, 24, 8)}, 50e-6);
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "mbd/spatial.h"
+#include "models/triangle_mesh.h"
+
+namespace orrery::contact {
+
+class CullingGeometry;  // candidate_pairs.cpp
+
+class ContactSurface {
+ public:
+  // parts: at least one non-empty mesh, vertices in the body frame (m). Throws
+  // std::invalid_argument for an empty surface, a triangle index out of range, a degenerate
+  // triangle (zero area) or margin_m <= 0.
+  ContactSurface(const std::vector<gears::TriangleMesh>& parts, double margin_m);
+  ~ContactSurface();
+  ContactSurface(const ContactSurface&) = delete;
+  ContactSurface& operator=(const ContactSurface&) = delete;
+
+  int num_vertices() const { return static_cast<int>(vertices_.size()); }
+  int num_triangles() const { return static_cast<int>(triangles_.size()); }
+  int num_parts() const { return static_cast<int>(part_triangle_start_.size()) - 1; }
+  double margin_m() const { return margin_m_; }
+
+  const std::vector<Vec3>& vertices() const { return vertices_; }                     // #V, B
+  const std::vector<std::array<int, 3>>& triangles() const { return triangles_; }     // #T
+  const std::vector<Vec3>& face_normals() const { return face_normals_; }             // #T, B
+  const std::vector<double>& vertex_areas() const { return vertex_areas_; }           // #V, m^2
+  const std::vector<Vec3>& vertex_normals() const { return vertex_normals_; }         // #V, B
+  // #T: bit k set if edge k (vertex k to vertex k+1 mod 3) of the triangle is a boundary edge.
+  const std::vector<std::uint8_t>& boundary_edges() const { return boundary_edges_; }
+  // Triangles of part j are [part_triangle_start()[j], part_triangle_start()[j + 1]); #parts + 1.
+  const std::vector<int>& part_triangle_start() const { return part_triangle_start_; }
+  const std::vector<int>& part_vertex_start() const { return part_vertex_start_; }
+  double total_area() const { return total_area_; }
+
+  const CullingGeometry& culling() const { return *culling_; }
+
+ private:
+  std::vector<Vec3> vertices_;
+  std::vector<std::array<int, 3>> triangles_;
+  std::vector<Vec3> face_normals_;
+  std::vector<double> vertex_areas_;
+  std::vector<Vec3> vertex_normals_;
+  std::vector<std::uint8_t> boundary_edges_;
+  std::vector<int> part_triangle_start_, part_vertex_start_;
+  double margin_m_ = 0, total_area_ = 0;
+  std::shared_ptr<const CullingGeometry> culling_;
+};
+
+}  // namespace orrery::contact

@@ -1,0 +1,114 @@
+#include "contact/signed_gap.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace orrery::contact {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+// Sideways offset beyond which a node projecting onto the rim is off the surface (m).
+constexpr double kRimTolerance = 1e-9;
+
+// Whether the feature of triangle `face` lies on the surface's open rim.
+bool OnRim(const ContactSurface& surface, int face, TriangleFeature feature) {
+  const std::uint8_t edges = surface.boundary_edges()[face];
+  switch (feature) {
+    case TriangleFeature::kFace: return false;
+    case TriangleFeature::kEdge0: return edges & 1u;
+    case TriangleFeature::kEdge1: return edges & 2u;
+    case TriangleFeature::kEdge2: return edges & 4u;
+    // Vertex k lies on edges k and k + 2 (mod 3).
+    case TriangleFeature::kVertex0: return edges & (1u | 4u);
+    case TriangleFeature::kVertex1: return edges & (1u | 2u);
+    case TriangleFeature::kVertex2: return edges & (2u | 4u);
+  }
+  return false;
+}
+
+}  // namespace
+
+GapScratch::GapScratch(const ContactSurface& node_surface)
+    : best_d2(node_surface.num_vertices(), kInf),
+      best_face(node_surface.num_vertices(), -1),
+      p_F(node_surface.num_vertices(), Vec3::Zero()),
+      q_F(node_surface.num_vertices(), Vec3::Zero()),
+      feature(node_surface.num_vertices(), TriangleFeature::kFace) {
+  touched.reserve(node_surface.num_vertices());
+}
+
+NodeGap NodeGapFromClosest(const ContactSurface& face_surface, int face, const Vec3& p_F,
+                           const Vec3& q_F, TriangleFeature feature) {
+  NodeGap g;
+  g.face = face;
+  const Vec3& n = face_surface.face_normals()[face];
+  const Vec3 d = p_F - q_F;
+  const double along = d.dot(n);
+  if (feature == TriangleFeature::kFace) {
+    // Projection inside the face (eq. 7).
+    g.gap = along;
+  } else if (OnRim(face_surface, face, feature)) {
+    // On the open rim: a contact only if P lies on the rim's normal line.
+    g.gap = along;
+    g.on_surface = (d - along * n).norm() <= kRimTolerance;
+  } else {
+    // Interior edge or vertex: the distance, signed by the side of the face.
+    g.gap = along < 0 ? -d.norm() : d.norm();
+  }
+  return g;
+}
+
+void ComputeNodeGaps(const ContactSurface& node_surface, const Transform& X_WN,
+                     const ContactSurface& face_surface, const Transform& X_WF,
+                     const std::vector<TrianglePair>& pairs, bool nodes_are_a,
+                     double search_distance_m, GapScratch* scratch, std::vector<NodeGap>* gaps) {
+  GapScratch& s = *scratch;
+  gaps->clear();
+  const Transform X_FN = X_WF.Inverse() * X_WN;
+  const auto& node_tris = node_surface.triangles();
+  const auto& face_tris = face_surface.triangles();
+  const auto& fv = face_surface.vertices();
+  // Closest candidate face of every node of the candidate triangles (eq. 6).
+  for (const TrianglePair& pair : pairs) {
+    const int node_tri = nodes_are_a ? pair.a : pair.b;
+    const int face = nodes_are_a ? pair.b : pair.a;
+    const auto& ft = face_tris[face];
+    for (int k = 0; k < 3; ++k) {
+      const int node = node_tris[node_tri][k];
+      if (s.best_face[node] < 0 && s.best_d2[node] == kInf) {
+        s.p_F[node] = X_FN * node_surface.vertices()[node];
+        s.touched.push_back(node);
+        s.best_d2[node] = std::numeric_limits<double>::max();
+      }
+      const ClosestPoint c = ClosestPointOnTriangle(s.p_F[node], fv[ft[0]], fv[ft[1]], fv[ft[2]]);
+      const double d2 = (s.p_F[node] - c.point).squaredNorm();
+      if (d2 < s.best_d2[node] || (d2 == s.best_d2[node] && face < s.best_face[node])) {
+        s.best_d2[node] = d2;
+        s.best_face[node] = face;
+        s.q_F[node] = c.point;
+        s.feature[node] = c.feature;
+      }
+    }
+  }
+  // Signed gaps of the nodes within the search distance (eqs. 7-9), in node order; reset the
+  // scratch for the next pass.
+  std::sort(s.touched.begin(), s.touched.end());
+  const double d2_max = search_distance_m * search_distance_m;
+  for (const int node : s.touched) {
+    if (s.best_d2[node] <= d2_max) {
+      NodeGap g = NodeGapFromClosest(face_surface, s.best_face[node], s.p_F[node], s.q_F[node],
+                                     s.feature[node]);
+      g.node = node;
+      g.p_W = X_WF * s.p_F[node];
+      g.q_W = X_WF * s.q_F[node];
+      g.n_W = X_WF.R * face_surface.face_normals()[g.face];
+      gaps->push_back(g);
+    }
+    s.best_d2[node] = kInf;
+    s.best_face[node] = -1;
+  }
+  s.touched.clear();
+}
+
+}  // namespace orrery::contact

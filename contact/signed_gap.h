@@ -1,0 +1,63 @@
+#pragma once
+// Signed gaps by node-to-surface projection (seed 000 eqs. 6-9), one pass per direction: the
+// nodes (vertices) of one surface against the faces of the other. For node P:
+//   Q = the closest point to P on the candidate faces (eq. 6; ties broken by the lower face
+//       index), n = the unit normal of Q's face, pointing out of that surface's material,
+//   g = (P - Q) . n                     when Q lies inside the face or on its rim,
+//   g = sign((P - Q) . n) |P - Q|       when Q lies on an interior edge or vertex (a ridge or
+//                                        valley between faces, where the distance is the gap),
+//   g < 0: P penetrates (eq. 8 violated). A node whose Q lies on the open rim of the surface
+//   (boundary edge or vertex) with P off the rim's normal line (more than 1 nm sideways) is
+//   beyond the surface's edge and gets no contact.
+// Only nodes with |P - Q| <= the search distance are listed: for them the candidate faces hold
+// the true closest face (candidate_pairs.h), so the gaps equal a search over all faces.
+//
+// Usage:
+//   GapScratch scratch(nodes_surface);
+//   ComputeNodeGaps(surface_a, X_WA, surface_b, X_WB, pairs, /*nodes_are_a=*/true, d,
+//                   &scratch, &gaps);
+#include <limits>
+#include <vector>
+
+#include "contact/candidate_pairs.h"
+#include "contact/contact_surface.h"
+#include "contact/triangle_geometry.h"
+
+namespace orrery::contact {
+
+struct NodeGap {
+  int node = -1;        // vertex of the node surface
+  int face = -1;        // triangle of the face surface
+  double gap = 0;       // m, signed (< 0: penetration)
+  bool on_surface = true;  // false: beyond the face surface's rim (no contact)
+  Vec3 p_W = Vec3::Zero();  // node position, world
+  Vec3 q_W = Vec3::Zero();  // closest point on the face surface, world
+  Vec3 n_W = Vec3::Zero();  // unit normal of the face, world (out of the face surface)
+};
+
+// Per-node scratch of one pass, sized once from the node surface (no allocation in a step).
+struct GapScratch {
+  explicit GapScratch(const ContactSurface& node_surface);
+  std::vector<double> best_d2;       // #V: squared distance to the best face so far (inf: none)
+  std::vector<int> best_face;        // #V
+  std::vector<Vec3> p_F;             // #V: node positions in the face surface's frame
+  std::vector<Vec3> q_F;             // #V: closest points, face frame
+  std::vector<TriangleFeature> feature;  // #V
+  std::vector<int> touched;          // nodes seen in this pass (capacity #V)
+};
+
+// One pass: nodes of `node_surface` (pose X_WN) against faces of `face_surface` (pose X_WF),
+// over the candidate pairs (pair.a on surface A, pair.b on B; nodes_are_a says which surface
+// the nodes belong to). Clears and fills *gaps with every node within search_distance_m of the
+// face surface, in increasing node order.
+void ComputeNodeGaps(const ContactSurface& node_surface, const Transform& X_WN,
+                     const ContactSurface& face_surface, const Transform& X_WF,
+                     const std::vector<TrianglePair>& pairs, bool nodes_are_a,
+                     double search_distance_m, GapScratch* scratch, std::vector<NodeGap>* gaps);
+
+// The gap of one node P (face frame) against its closest face q (feature as found), by the
+// rules above; shared by the pass and by tests.
+NodeGap NodeGapFromClosest(const ContactSurface& face_surface, int face, const Vec3& p_F,
+                           const Vec3& q_F, TriangleFeature feature);
+
+}  // namespace orrery::contact

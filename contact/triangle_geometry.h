@@ -1,0 +1,37 @@
+#pragma once
+// Point-triangle and triangle-triangle proximity, the exact geometry under the contact search
+// (candidate_pairs.h) and the signed gap (signed_gap.h).
+//
+// Closest point on a triangle: Ericson, "Real-Time Collision Detection" (2005) sec. 5.1.5
+// (Voronoi regions of the vertices, edges and face, barycentric coordinates). Segment-segment
+// closest points: the same book, sec. 5.1.9. Triangle-triangle distance: zero if an edge of one
+// triangle crosses the other; otherwise the minimum is attained between a vertex and a face or
+// between two edges, so it is the least of the 6 vertex-face and 9 edge-edge distances.
+//
+// Usage:
+//   ClosestPoint c = ClosestPointOnTriangle(p, a, b, c);   // c.point, c.feature
+//   double d2 = TriangleDistanceSquared(a0, a1, a2, b0, b1, b2);
+#include "mbd/spatial.h"
+
+namespace orrery::contact {
+
+// Which part of the triangle (a, b, c) holds the closest point: the face interior, an edge
+// (kEdge0 = ab, kEdge1 = bc, kEdge2 = ca) or a vertex (kVertex0 = a, kVertex1 = b, kVertex2 = c).
+enum class TriangleFeature { kFace, kEdge0, kEdge1, kEdge2, kVertex0, kVertex1, kVertex2 };
+
+struct ClosestPoint {
+  Vec3 point = Vec3::Zero();
+  TriangleFeature feature = TriangleFeature::kFace;
+};
+
+// Closest point to p on the (non-degenerate) triangle (a, b, c).
+ClosestPoint ClosestPointOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
+
+// Squared distance between the segments [p0, p1] and [q0, q1].
+double SegmentDistanceSquared(const Vec3& p0, const Vec3& p1, const Vec3& q0, const Vec3& q1);
+
+// Squared distance between the triangles (a0, a1, a2) and (b0, b1, b2); 0 if they intersect.
+double TriangleDistanceSquared(const Vec3& a0, const Vec3& a1, const Vec3& a2, const Vec3& b0,
+                               const Vec3& b1, const Vec3& b2);
+
+}  // namespace orrery::contact
