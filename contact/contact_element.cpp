@@ -1,0 +1,126 @@
+#include "contact/contact_element.h"
+
+#include <algorithm>
+#include <stdexcept>
+#include <utility>
+
+#include "mbd/data.h"
+
+namespace orrery::contact {
+
+namespace {
+
+bool SamePose(const Transform& X, const Transform& Y) { return X.R == Y.R && X.p == Y.p; }
+
+}  // namespace
+
+ContactWorkspace::ContactWorkspace(const ContactSurface& a, const ContactSurface& b)
+    : search(a, b), scratch_a(a), scratch_b(b) {
+  pairs.reserve(search.suggested_capacity());
+  gaps_a.reserve(a.num_vertices());
+  gaps_b.reserve(b.num_vertices());
+}
+
+ContactElement::ContactElement(ContactElementSpec spec) : spec_(std::move(spec)) {
+  const std::string what = "ContactElement '" + spec_.name + "': ";
+  if (!spec_.surface_a || !spec_.surface_b)
+    throw std::invalid_argument(what + "both surfaces are required");
+  if (spec_.body_a == spec_.body_b)
+    throw std::invalid_argument(what + "body_a and body_b are the same body");
+  try {
+    ValidateContactLaw(spec_.law);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(what + e.what());
+  }
+}
+
+std::unique_ptr<ExternalForceWorkspace> ContactElement::MakeWorkspace(const Model& model) const {
+  for (BodyIndex body : {spec_.body_a, spec_.body_b})
+    if (body < 0 || body >= model.nbodies)
+      throw std::invalid_argument("ContactElement '" + spec_.name + "': body index " +
+                                  std::to_string(body) + " is not in the model");
+  return std::make_unique<ContactWorkspace>(*spec_.surface_a, *spec_.surface_b);
+}
+
+void ContactElement::UpdateGaps(const Transform& X_WA, const Transform& X_WB,
+                                ContactWorkspace& ws) const {
+  ws.searched = false;
+  ws.gaps_recomputed = false;
+  if (ws.have_gaps && SamePose(X_WA, ws.X_WA) && SamePose(X_WB, ws.X_WB)) return;
+  // Candidate pairs (unchanged if the relative pose is).
+  ws.searched = ws.search.Find(X_WA, X_WB, &ws.pairs);
+  // Gaps both ways.
+  const ContactSurface& a = *spec_.surface_a;
+  const ContactSurface& b = *spec_.surface_b;
+  const double d = ws.search.search_distance_m();
+  ComputeNodeGaps(a, X_WA, b, X_WB, ws.pairs, /*nodes_are_a=*/true, d, &ws.scratch_a, &ws.gaps_a);
+  ComputeNodeGaps(b, X_WB, a, X_WA, ws.pairs, /*nodes_are_a=*/false, d, &ws.scratch_b,
+                  &ws.gaps_b);
+  ws.X_WA = X_WA;
+  ws.X_WB = X_WB;
+  ws.have_gaps = true;
+  ws.gaps_recomputed = true;
+}
+
+void ContactElement::CalcForces(const Vec6& V_WA, const Vec6& V_WB, ContactWorkspace& ws,
+                                Vec6* f_A, Vec6* f_B, double* energy,
+                                double* power_dissipated) const {
+  f_A->setZero();
+  f_B->setZero();
+  *energy = 0;
+  *power_dissipated = 0;
+  ws.normal_force = ws.friction_force = ws.max_penetration = 0;
+  ws.contact_points = 0;
+  // One pass: nodes on body N (velocity V_N) against faces on body F; the force acts on N.
+  auto pass = [&](const std::vector<NodeGap>& gaps, const ContactSurface& node_surface,
+                  const Vec6& V_N, const Vec6& V_F, Vec6* f_N, Vec6* f_F) {
+    for (const NodeGap& g : gaps) {
+      if (!(g.gap < 0) || !g.on_surface) continue;
+      const Vec3 v_rel = PointVelocity(V_N, g.p_W) - PointVelocity(V_F, g.p_W);
+      const double depth = -g.gap;
+      const NodeForce f =
+          EvaluateContactLaw(spec_.law, depth, -v_rel.dot(g.n_W), g.n_W, v_rel,
+                             0.5 * node_surface.vertex_areas()[g.node]);
+      const Vec6 wrench = ForceAtPoint(g.p_W, f.f_W);
+      *f_N += wrench;
+      *f_F -= wrench;
+      *energy += f.energy;
+      *power_dissipated += f.power_dissipated;
+      ws.normal_force += f.normal;
+      ws.friction_force += f.friction;
+      ws.max_penetration = std::max(ws.max_penetration, depth);
+      ++ws.contact_points;
+    }
+  };
+  pass(ws.gaps_a, *spec_.surface_a, V_WA, V_WB, f_A, f_B);
+  pass(ws.gaps_b, *spec_.surface_b, V_WB, V_WA, f_B, f_A);
+}
+
+void ContactElement::Apply(const Model& /*model*/, double /*t*/, Data& data,
+                           ExternalForceWorkspace& workspace) const {
+  auto& ws = static_cast<ContactWorkspace&>(workspace);
+  const BodyIndex a = spec_.body_a, b = spec_.body_b;
+  UpdateGaps(data.X_WB[a], data.X_WB[b], ws);
+  Vec6 f_A, f_B;
+  double energy = 0, power = 0;
+  CalcForces(data.V_WB[a], data.V_WB[b], ws, &f_A, &f_B, &energy, &power);
+  // The world takes no forces.
+  if (a != kWorldBody) data.f_ext[a] += f_A;
+  if (b != kWorldBody) data.f_ext[b] += f_B;
+  data.potential_energy += energy;
+  data.power_dissipated += power;
+}
+
+std::vector<std::string> ContactElement::OutputNames() const {
+  return {"normal_force", "friction_force", "contact_points", "max_penetration"};
+}
+
+void ContactElement::GetOutputs(const ExternalForceWorkspace& workspace, double* values) const {
+  const auto& ws = static_cast<const ContactWorkspace&>(workspace);
+  values[0] = ws.normal_force;
+  values[1] = ws.friction_force;
+  values[2] = ws.contact_points;
+  values[3] = ws.max_penetration;
+}
+
+}  // namespace orrery::contact

@@ -1,0 +1,93 @@
+#pragma once
+// Tooth (or any surface) contact between two rigid bodies as an engine force element
+// (mbd/external_force.h): the `contact` mesh model of DESIGN.md.
+//
+// One Apply() (MuJoCo-style table of contents):
+//   1. candidate triangle pairs (candidate_pairs.h): FCL broad phase over the surfaces' parts,
+//      then the inflated-BVH traversal; skipped when the relative pose has not changed;
+//   2. signed gaps both ways (signed_gap.h, seed 000 eqs. 6-9): nodes of A against faces of B
+//      and nodes of B against faces of A; skipped when neither body moved;
+//   3. contact law at every penetrating node (contact_law.h): penalty per unit area, Hunt-
+//      Crossley damping, regularized Coulomb friction, each pass weighted by 1/2 so that the two
+//      passes together integrate the pressure once (seed 000 eq. 20);
+//   4. the node force F on the node's body at the node P and -F on the other body at P
+//      (spatial forces about the world origin in data.f_ext), elastic energy to
+//      data.potential_energy, dissipation to data.power_dissipated.
+// Relative velocity at a node P on body N against the face body F:
+//   v_rel = v_N(P) - v_F(P), depth rate = -v_rel . n, slip v_t = v_rel - (v_rel . n) n.
+//
+// Outputs (/external/<name>/...): normal_force (N, sum of F_N), friction_force (N, sum of
+// |F_T|), contact_points (penetrating nodes, both passes), max_penetration (m).
+//
+// Usage:
+//   auto plane = std::make_shared<const ContactSurface>(std::vector{plane_mesh}, 1e-3);
+//   auto block = std::make_shared<const ContactSurface>(std::vector{bottom_mesh}, 1e-3);
+//   builder.AddExternalForce(std::make_shared<ContactElement>(ContactElementSpec{
+//       .name = "block_on_plane", .body_a = block_body, .body_b = kWorldBody,
+//       .surface_a = block, .surface_b = plane,
+//       .law = {.stiffness_per_area = 1e7, .friction_coefficient = 0.3}}));
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "contact/candidate_pairs.h"
+#include "contact/contact_law.h"
+#include "contact/contact_surface.h"
+#include "contact/signed_gap.h"
+#include "mbd/external_force.h"
+#include "mbd/model.h"
+
+namespace orrery::contact {
+
+struct ContactElementSpec {
+  std::string name;
+  BodyIndex body_a = -1, body_b = -1;  // rigid bodies (kWorldBody for a fixed surface)
+  std::shared_ptr<const ContactSurface> surface_a, surface_b;  // in the frames of body_a, body_b
+  ContactLaw law;
+};
+
+// Mutable state of one element in one Data: the search caches and the last evaluation.
+class ContactWorkspace final : public ExternalForceWorkspace {
+ public:
+  ContactWorkspace(const ContactSurface& a, const ContactSurface& b);
+
+  CandidateSearch search;
+  std::vector<TrianglePair> pairs;       // candidate pairs of the last search
+  GapScratch scratch_a, scratch_b;       // per-node scratch of the passes (nodes of A, of B)
+  std::vector<NodeGap> gaps_a, gaps_b;   // nodes of A on B's faces, nodes of B on A's faces
+  Transform X_WA, X_WB;                  // poses of the last gap computation
+  bool have_gaps = false;
+  // Outputs of the last Apply().
+  double normal_force = 0, friction_force = 0, max_penetration = 0;
+  int contact_points = 0;
+  // What the last Apply() recomputed (tests and benchmarks).
+  bool searched = false, gaps_recomputed = false;
+};
+
+class ContactElement final : public ExternalForceElement {
+ public:
+  // Throws std::invalid_argument for missing surfaces, the same body on both sides, or an
+  // invalid law. Body indices are checked against the model in MakeWorkspace().
+  explicit ContactElement(ContactElementSpec spec);
+
+  const std::string& name() const override { return spec_.name; }
+  const ContactElementSpec& spec() const { return spec_; }
+  std::unique_ptr<ExternalForceWorkspace> MakeWorkspace(const Model& model) const override;
+  void Apply(const Model& model, double t, Data& data,
+             ExternalForceWorkspace& workspace) const override;
+  std::vector<std::string> OutputNames() const override;
+  void GetOutputs(const ExternalForceWorkspace& workspace, double* values) const override;
+
+  // Stages 1-2 of Apply() for given poses (also used by benchmarks): refreshes the pairs and
+  // the gaps in `ws` if the poses changed.
+  void UpdateGaps(const Transform& X_WA, const Transform& X_WB, ContactWorkspace& ws) const;
+  // Stages 3-4: forces from the gaps in `ws` and the body velocities (spatial, world origin),
+  // returned as spatial forces on A and B about the world origin; fills the outputs of `ws`.
+  void CalcForces(const Vec6& V_WA, const Vec6& V_WB, ContactWorkspace& ws, Vec6* f_A,
+                  Vec6* f_B, double* energy, double* power_dissipated) const;
+
+ private:
+  ContactElementSpec spec_;
+};
+
+}  // namespace orrery::contact
