@@ -30,6 +30,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cstdint>
 #include <filesystem>
 #include <stdexcept>
 #include <string_view>
@@ -358,19 +359,38 @@ struct ResultFile::Impl {
   // Creates a fixed (contiguous) double dataset of `rank` dims from row-major `data`, with "unit".
   void WriteFixed(const std::string& object, int rank, const hsize_t* dims, const double* data,
                   const std::string& unit) {
+    WriteFixedTyped(object, rank, dims, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, data, &unit);
+  }
+
+  // Creates a fixed dataset of file type `file_type` from row-major `data` of memory type
+  // `mem_type`, with "unit" when `unit` is given.
+  void WriteFixedTyped(const std::string& object, int rank, const hsize_t* dims, hid_t file_type, hid_t mem_type,
+                       const void* data, const std::string* unit) {
     ValidatePath(path, object, false);
     Handle space =
         MakeHandle(H5Screate_simple(rank, dims, nullptr), H5Sclose, path, "cannot create dataspace for", object);
     Handle lcpl = IntermediateGroupsLcpl(path, object);
     Handle dataset = MakeHandle(
-        H5Dcreate2(file.get(), object.c_str(), H5T_IEEE_F64LE, space.get(), lcpl.get(), H5P_DEFAULT, H5P_DEFAULT),
+        H5Dcreate2(file.get(), object.c_str(), file_type, space.get(), lcpl.get(), H5P_DEFAULT, H5P_DEFAULT),
         H5Dclose, path, "cannot create dataset", object);
     // Write the values (nothing to write for an empty dataset)
     hssize_t npoints = H5Sget_simple_extent_npoints(space.get());
     if (npoints > 0)
-      Check(H5Dwrite(dataset.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), path,
-            "cannot write dataset", object);
-    WriteStringAttribute(dataset.get(), "unit", unit, path, object);
+      Check(H5Dwrite(dataset.get(), mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), path, "cannot write dataset",
+            object);
+    if (unit != nullptr) WriteStringAttribute(dataset.get(), "unit", *unit, path, object);
+  }
+
+  // Narrows 64-bit integers to 32 bits, or throws naming the dataset.
+  std::vector<std::int32_t> Narrow(const std::string& object, const std::int64_t* values, std::size_t n) const {
+    std::vector<std::int32_t> out(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (values[i] < INT32_MIN || values[i] > INT32_MAX)
+        throw std::invalid_argument("result file " + path + ": dataset " + object + ": value " +
+                                    std::to_string(values[i]) + " does not fit in 32 bits");
+      out[i] = static_cast<std::int32_t>(values[i]);
+    }
+    return out;
   }
 };
 
@@ -513,6 +533,39 @@ void ResultFile::WriteVector(const std::string& path, const std::vector<double>&
   Impl& impl = Live(impl_, "WriteVector");
   const hsize_t dims[1] = {v.size()};
   impl.WriteFixed(path, 1, dims, v.data(), unit);
+}
+
+void ResultFile::WriteIntMatrix(const std::string& path,
+                                const Eigen::Matrix<std::int64_t, Eigen::Dynamic, Eigen::Dynamic>& m) {
+  QuietHdf5 quiet;
+  Impl& impl = Live(impl_, "WriteIntMatrix");
+  // Row-major 32-bit copy for the file's C order
+  const Eigen::Matrix<std::int64_t, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> row_major = m;
+  const std::vector<std::int32_t> values = impl.Narrow(path, row_major.data(), static_cast<std::size_t>(m.size()));
+  const hsize_t dims[2] = {static_cast<hsize_t>(m.rows()), static_cast<hsize_t>(m.cols())};
+  const std::string unit = "1";
+  impl.WriteFixedTyped(path, 2, dims, H5T_STD_I32LE, H5T_NATIVE_INT32, values.data(), &unit);
+}
+
+void ResultFile::WriteIntVector(const std::string& path, const std::vector<std::int64_t>& v) {
+  QuietHdf5 quiet;
+  Impl& impl = Live(impl_, "WriteIntVector");
+  const std::vector<std::int32_t> values = impl.Narrow(path, v.data(), v.size());
+  const hsize_t dims[1] = {v.size()};
+  const std::string unit = "1";
+  impl.WriteFixedTyped(path, 1, dims, H5T_STD_I32LE, H5T_NATIVE_INT32, values.data(), &unit);
+}
+
+void ResultFile::WriteStrings(const std::string& path, const std::vector<std::string>& values) {
+  QuietHdf5 quiet;
+  Impl& impl = Live(impl_, "WriteStrings");
+  // Variable-length strings are written as an array of char pointers
+  Handle type = Utf8StringType(impl.path, path);
+  std::vector<const char*> pointers;
+  pointers.reserve(values.size());
+  for (const std::string& v : values) pointers.push_back(v.c_str());
+  const hsize_t dims[1] = {values.size()};
+  impl.WriteFixedTyped(path, 1, dims, type.get(), type.get(), pointers.data(), nullptr);
 }
 
 void ResultFile::SetAttribute(const std::string& path, const std::string& key, const std::string& value) {

@@ -51,6 +51,12 @@ class ResultFile {
   // Fixed datasets (written at once, not extendible): a matrix (rows x cols) or a vector.
   void WriteMatrix(const std::string& path, const Eigen::MatrixXd& m, const std::string& unit);
   void WriteVector(const std::string& path, const std::vector<double>& v, const std::string& unit);
+  // Fixed datasets of 32-bit signed integers (indices, ids; "unit" "1"): a matrix (rows x cols)
+  // or a vector. Throws std::invalid_argument when a value does not fit in 32 bits.
+  void WriteIntMatrix(const std::string& path, const Eigen::Matrix<std::int64_t, Eigen::Dynamic, Eigen::Dynamic>& m);
+  void WriteIntVector(const std::string& path, const std::vector<std::int64_t>& v);
+  // A fixed 1-D dataset of variable-length UTF-8 strings (h5py reads them as str).
+  void WriteStrings(const std::string& path, const std::vector<std::string>& values);
 
   // Attributes on a group or dataset at `path` ("/" for the file); the object must exist (groups
   // on the way are created for "/"-rooted group paths).
