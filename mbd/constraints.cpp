@@ -20,6 +20,16 @@ void AddBodyRow(const Model& model, Data& data, int row, BodyIndex body, const V
   }
 }
 
+// The same for a frame: its body's row, plus the modal columns of a frame on a flexible-body node.
+void AddFrameRow(const Model& model, Data& data, int row, FrameIndex frame, const Vec6& c) {
+  const BodyIndex body = model.frames[frame].body;
+  AddBodyRow(model, data, row, body, c);
+  const auto& J = data.J_frame_modal[frame];
+  if (J.cols() == 0) return;
+  const FlexibleBody& fb = model.flexible_bodies[model.bodies[body].flexible];
+  for (int k = 0; k < fb.nf; ++k) data.G(row, fb.v_start + k) += c.dot(J.col(k));
+}
+
 }  // namespace
 
 void CalcConstraints(const Model& model, double t, Data& data) {
@@ -29,7 +39,6 @@ void CalcConstraints(const Model& model, double t, Data& data) {
   int loop_row = 0;
   for (size_t l = 0; l < model.loop_closures.size(); ++l) {
     const LoopClosureSpec& lc = model.loop_closures[l];
-    const BodyIndex ba = model.frames[lc.frame_a].body, bb = model.frames[lc.frame_b].body;
     const Transform& A = data.X_WFrame[lc.frame_a];
     const Transform& B = data.X_WFrame[lc.frame_b];
     const Vec3 xa = A.R.col(0), ya = A.R.col(1), za = A.R.col(2);
@@ -39,8 +48,8 @@ void CalcConstraints(const Model& model, double t, Data& data) {
       data.phi(row) = phi;
       data.c_rows_a[loop_row] = ca;
       data.c_rows_b[loop_row] = cb;
-      AddBodyRow(model, data, row, ba, ca);
-      AddBodyRow(model, data, row, bb, cb);
+      AddFrameRow(model, data, row, lc.frame_a, ca);
+      AddFrameRow(model, data, row, lc.frame_b, cb);
       ++row;
       ++loop_row;
     };
@@ -95,12 +104,12 @@ void CalcConstraints(const Model& model, double t, Data& data) {
     data.phi(row) = st.delta_drive;
     data.c_gear_a[k] = ca;
     data.c_gear_b[k] = cb;
-    AddBodyRow(model, data, row, model.frames[s.gear_a].body, ca);
-    AddBodyRow(model, data, row, model.frames[s.gear_b].body, cb);
+    AddFrameRow(model, data, row, s.gear_a, ca);
+    AddFrameRow(model, data, row, s.gear_b, cb);
     Vec6 cc;
     cc << -st.KSpin(st.n_drive_W) * st.z_W, Vec3::Zero();
     data.c_gear_c[k] = cc;
-    AddBodyRow(model, data, row, model.frames[s.reference].body, cc);
+    AddFrameRow(model, data, row, s.reference, cc);
   }
   // Drivers: position rows q_k - f(t) (holonomic), speed rows v_k - f(t).
   for (size_t d = 0; d < model.drivers.size(); ++d) {

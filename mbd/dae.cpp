@@ -118,6 +118,9 @@ void DaeSystem::Jacobian(double t, double cj, const Eigen::Ref<const Eigen::Vect
     J.block<3, 1>(qs + 1, qs) += -0.5 * w;
     J.block<3, 3>(qs + 1, qs + 1) += -0.5 * Skew(w);
   }
+  for (const FlexibleBody& fb : model_.flexible_bodies)
+    for (int k = 0; k < fb.nf; ++k)
+      dq_dv_(fb.q_start + k, fb.v_start + k) = dv_dq_(fb.v_start + k, fb.q_start + k) = 1;
 
   // q- and v-dependence of the generalized forces and of G (leaves data at the base point).
   Tangents(t, q, v, vdot, lambda, Jv_, Cv_);

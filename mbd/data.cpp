@@ -38,6 +38,37 @@ Data::Data(const Model& model) {
   c_gear_a.assign(model.gear_constraints.size(), Vec6::Zero());
   c_gear_b.assign(model.gear_constraints.size(), Vec6::Zero());
   c_gear_c.assign(model.gear_constraints.size(), Vec6::Zero());
+  V_WFrame.assign(nf, Vec6::Zero());
+  J_frame_modal.resize(nf);
+  for (int f = 0; f < nf; ++f) {
+    const Frame& frame = model.frames[f];
+    const int fb = model.bodies[frame.body].flexible;
+    if (frame.node >= 0 && fb >= 0)
+      J_frame_modal[f] = Eigen::Matrix<double, 6, Eigen::Dynamic>::Zero(6, model.flexible_bodies[fb].nf);
+  }
+  flex.resize(model.flexible_bodies.size());
+  for (size_t i = 0; i < flex.size(); ++i) {
+    const int n = model.flexible_bodies[i].nf;
+    flex[i].D = Eigen::Matrix<double, 3, Eigen::Dynamic>::Zero(3, 3 * n);
+    flex[i].L = Eigen::Matrix<double, 3, Eigen::Dynamic>::Zero(3, n);
+    flex[i].F_W = Eigen::Matrix<double, 6, Eigen::Dynamic>::Zero(6, n);
+    flex[i].K_geo = Eigen::MatrixXd::Zero(n, n);
+    flex[i].scratch = Eigen::VectorXd::Zero(n);
+    flex[i].qf = Eigen::VectorXd::Zero(n);
+    flex[i].qf_dot = Eigen::VectorXd::Zero(n);
+  }
+  for (const auto& element : model.external_forces) external.push_back(element->MakeWorkspace(model));
+}
+
+void AddFrameForce(const Model& model, Data& data, FrameIndex frame, const Vec6& f) {
+  const BodyIndex b = model.frames[frame].body;
+  if (b == kWorldBody) return;
+  data.f_ext[b] += f;
+  const auto& J = data.J_frame_modal[frame];
+  if (J.cols() > 0) {
+    const FlexibleBody& fb = model.flexible_bodies[model.bodies[b].flexible];
+    data.tau_applied.segment(fb.v_start, fb.nf).noalias() += J.transpose() * f;
+  }
 }
 
 }  // namespace orrery

@@ -2,6 +2,7 @@
 // Workspace of the step pipeline: every intermediate result, sized once from the model.
 // Each field says which function fills it and its size; nothing here allocates after
 // construction.
+#include <memory>
 #include <vector>
 
 #include <Eigen/Core>
@@ -21,10 +22,32 @@ struct Data {
   Eigen::Matrix<double, 6, Eigen::Dynamic> S;  // 6 x nv: joint motion subspaces, world origin
   std::vector<SpatialInertia> I_W;    // nbodies: body spatial inertia about the world origin
   Eigen::VectorXd q_normalized;       // nq: q with unit quaternions (what kinematics used)
+  // Frames on flexible-body nodes: d V_WFrame / d q_f-dot (6 x nf of the frame's body, world
+  // origin); empty for other frames.
+  std::vector<Eigen::Matrix<double, 6, Eigen::Dynamic>> J_frame_modal;  // nframes
+
+  // Per flexible body, what its modal coordinates make of the invariants (flexible_body.h), in
+  // B axes about B's origin; filled by CalcPositionKinematics, used by the dynamics stages.
+  struct FlexibleBodyTerms {
+    Eigen::VectorXd qf;          // nf: modal coordinates (position stage)
+    Eigen::VectorXd qf_dot;      // nf: modal rates (velocity stage)
+    Vec3 S = Vec3::Zero();       // first moment int rho u dV (kg m)
+    Mat3 J = Mat3::Zero();       // inertia about B's origin (kg m^2)
+    Eigen::Matrix<double, 3, Eigen::Dynamic> D;  // 3 x 3 nf: D_l = int rho u Phi_l^T, block l
+    Eigen::Matrix<double, 3, Eigen::Dynamic> L;  // 3 x nf: int rho u x Phi_l
+    Eigen::Matrix<double, 6, Eigen::Dynamic> F_W;  // 6 x nf: spatial force on B (world origin)
+                                                   // per unit modal acceleration (M_rf)
+    Eigen::MatrixXd K_geo;       // nf x nf: geometric stiffness at the current omega (force
+                                 //   elements stage)
+    Eigen::VectorXd scratch;     // nf
+  };
+  std::vector<FlexibleBodyTerms> flex;  // n flexible bodies
 
   // --- CalcVelocityKinematics (kinematics.cpp) ---
   std::vector<Vec6> V_WB;             // nbodies: body spatial velocities, world origin
   std::vector<Vec6> c_J;              // njoints: S-dot v of each joint (velocity-product accel.)
+  std::vector<Vec6> V_WFrame;         // nframes: spatial velocity of each frame (its body's, plus
+                                      //   the node's deformation rate for node frames)
 
   // --- CalcForceElements (force_elements.cpp) ---
   std::vector<Vec6> f_ext;            // nbodies: external spatial forces on bodies, world origin
@@ -37,6 +60,9 @@ struct Data {
   std::vector<double> mesh_stiffness;   // n_meshes: k at the current mesh phase (N/m)
   std::vector<double> mesh_phase;       // n_meshes: mesh phase (cycles)
   std::vector<int> mesh_contact;        // n_meshes: +1 drive flank, -1 coast flank, 0 apart
+  // One per Model::external_forces element, made by the element (its caches and outputs); filled
+  // by the element's Apply() at the end of CalcForceElements.
+  std::vector<std::unique_ptr<ExternalForceWorkspace>> external;
 
   // --- CalcInverseDynamics (inverse_dynamics.cpp) ---
   std::vector<Vec6> A_WB;             // nbodies: body spatial accelerations (gravity included
@@ -62,6 +88,10 @@ struct Data {
   // --- scratch for the stages above ---
   Eigen::VectorXd scratch_nv;         // nv
 };
+
+// Adds the spatial force f (world origin) acting on frame `frame` to the generalized forces:
+// data.f_ext of its body, and for a frame on a flexible-body node the modal forces J^T f.
+void AddFrameForce(const Model& model, Data& data, FrameIndex frame, const Vec6& f);
 
 // S_j x: the spatial motion of joint columns [v_start, v_start + nv) times the matching entries
 // of x (nv-length loops beat Eigen's dynamic-size products for the 1-6 columns of a joint).

@@ -1,5 +1,7 @@
 #include "mbd/dynamics.h"
 
+#include "mbd/flexible_dynamics.h"
+
 namespace orrery {
 
 void CalcInverseDynamics(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& vdot,
@@ -10,6 +12,11 @@ void CalcInverseDynamics(const Model& model, const Eigen::Ref<const Eigen::Vecto
     const Joint& jt = model.joints[j];
     const BodyIndex b = jt.spec.child;
     data.A_WB[b] = data.A_WB[jt.spec.parent] + JointMotion(data, jt.v_start, jt.nv, vdot) + data.c_J[j];
+    if (model.bodies[b].flexible >= 0) {
+      data.f_joint[b] =
+          CalcFlexibleBodyForce(model, model.flexible_bodies[model.bodies[b].flexible], vdot, data);
+      continue;
+    }
     const SpatialInertia& I = data.I_W[b];
     const Vec6& V = data.V_WB[b];
     data.f_joint[b] = I * data.A_WB[b] + CrossForce(V, I * V) - data.f_ext[b];
@@ -56,13 +63,14 @@ void CalcMassMatrix(const Model& model, Data& data) {
       }
     }
   }
+  AddFlexibleMassMatrix(model, data);
 }
 
 double CalcKineticEnergy(const Model& model, const Data& data) {
   double T = 0;
   for (BodyIndex b = 1; b < model.nbodies; ++b)
     T += 0.5 * data.V_WB[b].dot(data.I_W[b] * data.V_WB[b]);
-  return T;
+  return T + FlexibleKineticEnergy(model, data);
 }
 
 double CalcGravityPotential(const Model& model, const Data& data) {

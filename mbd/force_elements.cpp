@@ -4,15 +4,11 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "mbd/flexible_dynamics.h"
 #include "mbd/gear_mesh.h"
 
 namespace orrery {
 namespace {
-
-// Adds a spatial force on a body (forces on the world are dropped).
-inline void AddBodyForce(Data& data, BodyIndex b, const Vec6& f) {
-  if (b != kWorldBody) data.f_ext[b] += f;
-}
 
 // Motion of frame B relative to frame A, in A's axes: translation of B's origin and its rate
 // (as seen from A), B's orientation, and the relative angular velocity. Shared by the bushing
@@ -23,11 +19,11 @@ struct RelativeMotion {
   Vec3 d, d_dot, w_rel;  // A axes
   Mat3 R_AB;
 };
-RelativeMotion CalcRelativeMotion(const Model& model, const Data& data, FrameIndex fa, FrameIndex fb) {
+RelativeMotion CalcRelativeMotion(const Data& data, FrameIndex fa, FrameIndex fb) {
   const Transform& Xa = data.X_WFrame[fa];
   const Transform& Xb = data.X_WFrame[fb];
-  const Vec6& Va = data.V_WB[model.frames[fa].body];
-  const Vec6& Vb = data.V_WB[model.frames[fb].body];
+  const Vec6& Va = data.V_WFrame[fa];
+  const Vec6& Vb = data.V_WFrame[fb];
   const Vec3 delta = Xb.p - Xa.p;
   const Vec3 delta_dot = PointVelocity(Vb, Xb.p) - PointVelocity(Va, Xa.p);
   const Mat3 RaT = Xa.R.transpose();
@@ -50,8 +46,8 @@ void CalcForceElements(const Model& model, double t, const Eigen::Ref<const Eige
     const double s = l.scale.Value(t);
     const Vec3 f = s * (l.in_frame_axes ? Vec3(X.R * l.force) : l.force);
     const Vec3 n = s * (l.in_frame_axes ? Vec3(X.R * l.torque) : l.torque);
-    AddBodyForce(data, model.frames[l.frame].body, ForceAtPoint(X.p, f, n));
-    const Vec6& V = data.V_WB[model.frames[l.frame].body];
+    AddFrameForce(model, data, l.frame, ForceAtPoint(X.p, f, n));
+    const Vec6& V = data.V_WFrame[l.frame];
     applied += f.dot(PointVelocity(V, X.p)) + n.dot(V.head<3>());
   }
 
@@ -65,7 +61,6 @@ void CalcForceElements(const Model& model, double t, const Eigen::Ref<const Eige
 
   // Point-to-point spring-dampers.
   for (const TranslationalSpringSpec& s : model.translational_springs) {
-    const BodyIndex ba = model.frames[s.frame_a].body, bb = model.frames[s.frame_b].body;
     const Vec3& pa = data.X_WFrame[s.frame_a].p;
     const Vec3& pb = data.X_WFrame[s.frame_b].p;
     const Vec3 d = pb - pa;
@@ -74,28 +69,27 @@ void CalcForceElements(const Model& model, double t, const Eigen::Ref<const Eige
     if (L < 1e-12) continue;  // coincident ends: no direction to pull along
     const Vec3 u = d / L;
     const double Ldot =
-        u.dot(PointVelocity(data.V_WB[bb], pb) - PointVelocity(data.V_WB[ba], pa));
+        u.dot(PointVelocity(data.V_WFrame[s.frame_b], pb) - PointVelocity(data.V_WFrame[s.frame_a], pa));
     const double tension = s.stiffness * (L - s.free_length) + s.damping * Ldot + s.preload;
     dissipated += s.damping * Ldot * Ldot;
-    AddBodyForce(data, bb, ForceAtPoint(pb, -tension * u));
-    AddBodyForce(data, ba, ForceAtPoint(pa, tension * u));
+    AddFrameForce(model, data, s.frame_b, ForceAtPoint(pb, -tension * u));
+    AddFrameForce(model, data, s.frame_a, ForceAtPoint(pa, tension * u));
   }
 
   // Rotational spring-dampers about z_A.
   for (const RotationalSpringSpec& s : model.rotational_springs) {
-    const BodyIndex ba = model.frames[s.frame_a].body, bb = model.frames[s.frame_b].body;
     const Transform& Xa = data.X_WFrame[s.frame_a];
     const Mat3 R_AB = Xa.R.transpose() * data.X_WFrame[s.frame_b].R;
     const Vec3 z = Xa.R.col(2);
     const double angle = std::atan2(R_AB(1, 0), R_AB(0, 0));
-    const double rate = z.dot(data.V_WB[bb].head<3>() - data.V_WB[ba].head<3>());
+    const double rate = z.dot(data.V_WFrame[s.frame_b].head<3>() - data.V_WFrame[s.frame_a].head<3>());
     const double torque = -s.stiffness * (angle - s.angle0) - s.damping * rate;
     dissipated += s.damping * rate * rate;
     energy += 0.5 * s.stiffness * (angle - s.angle0) * (angle - s.angle0);
     Vec6 couple;
     couple << torque * z, Vec3::Zero();
-    AddBodyForce(data, bb, couple);
-    AddBodyForce(data, ba, -couple);
+    AddFrameForce(model, data, s.frame_b, couple);
+    AddFrameForce(model, data, s.frame_a, -couple);
   }
 
   // Spring-dampers on joint coordinates.
@@ -110,8 +104,7 @@ void CalcForceElements(const Model& model, double t, const Eigen::Ref<const Eige
 
   // 6-DOF bushings: deflection of B relative to A in A's axes.
   for (const BushingSpec& s : model.bushings) {
-    const BodyIndex ba = model.frames[s.frame_a].body, bb = model.frames[s.frame_b].body;
-    const RelativeMotion r = CalcRelativeMotion(model, data, s.frame_a, s.frame_b);
+    const RelativeMotion r = CalcRelativeMotion(data, s.frame_a, s.frame_b);
     Vec6 d, d_dot;
     d << r.d, RotationVector(r.R_AB);
     d_dot << r.d_dot, r.w_rel;
@@ -120,13 +113,12 @@ void CalcForceElements(const Model& model, double t, const Eigen::Ref<const Eige
     dissipated += d_dot.dot(s.damping * d_dot);
     const Mat3& Ra = r.Xa.R;
     const Vec6 f = ForceAtPoint(r.Xb.p, Ra * w_A.head<3>(), Ra * w_A.tail<3>());
-    AddBodyForce(data, bb, f);
-    AddBodyForce(data, ba, -f);
+    AddFrameForce(model, data, s.frame_b, f);
+    AddFrameForce(model, data, s.frame_a, -f);
   }
   // Bearings: radial/axial springs on B's displacement in A's axes, tilt springs on z_A x z_B.
   for (const BearingSpec& s : model.bearings) {
-    const BodyIndex ba = model.frames[s.frame_a].body, bb = model.frames[s.frame_b].body;
-    const RelativeMotion r = CalcRelativeMotion(model, data, s.frame_a, s.frame_b);
+    const RelativeMotion r = CalcRelativeMotion(data, s.frame_a, s.frame_b);
     const Vec3& d = r.d;
     const Vec3& d_dot = r.d_dot;
     const Vec3 zb_A = r.R_AB.col(2);
@@ -140,8 +132,8 @@ void CalcForceElements(const Model& model, double t, const Eigen::Ref<const Eige
     energy += 0.5 * d.dot(k.cwiseProduct(d)) + 0.5 * s.tilt_stiffness * tilt.squaredNorm();
     dissipated += d_dot.dot(c.cwiseProduct(d_dot)) + s.tilt_damping * tilt_rate.squaredNorm();
     const Vec6 f = ForceAtPoint(r.Xb.p, r.Xa.R * f_A, r.Xa.R * m_A);
-    AddBodyForce(data, bb, f);
-    AddBodyForce(data, ba, -f);
+    AddFrameForce(model, data, s.frame_b, f);
+    AddFrameForce(model, data, s.frame_a, -f);
   }
 
   // Lumped gear meshes: spring-damper on the engaged flank's line of action.
@@ -169,12 +161,12 @@ void CalcForceElements(const Model& model, double t, const Eigen::Ref<const Eige
       force = k * (delta - ste) + mesh.c * rate;
       if (two_sided) force = std::max(force, 0.0);  // teeth push, never pull
       const Vec3 f_b = (side * force) * n;
-      AddBodyForce(data, model.frames[s.gear_b].body, ForceAtPoint(st.p_b_W, f_b));
-      AddBodyForce(data, model.frames[s.gear_a].body, ForceAtPoint(st.p_a_W, -f_b));
+      AddFrameForce(model, data, s.gear_b, ForceAtPoint(st.p_b_W, f_b));
+      AddFrameForce(model, data, s.gear_a, ForceAtPoint(st.p_a_W, -f_b));
       // Reaction moment on the reference body (zero for consistent, undisplaced geometry).
       Vec6 moment_c;
       moment_c << (side * force * st.KSpin(n)) * st.z_W, Vec3::Zero();
-      AddBodyForce(data, model.frames[s.reference].body, moment_c);
+      AddFrameForce(model, data, s.reference, moment_c);
       energy += 0.5 * k * (delta - ste) * (delta - ste);
       // Damping power; a clamped (releasing) contact dissipates only what its force does.
       dissipated += force > 0 || !two_sided ? mesh.c * rate * rate : 0.0;
@@ -185,9 +177,14 @@ void CalcForceElements(const Model& model, double t, const Eigen::Ref<const Eige
     data.mesh_phase[i] = psi;
     data.mesh_contact[i] = side;
   }
-  data.potential_energy = energy;
+  // Flexible bodies: elastic, damping and geometric-stiffening forces on the modal coordinates.
+  const auto [elastic, modal_dissipated] = CalcFlexibleInternalForces(model, data);
+  data.potential_energy = energy + elastic;
   data.power_applied = applied;
-  data.power_dissipated = dissipated;
+  data.power_dissipated = dissipated + modal_dissipated;
+  // Elements defined outside mbd/ (contact/) add to the same accumulators.
+  for (size_t i = 0; i < model.external_forces.size(); ++i)
+    model.external_forces[i]->Apply(model, t, data, *data.external[i]);
 }
 
 }  // namespace orrery

@@ -94,9 +94,10 @@ MeshState CalcMeshState(const MeshGeometry& g, const Data& data, FrameIndex gear
 
 double CalcMeshRate(const Model& model, const Data& data, FrameIndex gear_a, FrameIndex gear_b,
                     FrameIndex reference, const MeshState& s, const Vec3& n_W) {
-  const Vec6& Va = data.V_WB[model.frames[gear_a].body];
-  const Vec6& Vb = data.V_WB[model.frames[gear_b].body];
-  const Vec6& Vc = data.V_WB[model.frames[reference].body];
+  (void)model;
+  const Vec6& Va = data.V_WFrame[gear_a];
+  const Vec6& Vb = data.V_WFrame[gear_b];
+  const Vec6& Vc = data.V_WFrame[reference];
   return n_W.dot(PointVelocity(Va, s.p_a_W) - PointVelocity(Vb, s.p_b_W)) -
          Vc.head<3>().dot(s.z_W) * s.KSpin(n_W);
 }

@@ -1,5 +1,7 @@
 #include "mbd/kinematics.h"
 
+#include "mbd/flexible_dynamics.h"
+
 namespace orrery {
 namespace {
 
@@ -101,6 +103,7 @@ void CalcPositionKinematics(const Model& model, const Eigen::Ref<const Eigen::Ve
     data.I_W[b] = SpatialInertia::FromCentral(body.mass, X * body.com_B,
                                               X.R * body.inertia_cm_B * X.R.transpose());
   }
+  CalcFlexiblePositionTerms(model, q, data);
 }
 
 void CalcVelocityKinematics(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& v,
@@ -138,6 +141,7 @@ void CalcVelocityKinematics(const Model& model, const Eigen::Ref<const Eigen::Ve
       c += MotionToWorld(data.X_WF[j], dS_F_v);
     data.c_J[j] = c;
   }
+  CalcFrameVelocities(model, v, data);
 }
 
 void CalcQDot(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& q,
@@ -165,6 +169,8 @@ void CalcQDot(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& q,
     qdot(qs + quat) = -0.5 * w.dot(u);
     qdot.segment<3>(qs + quat + 1) = 0.5 * (w0 * w + w.cross(u));
   }
+  for (const FlexibleBody& fb : model.flexible_bodies)
+    qdot.segment(fb.q_start, fb.nf) = v.segment(fb.v_start, fb.nf);
 }
 
 void IntegratePositions(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& dv,
@@ -187,6 +193,8 @@ void IntegratePositions(const Model& model, const Eigen::Ref<const Eigen::Vector
     q(qs + quat) = next.w();
     q.segment<3>(qs + quat + 1) = next.vec();
   }
+  for (const FlexibleBody& fb : model.flexible_bodies)
+    q.segment(fb.q_start, fb.nf) += dv.segment(fb.v_start, fb.nf);
 }
 
 }  // namespace orrery

@@ -3,9 +3,10 @@
 // elements, validates them, and `Finalize()` turns them into an immutable `Model` of flat arrays
 // and indices. Names live here for look-up and output; the step works on indices only.
 //
-// Coordinates: q (model.nq) and v (model.nv), joint by joint in tree order. q-dot = N(q) v:
-// identity except for unit quaternions (spherical and free joints), whose velocity variables are
-// angular velocities expressed in the joint's parent-side frame F.
+// Coordinates: q (model.nq) and v (model.nv), joint by joint in tree order, then the modal
+// coordinates of each flexible body (flexible_body.h) in the order the bodies were added.
+// q-dot = N(q) v: identity except for unit quaternions (spherical and free joints), whose
+// velocity variables are angular velocities expressed in the joint's parent-side frame F.
 //
 // Usage:
 //   ModelBuilder b;
@@ -19,6 +20,8 @@
 #include <unordered_map>
 #include <vector>
 
+#include "mbd/external_force.h"
+#include "mbd/flexible_body.h"
 #include "mbd/spatial.h"
 #include "mbd/time_function.h"
 
@@ -242,16 +245,35 @@ struct GearConstraint {
 struct Body {
   std::string name;
   double mass = 0;            // kg
-  Vec3 com_B = Vec3::Zero();  // centre of mass in body frame B, m
+  Vec3 com_B = Vec3::Zero();  // centre of mass in body frame B, m (flexible: undeformed)
   Mat3 inertia_cm_B = Mat3::Zero();  // inertia about the centre of mass in B axes, kg m^2
   JointIndex parent_joint = -1;      // tree joint whose child this body is (-1 for the world)
+  int flexible = -1;                 // index into Model::flexible_bodies, -1 for a rigid body
 };
 
 struct Frame {
   std::string name;
   BodyIndex body = kWorldBody;
-  Transform X_BF;  // pose of the frame on its body
+  Transform X_BF;  // pose of the frame on its body (flexible body: undeformed)
   bool is_body_frame = false;  // X_BF is the identity (a body's own frame)
+  // Frames on a flexible body's node follow the node: origin displaced by Phi_P q_f (plus the
+  // node's small rotation Psi_P q_f times the offset from the node), axes turned by Psi_P q_f.
+  int node = -1;  // index into the body's FlexibleBodyModes::nodes, -1 if not on a node
+};
+
+// A flexible body's place in the model (Finalize() fills the derived fields).
+struct FlexibleBody {
+  BodyIndex body = -1;
+  std::shared_ptr<const FlexibleBodyModes> modes;
+  FlexibleBodyOptions options;
+  int nf = 0;              // modal coordinates in q and v (0 when frozen)
+  int q_start = 0, v_start = 0;
+  Eigen::MatrixXd mass;       // nf x nf: M_ff(k, l) = tr I5_kl
+  Eigen::MatrixXd stiffness;  // nf x nf: K_ff
+  Eigen::MatrixXd damping;    // nf x nf: resolved from modes.damping or the options
+  // nf * nf axial vectors int rho Phi_m x Phi_l (index m * nf + l): the modal Coriolis terms.
+  std::vector<Vec3> mode_cross;
+  bool geometric_stiffening = false;
 };
 
 struct Joint {
@@ -304,12 +326,14 @@ class Model {
   std::vector<GearMesh> gear_meshes;
   std::vector<GearConstraint> gear_constraints;
   std::vector<int> gear_constraint_row;  // constraint row of each gear constraint (holonomic)
+  std::vector<std::shared_ptr<const ExternalForceElement>> external_forces;
+  std::vector<FlexibleBody> flexible_bodies;
 
   Vec3 gravity = Vec3::Zero();  // m/s^2, world axes
   Eigen::VectorXd q_initial;    // nq, from joint defaults (quaternions identity) and user values
   Eigen::VectorXd v_initial;    // nv
 
-  // Velocity index -> joint (for coordinate names in output).
+  // Velocity index -> joint (for coordinate names in output); -1 for modal coordinates.
   std::vector<JointIndex> joint_of_v;
 
   // Look-ups by name (throw std::out_of_range naming the missing name).
@@ -339,8 +363,19 @@ class ModelBuilder {
   // symmetric positive-definite central inertia satisfying the triangle inequality.
   BodyIndex AddBody(const std::string& name, double mass, const Vec3& com_B,
                     const Mat3& inertia_cm_B);
+  // A flexible body (flexible_body.h): a body whose frame B is the reference interface of the
+  // reduction, with the undeformed mass properties of `modes`, plus its modal coordinates
+  // (initially zero; SetModalCoordinates changes them). Its body frame is frame `name`.
+  BodyIndex AddFlexibleBody(const std::string& name, std::shared_ptr<const FlexibleBodyModes> modes,
+                            const FlexibleBodyOptions& options = {});
+  void SetModalCoordinates(BodyIndex body, const Eigen::VectorXd& q_f, const Eigen::VectorXd& v_f);
   // A named frame (marker) on a body.
   FrameIndex AddFrame(const std::string& name, BodyIndex body, const Transform& X_BF);
+  // A frame on node `node` of a flexible body (by index into its modes' nodes), with pose X_BF
+  // in the undeformed body (its origin usually at the node). It moves with the node.
+  FrameIndex AddNodeFrame(const std::string& name, BodyIndex body, int node, const Transform& X_BF);
+  // The index of the node with FE id (or interface master id) `id` on a flexible body.
+  int FindNode(BodyIndex body, int id) const;
   FrameIndex body_frame(BodyIndex body) const { return body_frames_.at(body); }
 
   JointIndex AddJoint(const JointSpec& spec);
@@ -361,6 +396,7 @@ class ModelBuilder {
   void AddBearing(const BearingSpec& spec);
   void AddGearMesh(const GearMeshSpec& spec);
   void AddGearConstraint(const GearConstraintSpec& spec);
+  void AddExternalForce(std::shared_ptr<const ExternalForceElement> element);
 
   int num_bodies() const { return static_cast<int>(model_->bodies.size()); }
   const Model& draft() const { return *model_; }
@@ -373,12 +409,14 @@ class ModelBuilder {
   void CheckName(const std::string& kind, const std::string& name) const;
   void CheckFrame(const std::string& what, FrameIndex f) const;
   void CheckCoordinate(const std::string& what, JointIndex j, int coordinate) const;
+  void FinalizeFlexibleBodies();  // modal coordinates and matrices (flexible_body.cpp)
   void CheckGears(const std::string& what, FrameIndex gear_a, FrameIndex gear_b,
                   FrameIndex reference, int teeth_a, int teeth_b) const;
 
   std::unique_ptr<Model> model_;
   std::vector<FrameIndex> body_frames_;
   std::vector<Eigen::VectorXd> joint_q_, joint_v_;  // per joint, set values (may be empty)
+  std::vector<Eigen::VectorXd> modal_q_, modal_v_;  // per flexible body (may be empty)
   Vec3 gravity_ = Vec3::Zero();
 };
 

@@ -421,6 +421,7 @@ std::shared_ptr<const Model> ModelBuilder::Finalize() && {
     if (jt.spec.type == JointType::kSpherical || jt.spec.type == JointType::kFree)
       m.has_quaternions = true;
   }
+  FinalizeFlexibleBodies();
   m.joint_of_v.assign(m.nv, -1);
   for (JointIndex j = 0; j < static_cast<int>(m.joints.size()); ++j)
     for (int k = 0; k < m.joints[j].nv; ++k) m.joint_of_v[m.joints[j].v_start + k] = j;
@@ -441,6 +442,13 @@ std::shared_ptr<const Model> ModelBuilder::Finalize() && {
       }
     }
     if (joint_v_[j].size()) m.v_initial.segment(jt.v_start, jt.nv) = joint_v_[j];
+  }
+  for (size_t i = 0; i < m.flexible_bodies.size(); ++i) {
+    const FlexibleBody& fb = m.flexible_bodies[i];
+    if (modal_q_[i].size() && fb.nf > 0) {
+      m.q_initial.segment(fb.q_start, fb.nf) = modal_q_[i].head(fb.nf);
+      m.v_initial.segment(fb.v_start, fb.nf) = modal_v_[i].head(fb.nf);
+    }
   }
   // Constraint rows: loop closures, gear constraints, position drivers (holonomic), then speed
   // drivers.

@@ -1,0 +1,202 @@
+#include "mbd/flexible_dynamics.h"
+
+namespace orrery {
+namespace {
+
+// int rho (a x b) from int rho a b^T: (a x b)_i = eps_ijk a_j b_k.
+inline Vec3 Axial(const Mat3& ab) {
+  return {ab(1, 2) - ab(2, 1), ab(2, 0) - ab(0, 2), ab(0, 1) - ab(1, 0)};
+}
+
+}  // namespace
+
+void CalcFlexiblePositionTerms(const Model& model, const Eigen::VectorXd& q, Data& data) {
+  for (size_t i = 0; i < model.flexible_bodies.size(); ++i) {
+    const FlexibleBody& fb = model.flexible_bodies[i];
+    const FlexibleBodyModes& m = *fb.modes;
+    Data::FlexibleBodyTerms& T = data.flex[i];
+    const int n = fb.nf, N = m.nf;
+    T.qf = q.segment(fb.q_start, n);
+    // First moment, D_l = I4_l + sum_k q_k I5_kl, U = I3 + sum_l q_l (I4_l^T + D_l).
+    T.S = m.I1;
+    Mat3 U = m.I3;
+    for (int l = 0; l < n; ++l) {
+      T.S.noalias() += m.I2.col(l) * T.qf(l);
+      Mat3 D = m.I4[l];
+      for (int k = 0; k < n; ++k) D.noalias() += T.qf(k) * m.I5[k * N + l];
+      T.D.block<3, 3>(0, 3 * l) = D;
+      T.L.col(l) = Axial(D);
+      U.noalias() += T.qf(l) * (m.I4[l].transpose() + D);
+    }
+    T.J = -U;
+    T.J.diagonal().array() += U.trace();
+    // Deformed spatial inertia about the world origin.
+    const Transform& X = data.X_WB[fb.body];
+    const Vec3 c = T.S / m.mass;
+    const Mat3 Jc = T.J - m.mass * (c.squaredNorm() * Mat3::Identity() - c * c.transpose());
+    data.I_W[fb.body] = SpatialInertia::FromCentral(m.mass, X * c, X.R * Jc * X.R.transpose());
+    // Spatial force on B per unit modal acceleration: (R L_l + p x R I2_l, R I2_l).
+    for (int l = 0; l < n; ++l) {
+      const Vec3 f = X.R * m.I2.col(l);
+      T.F_W.col(l) << X.R * T.L.col(l) + X.p.cross(f), f;
+    }
+  }
+  // Frames on nodes: origin at x_P + Phi_P q + R_theta d, axes R_theta R_BF0, theta = Psi_P q.
+  if (model.flexible_bodies.empty()) return;
+  for (size_t f = 0; f < model.frames.size(); ++f) {
+    const Frame& frame = model.frames[f];
+    if (frame.node < 0) continue;
+    const int i = model.bodies[frame.body].flexible;
+    const FlexibleBody& fb = model.flexible_bodies[i];
+    const FlexibleBodyModes::Node& node = fb.modes->nodes[frame.node];
+    const int n = fb.nf;
+    const Eigen::VectorXd& qf = data.flex[i].qf;
+    const Vec3 u = node.translation_shapes.leftCols(n) * qf;
+    const bool rotates = node.rotation_shapes.size() > 0;
+    const Vec3 theta = rotates ? Vec3(node.rotation_shapes.leftCols(n) * qf) : Vec3::Zero();
+    const double angle = theta.norm();
+    const Mat3 R_theta = angle > 0 ? AxisAngle(theta / angle, angle) : Mat3::Identity();
+    const Vec3 d = R_theta * (frame.X_BF.p - node.position);
+    const Transform X_BF(R_theta * frame.X_BF.R, node.position + u + d);
+    const Transform& X_WB = data.X_WB[frame.body];
+    data.X_WFrame[f] = X_WB * X_BF;
+    const Vec3& p_W = data.X_WFrame[f].p;
+    auto& J = data.J_frame_modal[f];
+    for (int k = 0; k < n; ++k) {
+      const Vec3 psi = rotates ? Vec3(node.rotation_shapes.col(k)) : Vec3::Zero();
+      const Vec3 w = X_WB.R * psi;
+      const Vec3 v_point = X_WB.R * (node.translation_shapes.col(k) + psi.cross(d));
+      J.col(k) << w, v_point + p_W.cross(w);
+    }
+  }
+}
+
+void CalcFrameVelocities(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& v, Data& data) {
+  for (size_t i = 0; i < model.flexible_bodies.size(); ++i) {
+    const FlexibleBody& fb = model.flexible_bodies[i];
+    data.flex[i].qf_dot = v.segment(fb.v_start, fb.nf);
+  }
+  for (size_t f = 0; f < model.frames.size(); ++f) {
+    const Frame& frame = model.frames[f];
+    data.V_WFrame[f] = data.V_WB[frame.body];
+    if (frame.node >= 0) {
+      const int i = model.bodies[frame.body].flexible;
+      data.V_WFrame[f].noalias() += data.J_frame_modal[f] * data.flex[i].qf_dot;
+    }
+  }
+}
+
+std::pair<double, double> CalcFlexibleInternalForces(const Model& model, Data& data) {
+  double energy = 0, dissipated = 0;
+  for (size_t i = 0; i < model.flexible_bodies.size(); ++i) {
+    const FlexibleBody& fb = model.flexible_bodies[i];
+    const int n = fb.nf;
+    if (n == 0) continue;
+    Data::FlexibleBodyTerms& T = data.flex[i];
+    auto tau = data.tau_applied.segment(fb.v_start, n);
+    T.scratch.noalias() = fb.stiffness * T.qf;
+    energy += 0.5 * T.qf.dot(T.scratch);
+    tau -= T.scratch;
+    T.scratch.noalias() = fb.damping * T.qf_dot;
+    dissipated += T.qf_dot.dot(T.scratch);
+    tau -= T.scratch;
+    if (fb.geometric_stiffening) {
+      // K_g = sum_c p_c(omega) G_c with omega in B (flexible_body.h).
+      const Vec3 w = data.X_WB[fb.body].R.transpose() * data.V_WB[fb.body].head<3>();
+      const double p[6] = {w.x() * w.x(), w.y() * w.y(), w.z() * w.z(),
+                           w.x() * w.y(), w.y() * w.z(), w.z() * w.x()};
+      const auto& G = fb.modes->geometric_stiffness;
+      T.K_geo.setZero();
+      for (int c = 0; c < 6; ++c) T.K_geo.noalias() += p[c] * G[c].topLeftCorner(n, n);
+      T.scratch.noalias() = T.K_geo * T.qf;
+      tau -= T.scratch;
+    }
+  }
+  return {energy, dissipated};
+}
+
+Vec6 CalcFlexibleBodyForce(const Model& model, const FlexibleBody& fb,
+                           const Eigen::Ref<const Eigen::VectorXd>& vdot, Data& data) {
+  const int i = model.bodies[fb.body].flexible;
+  const FlexibleBodyModes& m = *fb.modes;
+  const Data::FlexibleBodyTerms& T = data.flex[i];
+  const int n = fb.nf;
+  const Transform& X = data.X_WB[fb.body];
+  const Vec6& V = data.V_WB[fb.body];
+  const Vec6& A = data.A_WB[fb.body];
+  // Classical velocity and acceleration of B's origin from the spatial (world-origin) vectors,
+  // then B axes.
+  const Vec3 w_W = V.head<3>();
+  const Vec3 v_o = V.tail<3>() + w_W.cross(X.p);
+  const Vec3 a_o = A.tail<3>() + A.head<3>().cross(X.p) + w_W.cross(v_o);
+  const Mat3 RT = X.R.transpose();
+  const Vec3 w = RT * w_W, alpha = RT * A.head<3>(), a = RT * a_o;
+  const auto qd = T.qf_dot.head(n);
+  const auto qdd = vdot.segment(fb.v_start, n);
+  const Vec3 Sw = w.cross(T.S);
+  Vec3 F = m.mass * a + alpha.cross(T.S) + w.cross(Sw);
+  Vec3 N = T.S.cross(a) + T.J * alpha + w.cross(T.J * w);
+  if (n > 0) {
+    const Vec3 I2qd = m.I2.leftCols(n) * qd;
+    Mat3 C = Mat3::Zero();
+    for (int l = 0; l < n; ++l) C.noalias() += qd(l) * T.D.block<3, 3>(0, 3 * l);
+    F.noalias() += 2 * w.cross(I2qd) + m.I2.leftCols(n) * qdd;
+    N.noalias() += 2 * (C.trace() * w - C.transpose() * w) + T.L * qdd;
+    // Modal rows.
+    auto r = data.tau_id.segment(fb.v_start, n);
+    r.noalias() = fb.mass * qdd;
+    const double w2 = w.squaredNorm();
+    for (int l = 0; l < n; ++l) {
+      const Mat3 D = T.D.block<3, 3>(0, 3 * l);
+      Vec3 g = Vec3::Zero();
+      for (int k = 0; k < n; ++k) g.noalias() += qd(k) * fb.mode_cross[k * n + l];
+      r(l) += m.I2.col(l).dot(a) + T.L.col(l).dot(alpha) + w.dot(D * w) - w2 * D.trace() +
+              2 * w.dot(g);
+    }
+  }
+  const Vec3 F_W = X.R * F;
+  Vec6 f;
+  f << X.R * N + X.p.cross(F_W), F_W;
+  return f - data.f_ext[fb.body];
+}
+
+void AddFlexibleMassMatrix(const Model& model, Data& data) {
+  for (size_t i = 0; i < model.flexible_bodies.size(); ++i) {
+    const FlexibleBody& fb = model.flexible_bodies[i];
+    const int n = fb.nf;
+    if (n == 0) continue;
+    const auto& F = data.flex[i].F_W;
+    for (JointIndex j = model.bodies[fb.body].parent_joint; j >= 0;
+         j = model.bodies[model.joints[j].spec.parent].parent_joint) {
+      const Joint& jt = model.joints[j];
+      for (int r = 0; r < jt.nv; ++r)
+        for (int k = 0; k < n; ++k) {
+          const double value = data.S.col(jt.v_start + r).dot(F.col(k));
+          data.M(jt.v_start + r, fb.v_start + k) = value;
+          data.M(fb.v_start + k, jt.v_start + r) = value;
+        }
+    }
+    data.M.block(fb.v_start, fb.v_start, n, n) = fb.mass;
+  }
+}
+
+double FlexibleKineticEnergy(const Model& model, const Data& data) {
+  double T = 0;
+  for (size_t i = 0; i < model.flexible_bodies.size(); ++i) {
+    const FlexibleBody& fb = model.flexible_bodies[i];
+    if (fb.nf == 0) continue;
+    const auto& qd = data.flex[i].qf_dot;
+    T += data.V_WB[fb.body].dot(data.flex[i].F_W * qd) + 0.5 * qd.dot(fb.mass * qd);
+  }
+  return T;
+}
+
+Vec6 CalcSpatialMomentum(const Model& model, const Data& data) {
+  Vec6 h = Vec6::Zero();
+  for (BodyIndex b = 1; b < model.nbodies; ++b) h += data.I_W[b] * data.V_WB[b];
+  for (size_t i = 0; i < model.flexible_bodies.size(); ++i)
+    if (model.flexible_bodies[i].nf > 0) h += data.flex[i].F_W * data.flex[i].qf_dot;
+  return h;
+}
+
+}  // namespace orrery

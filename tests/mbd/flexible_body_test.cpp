@@ -1,0 +1,406 @@
+// Floating-frame flexible bodies (mbd/flexible_body.h) against an independent model.
+//
+// Oracle: a flexible body made of point masses whose "modes" move some of them along straight
+// lines fixed in the body is, exactly, a rigid core carrying point masses on prismatic joints
+// with springs. The joint-tree engine (composite-rigid-body mass matrix, Newton-Euler bias
+// terms) integrates that second model with no flexible-body code at all; every floating-frame
+// term (deformed inertia, rigid-modal coupling, centrifugal and Coriolis terms, modal forces of
+// loads on node frames, modal columns of constraint rows) must reproduce it. The modes are mixed
+// by an invertible matrix T (q_joint = T q_modal) so that every invariant has off-diagonal
+// entries. The rigid model's point masses carry a rotational inertia of 1e-12 kg m^2 (a body
+// needs one); its effect is far below the tolerances.
+//
+// Tolerance: both runs use IDA at rtol 1e-10, atol 1e-12; each holds its local errors to that
+// level, so positions of order 1 m agree to ~steps * rtol (a few 1e-7 at most over the runs
+// here); the bound printed is 2 steps rtol sqrt(n) like the rigid-body tests.
+#include <cmath>
+#include <cstdio>
+#include <memory>
+
+#include <gtest/gtest.h>
+
+#include "mbd/data.h"
+#include "mbd/dynamics.h"
+#include "mbd/evaluate.h"
+#include "mbd/force_elements.h"
+#include "mbd/flexible_dynamics.h"
+#include "mbd/integrator.h"
+#include "mbd/kinematics.h"
+#include "mbd/model.h"
+#include "mbd/state.h"
+
+namespace orrery {
+namespace {
+
+constexpr double kRtol = 1e-10, kAtol = 1e-12;
+
+IntegratorOptions IdaOptions() {
+  IntegratorOptions opt;
+  opt.kind = IntegratorKind::kIda;
+  opt.rtol = kRtol;
+  opt.atol = kAtol;
+  return opt;
+}
+
+Eigen::VectorXd QuatCoords(const Quat& q) {
+  Eigen::VectorXd c(4);
+  c << q.w(), q.x(), q.y(), q.z();
+  return c;
+}
+
+// The point-mass body: a rigid core of four masses and three movers on body-fixed lines.
+struct PointMassBody {
+  std::vector<double> core_mass{0.8, 1.1, 0.6, 0.9};
+  std::vector<Vec3> core_pos{{0.2, 0.0, 0.0}, {-0.1, 0.25, 0.05}, {0.0, -0.15, 0.3},
+                             {0.05, 0.1, -0.2}};
+  std::vector<double> mover_mass{0.3, 0.45, 0.25};
+  std::vector<Vec3> mover_pos{{0.5, 0.1, 0.0}, {-0.2, -0.4, 0.1}, {0.1, 0.3, 0.45}};
+  std::vector<Vec3> mover_dir{Vec3(1, 0.2, 0).normalized(), Vec3(0.1, 1, 0.3).normalized(),
+                              Vec3(-0.3, 0.2, 1).normalized()};
+  Vec3 spring{400.0, 250.0, 600.0};  // N/m on each mover's slide
+  Eigen::Matrix3d T;                 // q_joint = T q_modal
+
+  PointMassBody() { T << 1.0, 0.3, -0.2, 0.1, 0.9, 0.25, -0.15, 0.2, 1.1; }
+
+  // The invariants of flexible_body.h, summed over the point masses.
+  std::shared_ptr<FlexibleBodyModes> Modes() const {
+    auto m = std::make_shared<FlexibleBodyModes>();
+    const int n = 3;
+    m->nf = n;
+    m->I2 = Eigen::Matrix<double, 3, Eigen::Dynamic>::Zero(3, n);
+    m->I4.assign(n, Mat3::Zero());
+    m->I5.assign(n * n, Mat3::Zero());
+    auto add_point = [&](double mass, const Vec3& x, const Eigen::Matrix<double, 3, Eigen::Dynamic>& phi) {
+      m->mass += mass;
+      m->I1 += mass * x;
+      m->I3 += mass * x * x.transpose();
+      m->I2 += mass * phi;
+      for (int k = 0; k < n; ++k) {
+        m->I4[k] += mass * x * phi.col(k).transpose();
+        for (int l = 0; l < n; ++l) m->I5[k * n + l] += mass * phi.col(k) * phi.col(l).transpose();
+      }
+    };
+    for (size_t i = 0; i < core_mass.size(); ++i)
+      add_point(core_mass[i], core_pos[i], Eigen::Matrix<double, 3, Eigen::Dynamic>::Zero(3, n));
+    for (int j = 0; j < 3; ++j) {
+      FlexibleBodyModes::Node node;
+      node.id = 100 + j;
+      node.position = mover_pos[j];
+      node.translation_shapes = mover_dir[j] * T.row(j);  // 3 x n
+      add_point(mover_mass[j], mover_pos[j], node.translation_shapes);
+      m->nodes.push_back(node);
+    }
+    m->stiffness = T.transpose() * spring.asDiagonal() * T;
+    return m;
+  }
+
+  // Central inertia of the core (point masses) about its centre of mass.
+  void Core(double* mass, Vec3* com, Mat3* I_cm) const {
+    *mass = 0;
+    *com = Vec3::Zero();
+    for (size_t i = 0; i < core_mass.size(); ++i) {
+      *mass += core_mass[i];
+      *com += core_mass[i] * core_pos[i];
+    }
+    *com /= *mass;
+    *I_cm = Mat3::Zero();
+    for (size_t i = 0; i < core_mass.size(); ++i) {
+      const Vec3 r = core_pos[i] - *com;
+      *I_cm += core_mass[i] * (r.squaredNorm() * Mat3::Identity() - r * r.transpose());
+    }
+  }
+};
+
+struct Scenario {
+  bool gravity = true;
+  bool spring_on_node = true;     // a translational spring from the world to mover 0's node
+  bool loop_on_node = false;      // mover 1's node held on a world point by a spherical loop
+};
+
+Vec3 kFreeP0(0.1, -0.2, 0.3);
+const Quat kFreeQ0(AxisAngle(Vec3(1, -1, 0.5).normalized(), 0.7));
+
+struct Built {
+  std::shared_ptr<const Model> model;
+  std::vector<FrameIndex> mover_frames;  // world positions compared
+};
+
+// The flexible-body model.
+Built BuildFlexible(const PointMassBody& pm, const Scenario& sc, const Eigen::Vector3d& q_modal,
+                    const Eigen::Vector3d& v_modal, const Eigen::VectorXd& v_free) {
+  ModelBuilder b;
+  const BodyIndex body = b.AddFlexibleBody("body", pm.Modes());
+  const JointIndex free = b.AddJoint({.name = "free", .type = JointType::kFree,
+                                      .parent = kWorldBody, .child = body});
+  Eigen::VectorXd q0(7);
+  q0 << kFreeP0, QuatCoords(kFreeQ0);
+  b.SetJointPosition(free, q0);
+  b.SetJointVelocity(free, v_free);
+  b.SetModalCoordinates(body, q_modal, v_modal);
+  Built out;
+  for (int j = 0; j < 3; ++j)
+    out.mover_frames.push_back(b.AddNodeFrame("mover" + std::to_string(j), body, b.FindNode(body, 100 + j),
+                                              Transform::Translation(pm.mover_pos[j])));
+  const FrameIndex anchor = b.AddFrame("anchor", kWorldBody, Transform::Translation(Vec3(1.0, 0.5, 0.2)));
+  if (sc.spring_on_node)
+    b.AddTranslationalSpring({.name = "tether", .frame_a = anchor, .frame_b = out.mover_frames[0],
+                              .stiffness = 50.0, .damping = 0.0, .free_length = 0.6});
+  if (sc.gravity) b.SetGravity(Vec3(0, 0, -9.81));
+  if (sc.loop_on_node) {
+    // The pivot where mover 1 starts (computed from the initial configuration).
+    const Transform X_WB0(kFreeQ0.toRotationMatrix(), kFreeP0);
+    const Vec3 p1 = X_WB0 * (pm.mover_pos[1] + pm.mover_dir[1] * (pm.T.row(1) * q_modal));
+    const FrameIndex pivot = b.AddFrame("pivot", kWorldBody, Transform::Translation(p1));
+    b.AddLoopClosure({.name = "hold", .type = JointType::kSpherical, .frame_a = pivot,
+                      .frame_b = out.mover_frames[1]});
+  }
+  out.model = std::move(b).Finalize();
+  return out;
+}
+
+// The equivalent rigid model: core on a free joint, movers on prismatic joints with springs.
+Built BuildRigid(const PointMassBody& pm, const Scenario& sc, const Eigen::Vector3d& q_modal,
+                 const Eigen::Vector3d& v_modal, const Eigen::VectorXd& v_free) {
+  ModelBuilder b;
+  double m0;
+  Vec3 c0;
+  Mat3 I0;
+  pm.Core(&m0, &c0, &I0);
+  const BodyIndex core = b.AddBody("core", m0, c0, I0);
+  const JointIndex free = b.AddJoint({.name = "free", .type = JointType::kFree,
+                                      .parent = kWorldBody, .child = core});
+  Eigen::VectorXd q0(7);
+  q0 << kFreeP0, QuatCoords(kFreeQ0);
+  b.SetJointPosition(free, q0);
+  const Eigen::Vector3d q_joint = pm.T * q_modal, v_joint = pm.T * v_modal;
+  Built out;
+  for (int j = 0; j < 3; ++j) {
+    const BodyIndex mover = b.AddBody("mover" + std::to_string(j), pm.mover_mass[j], Vec3::Zero(),
+                                      1e-12 * Mat3::Identity());
+    const JointIndex slide = b.AddJoint({.name = "slide" + std::to_string(j), .type = JointType::kPrismatic,
+                                         .parent = core, .child = mover,
+                                         .X_PF = Transform::Translation(pm.mover_pos[j]),
+                                         .axis = pm.mover_dir[j]});
+    b.SetJointPosition(slide, Eigen::VectorXd::Constant(1, q_joint(j)));
+    b.SetJointVelocity(slide, Eigen::VectorXd::Constant(1, v_joint(j)));
+    b.AddCoordinateSpring({.name = "k" + std::to_string(j), .joint = slide, .stiffness = pm.spring(j)});
+    out.mover_frames.push_back(b.body_frame(mover));
+  }
+  // The free joint's velocity is that of the core frame, the same variables as the flexible
+  // body's frame.
+  b.SetJointVelocity(free, v_free);
+  const FrameIndex anchor = b.AddFrame("anchor", kWorldBody, Transform::Translation(Vec3(1.0, 0.5, 0.2)));
+  if (sc.spring_on_node)
+    b.AddTranslationalSpring({.name = "tether", .frame_a = anchor, .frame_b = out.mover_frames[0],
+                              .stiffness = 50.0, .damping = 0.0, .free_length = 0.6});
+  if (sc.gravity) b.SetGravity(Vec3(0, 0, -9.81));
+  if (sc.loop_on_node) {
+    const Transform X_WB0(kFreeQ0.toRotationMatrix(), kFreeP0);
+    const Vec3 p1 = X_WB0 * (pm.mover_pos[1] + pm.mover_dir[1] * q_joint(1));
+    const FrameIndex pivot = b.AddFrame("pivot", kWorldBody, Transform::Translation(p1));
+    b.AddLoopClosure({.name = "hold", .type = JointType::kSpherical, .frame_a = pivot,
+                      .frame_b = out.mover_frames[1]});
+  }
+  out.model = std::move(b).Finalize();
+  return out;
+}
+
+// Runs both models and returns the largest distance between matching movers.
+double CompareRuns(const Scenario& sc, double t_end, long* steps, double* bound) {
+  const PointMassBody pm;
+  const Eigen::Vector3d q_modal(0.02, -0.03, 0.015);
+  Eigen::Vector3d v_modal(0.1, 0.2, -0.15);
+  Eigen::VectorXd v_free(6);
+  v_free << 0.2, -0.1, 0.3, 1.5, -2.0, 3.0;
+  // Hung by a node: start at rest (the initial velocity projection onto the constraints is a
+  // minimum-norm step whose metric depends on the coordinates, so the two models would start
+  // from different velocities).
+  if (sc.loop_on_node) {
+    v_free.setZero();
+    v_modal.setZero();
+  }
+  const Built flex = BuildFlexible(pm, sc, q_modal, v_modal, v_free);
+  const Built rigid = BuildRigid(pm, sc, q_modal, v_modal, v_free);
+  auto fi = MakeIntegrator(*flex.model, IdaOptions());
+  auto ri = MakeIntegrator(*rigid.model, IdaOptions());
+  fi->Initialize(State::Initial(*flex.model));
+  ri->Initialize(State::Initial(*rigid.model));
+  Data fd(*flex.model), rd(*rigid.model);
+  double err = 0;
+  const double dt = 0.01;
+  for (int i = 0; i * dt <= t_end + 1e-12; ++i) {
+    if (i > 0) {
+      fi->AdvanceTo(i * dt);
+      ri->AdvanceTo(i * dt);
+    }
+    CalcPositionKinematics(*flex.model, fi->state().q, fd);
+    CalcPositionKinematics(*rigid.model, ri->state().q, rd);
+    for (int j = 0; j < 3; ++j)
+      err = std::max(err, (fd.X_WFrame[flex.mover_frames[j]].p - rd.X_WFrame[rigid.mover_frames[j]].p).norm());
+  }
+  *steps = std::max(fi->stats().steps, ri->stats().steps);
+  *bound = 2 * (*steps) * kRtol * std::sqrt(flex.model->nq + flex.model->nv);
+  return err;
+}
+
+TEST(FlexibleBody, PointMassModesMatchPrismaticMovers) {
+  long steps;
+  double bound;
+  const double err = CompareRuns({.gravity = true, .spring_on_node = true}, 2.0, &steps, &bound);
+  std::printf("[flex] free tumbling point-mass body, spring on a node: max position difference "
+              "%.2e m over %ld steps (bound %.2e)\n", err, steps, bound);
+  EXPECT_LE(err, bound);
+}
+
+TEST(FlexibleBody, ConstraintOnNodeMatchesPrismaticMovers) {
+  long steps;
+  double bound;
+  const double err = CompareRuns({.gravity = true, .spring_on_node = false, .loop_on_node = true},
+                                 1.0, &steps, &bound);
+  std::printf("[flex] point-mass body hung by a node on a spherical loop closure: max position "
+              "difference %.2e m over %ld steps (bound %.2e)\n", err, steps, bound);
+  EXPECT_LE(err, bound);
+}
+
+// The mass matrix of the flexible model equals the rigid model's in the modal coordinates:
+// M_flex = P^T M_rigid P with P = diag(I6, T) (q_joint = T q_modal). Independent of integration.
+TEST(FlexibleBody, MassMatrixAndBiasMatchTheJointModel) {
+  const PointMassBody pm;
+  const Eigen::Vector3d q_modal(0.05, -0.02, 0.03), v_modal(0.3, -0.1, 0.2);
+  Eigen::VectorXd v_free(6);
+  v_free << 0.2, -0.1, 0.3, 1.5, -2.0, 3.0;
+  const Scenario sc{.gravity = true, .spring_on_node = true};
+  const Built flex = BuildFlexible(pm, sc, q_modal, v_modal, v_free);
+  const Built rigid = BuildRigid(pm, sc, q_modal, v_modal, v_free);
+  Data fd(*flex.model), rd(*rigid.model);
+  const State fs = State::Initial(*flex.model), rs = State::Initial(*rigid.model);
+  CalcPositionKinematics(*flex.model, fs.q, fd);
+  CalcPositionKinematics(*rigid.model, rs.q, rd);
+  CalcMassMatrix(*flex.model, fd);
+  CalcMassMatrix(*rigid.model, rd);
+  Eigen::MatrixXd P = Eigen::MatrixXd::Zero(9, 9);
+  P.topLeftCorner(6, 6).setIdentity();
+  P.bottomRightCorner(3, 3) = pm.T;
+  const Eigen::MatrixXd M_expected = P.transpose() * rd.M * P;
+  const double dM = (fd.M - M_expected).norm() / M_expected.norm();
+  // Bias: inverse dynamics at vdot = 0 (Coriolis, centrifugal, gravity, spring), mapped by P^T.
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(9);
+  EvaluateDynamics(*flex.model, 0.0, fs.q, fs.v, zero, fd);
+  EvaluateDynamics(*rigid.model, 0.0, rs.q, rs.v, zero, rd);
+  const Eigen::VectorXd h_expected = P.transpose() * rd.tau_id;
+  const double dh = (fd.tau_id - h_expected).norm() / h_expected.norm();
+  // Kinetic energy and momentum.
+  const double T_f = CalcKineticEnergy(*flex.model, fd), T_r = CalcKineticEnergy(*rigid.model, rd);
+  const Vec6 h_f = CalcSpatialMomentum(*flex.model, fd), h_r = CalcSpatialMomentum(*rigid.model, rd);
+  std::printf("[flex] mass matrix rel. diff %.2e, bias rel. diff %.2e, T %.2e, momentum %.2e "
+              "(rigid movers' inertia 1e-12 kg m^2)\n",
+              dM, dh, std::abs(T_f - T_r) / T_r, (h_f - h_r).norm() / h_r.norm());
+  EXPECT_LT(dM, 1e-10);
+  EXPECT_LT(dh, 1e-10);
+  EXPECT_LT(std::abs(T_f - T_r), 1e-10 * T_r);
+  EXPECT_LT((h_f - h_r).norm(), 1e-10 * h_r.norm());
+}
+
+// A free flexible body without gravity or damping keeps its energy (kinetic + elastic) and its
+// spatial momentum.
+TEST(FlexibleBody, FreeBodyConservesEnergyAndMomentum) {
+  const PointMassBody pm;
+  Eigen::VectorXd v_free(6);
+  v_free << 0.2, -0.1, 0.3, 1.5, -2.0, 3.0;
+  const Built flex = BuildFlexible(pm, {.gravity = false, .spring_on_node = false},
+                                   Eigen::Vector3d(0.02, -0.03, 0.015),
+                                   Eigen::Vector3d(0.1, 0.2, -0.15), v_free);
+  const Model& model = *flex.model;
+  auto integ = MakeIntegrator(model, IdaOptions());
+  integ->Initialize(State::Initial(model));
+  Data data(model);
+  auto measure = [&](double* E, Vec6* h) {
+    CalcPositionKinematics(model, integ->state().q, data);
+    CalcVelocityKinematics(model, integ->state().v, data);
+    CalcForceElements(model, integ->state().t, integ->state().v, data);
+    *E = CalcKineticEnergy(model, data) + data.potential_energy;
+    *h = CalcSpatialMomentum(model, data);
+  };
+  double E0, E;
+  Vec6 h0, h;
+  measure(&E0, &h0);
+  double dE = 0, dh = 0;
+  for (int i = 1; i <= 300; ++i) {
+    integ->AdvanceTo(0.01 * i);
+    measure(&E, &h);
+    dE = std::max(dE, std::abs(E - E0) / E0);
+    dh = std::max(dh, (h - h0).norm() / h0.norm());
+  }
+  const long steps = integ->stats().steps;
+  const double bound = 2 * steps * kRtol * std::sqrt(model.nq + model.nv);
+  std::printf("[flex] free flexible body, 3 s: rel. drift E %.2e, momentum %.2e over %ld steps "
+              "(bound %.2e)\n", dE, dh, steps, bound);
+  EXPECT_LE(dE, bound);
+  EXPECT_LE(dh, bound);
+}
+
+// Frozen modes: the flexible body moves exactly like the rigid body with its mass properties.
+TEST(FlexibleBody, FrozenModesMoveLikeTheRigidBody) {
+  const PointMassBody pm;
+  auto modes = pm.Modes();
+  auto build = [&](bool flexible) {
+    ModelBuilder b;
+    BodyIndex body;
+    if (flexible) {
+      body = b.AddFlexibleBody("body", modes, {.frozen = true});
+    } else {
+      const Vec3 com = modes->I1 / modes->mass;
+      Mat3 J = -modes->I3;
+      J.diagonal().array() += modes->I3.trace();
+      const Mat3 Jc = J - modes->mass * (com.squaredNorm() * Mat3::Identity() - com * com.transpose());
+      body = b.AddBody("body", modes->mass, com, Jc);
+    }
+    const JointIndex ball = b.AddJoint({.name = "ball", .type = JointType::kSpherical,
+                                        .parent = kWorldBody, .child = body,
+                                        .X_CM = Transform::Translation(Vec3(0.3, -0.2, 0.4))});
+    b.SetJointPosition(ball, QuatCoords(kFreeQ0));
+    b.SetJointVelocity(ball, Eigen::Vector3d(1.0, -2.0, 0.5));
+    b.SetGravity(Vec3(0, 0, -9.81));
+    return std::move(b).Finalize();
+  };
+  const auto flex = build(true), rigid = build(false);
+  ASSERT_EQ(flex->nv, 3);
+  auto fi = MakeIntegrator(*flex, IdaOptions()), ri = MakeIntegrator(*rigid, IdaOptions());
+  fi->Initialize(State::Initial(*flex));
+  ri->Initialize(State::Initial(*rigid));
+  double err = 0;
+  for (int i = 1; i <= 200; ++i) {
+    fi->AdvanceTo(0.01 * i);
+    ri->AdvanceTo(0.01 * i);
+    err = std::max(err, (fi->state().q - ri->state().q).lpNorm<Eigen::Infinity>());
+  }
+  const long steps = std::max(fi->stats().steps, ri->stats().steps);
+  const double bound = 2 * steps * kRtol * std::sqrt(flex->nq + flex->nv);
+  std::printf("[flex] frozen flexible body vs rigid body on a spherical joint, 2 s: max |dq| "
+              "%.2e over %ld steps (bound %.2e)\n", err, steps, bound);
+  EXPECT_LE(err, bound);
+}
+
+TEST(FlexibleBody, BadInputIsNamed) {
+  const PointMassBody pm;
+  auto modes = pm.Modes();
+  modes->stiffness(0, 1) += 1.0;  // no longer symmetric
+  ModelBuilder b;
+  try {
+    b.AddFlexibleBody("planet", modes);
+    FAIL() << "accepted a non-symmetric stiffness";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("flexible body 'planet'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("stiffness"), std::string::npos) << e.what();
+  }
+  ModelBuilder b2;
+  try {
+    b2.AddFlexibleBody("planet", pm.Modes(), {.geometric_stiffening = true});
+    FAIL() << "accepted geometric stiffening without data";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("geometric stiffness"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace orrery
