@@ -38,6 +38,8 @@ class ExternalForceElement {
   // Scalar outputs recorded per output step under /external/<name>/<output name> (for example a
   // contact's total normal force and number of contact points).
   virtual std::vector<std::string> OutputNames() const { return {}; }
+  // SI unit of each output ("N", "m", "1"); empty: all "1".
+  virtual std::vector<std::string> OutputUnits() const { return {}; }
   // Writes OutputNames().size() values from the workspace of the last Apply().
   virtual void GetOutputs(const ExternalForceWorkspace& /*workspace*/, double* /*values*/) const {}
 };

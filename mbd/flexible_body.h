@@ -85,6 +85,9 @@ struct FlexibleBodyOptions {
   double rayleigh_alpha = 0, rayleigh_beta = 0;
   bool geometric_stiffening = false;  // needs modes.geometric_stiffness
   bool frozen = false;                // modal coordinates held at zero (the rigid body)
+  // Output: deformed surface positions every output step (for the XDMF animation; 3 doubles per
+  // surface node per row, so large surfaces make large files).
+  bool record_surface = false;
 };
 
 }  // namespace orrery

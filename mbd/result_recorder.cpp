@@ -1,5 +1,9 @@
 #include "mbd/result_recorder.h"
 
+#include <algorithm>
+#include <cmath>
+#include <map>
+
 #include "mbd/constraints.h"
 #include "mbd/dynamics.h"
 #include "mbd/evaluate.h"
@@ -75,11 +79,60 @@ ResultRecorder::ResultRecorder(const Model& model, ResultFile& out)
   }
   for (const GearConstraint& c : model.gear_constraints)
     gear_constraint_force_.push_back(out.AddSeries("/gear_constraints/" + c.spec.name + "/force", 1, "N"));
+  int max_stress = 0, max_surface = 0;
+  for (const FlexibleBody& fb : model.flexible_bodies) {
+    const FlexibleBodyModes& m = *fb.modes;
+    const std::string name = model.bodies[fb.body].name;
+    const std::string g = "/flexible_bodies/" + name + "/";
+    FlexSeries fs;
+    if (fb.nf > 0) {
+      fs.q = out.AddSeries(g + "modal_q", fb.nf, "kg^0.5 m");
+      fs.v = out.AddSeries(g + "modal_v", fb.nf, "kg^0.5 m/s");
+    }
+    if (!m.stress_nodes.empty() && fb.nf > 0) {
+      fs.von_mises = out.AddSeries(g + "von_mises_max", 5, "Pa, 1, m, m, m", {"stress", "node", "x", "y", "z"});
+      max_stress = std::max(max_stress, 6 * static_cast<int>(m.stress_nodes.size()));
+    }
+    if (fb.options.record_surface && !m.surface_triangles.empty()) {
+      // Compact numbering of the nodes the triangles use.
+      std::map<int, int> compact;
+      for (const auto& t : m.surface_triangles)
+        for (int i : t) compact.emplace(i, 0);
+      for (auto& [node, index] : compact) {
+        index = static_cast<int>(fs.surface_nodes.size());
+        fs.surface_nodes.push_back(node);
+      }
+      const int n = static_cast<int>(fs.surface_nodes.size());
+      Eigen::Matrix<std::int64_t, Eigen::Dynamic, Eigen::Dynamic> tri(m.surface_triangles.size(), 3);
+      for (size_t k = 0; k < m.surface_triangles.size(); ++k)
+        for (int c = 0; c < 3; ++c) tri(k, c) = compact[m.surface_triangles[k][c]];
+      Eigen::MatrixXd ref(n, 3);
+      for (int i = 0; i < n; ++i) ref.row(i) = m.nodes[fs.surface_nodes[i]].position.transpose();
+      out.WriteIntMatrix(g + "surface/triangles", tri);
+      out.WriteMatrix(g + "surface/reference_positions", ref, "m");
+      fs.surface = out.AddSeries(g + "surface/positions", 3 * n, "m");
+      max_surface = std::max(max_surface, 3 * n);
+    }
+    flex_.push_back(std::move(fs));
+    if (!m.frequencies_hz.empty()) out.WriteVector(g + "frequencies_hz", m.frequencies_hz, "Hz");
+  }
+  stress_.setZero(max_stress);
+  surface_row_.setZero(max_surface);
+  for (const auto& e : model.external_forces) {
+    std::vector<ResultFile::SeriesId> ids;
+    const std::vector<std::string> names = e->OutputNames(), units = e->OutputUnits();
+    for (size_t k = 0; k < names.size(); ++k)
+      ids.push_back(out.AddSeries("/external/" + e->name() + "/" + names[k], 1,
+                                  k < units.size() ? units[k] : "1"));
+    external_.push_back(std::move(ids));
+  }
   energy_ = out.AddSeries("/energy", 3, "J", {"kinetic", "gravity_potential", "elastic_potential"});
   power_ = out.AddSeries("/power", 3, "W", {"applied", "drivers", "dissipated"});
   drift_ = out.AddSeries("/constraints/drift", 2, "m, m/s (rad, rad/s for angular rows)",
                          {"max_abs_phi", "max_abs_phidot"});
-  row_.setZero(8);
+  size_t max_external = 8;
+  for (const auto& ids : external_) max_external = std::max(max_external, ids.size());
+  row_.setZero(static_cast<Eigen::Index>(max_external));
 }
 
 void ResultRecorder::Record(const State& s, const Eigen::VectorXd& vdot,
@@ -159,6 +212,51 @@ void ResultRecorder::Record(const State& s, const Eigen::VectorXd& vdot,
   }
   for (size_t k = 0; k < gear_constraint_force_.size(); ++k)
     out_.Append(gear_constraint_force_[k], lambda.data() + model_.gear_constraint_row[k]);
+  // Flexible bodies: modal coordinates, the von Mises hot spot, deformed surfaces.
+  for (size_t i = 0; i < flex_.size(); ++i) {
+    const FlexibleBody& fb = model_.flexible_bodies[i];
+    const FlexibleBodyModes& m = *fb.modes;
+    const FlexSeries& fs = flex_[i];
+    const Eigen::VectorXd& qf = d.flex[i].qf;
+    if (fs.q >= 0) {
+      out_.Append(fs.q, s.q.data() + fb.q_start);
+      out_.Append(fs.v, s.v.data() + fb.v_start);
+    }
+    if (fs.von_mises >= 0) {
+      const int n = static_cast<int>(m.stress_nodes.size());
+      auto sigma = stress_.head(6 * n);
+      sigma.noalias() = m.stress_modes.leftCols(fb.nf) * qf;
+      double best = -1;
+      int where = 0;
+      for (int k = 0; k < n; ++k) {
+        const double* x = sigma.data() + 6 * k;  // xx, yy, zz, xy, yz, zx
+        const double vm = std::sqrt(0.5 * ((x[0] - x[1]) * (x[0] - x[1]) + (x[1] - x[2]) * (x[1] - x[2]) +
+                                           (x[2] - x[0]) * (x[2] - x[0])) +
+                                    3 * (x[3] * x[3] + x[4] * x[4] + x[5] * x[5]));
+        if (vm > best) {
+          best = vm;
+          where = k;
+        }
+      }
+      const FlexibleBodyModes::Node& node = m.nodes[m.stress_nodes[where]];
+      row_.head<5>() << best, double(node.id), node.position.x(), node.position.y(), node.position.z();
+      out_.Append(fs.von_mises, row_.data());
+    }
+    if (fs.surface >= 0) {
+      const Transform& X = d.X_WB[fb.body];
+      const int n = static_cast<int>(fs.surface_nodes.size());
+      for (int k = 0; k < n; ++k) {
+        const FlexibleBodyModes::Node& node = m.nodes[fs.surface_nodes[k]];
+        surface_row_.segment<3>(3 * k) = X * Vec3(node.position + node.translation_shapes.leftCols(fb.nf) * qf);
+      }
+      out_.Append(fs.surface, surface_row_.data());
+    }
+  }
+  for (size_t e = 0; e < external_.size(); ++e) {
+    if (external_[e].empty()) continue;
+    model_.external_forces[e]->GetOutputs(*d.external[e], row_.data());
+    for (size_t k = 0; k < external_[e].size(); ++k) out_.Append(external_[e][k], row_.data() + k);
+  }
   // Drivers: effort = -lambda of the driver's row.
   for (size_t k = 0; k < model_.drivers.size(); ++k) {
     const double effort = -lambda(model_.driver_row[k]);

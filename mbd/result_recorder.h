@@ -24,6 +24,15 @@
 //   /power                                 W: applied loads, drivers, dissipated by dampers
 //                                          (integrated, the energy balance of a run)
 //   /constraints/drift                     max |Phi|, max |G v + g_t| per row
+//   /flexible_bodies/<name>/modal_q, modal_v   modal coordinates (mass-normalized: kg^0.5 m) and
+//                                          their rates; attribute "frequencies_hz"
+//   /flexible_bodies/<name>/von_mises_max  Pa, node id, x, y, z (m, body frame): the largest von
+//                                          Mises stress over the stress nodes and where (bodies
+//                                          with stress modes)
+//   /flexible_bodies/<name>/surface/...    triangles, reference_positions and, per step,
+//                                          positions (world) of the surface nodes (bodies with
+//                                          record_surface; layout of xdmf_writer.h)
+//   /external/<name>/<output>              outputs of external force elements (contact)
 #include <string>
 #include <vector>
 
@@ -55,6 +64,13 @@ class ResultRecorder {
   struct MeshSeries { ResultFile::SeriesId force, deflection, stiffness, contact, phase; };
   std::vector<MeshSeries> meshes_;
   std::vector<ResultFile::SeriesId> gear_constraint_force_;
+  struct FlexSeries {
+    ResultFile::SeriesId q = -1, v = -1, von_mises = -1, surface = -1;
+    std::vector<int> surface_nodes;  // indices into the modes' nodes
+  };
+  std::vector<FlexSeries> flex_;
+  std::vector<std::vector<ResultFile::SeriesId>> external_;
+  Eigen::VectorXd stress_, surface_row_;  // scratch
   Eigen::VectorXd row_;                     // scratch
 };
 

@@ -15,6 +15,7 @@
 // here); the bound printed is 2 steps rtol sqrt(n) like the rigid-body tests.
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 
 #include <gtest/gtest.h>
@@ -24,6 +25,10 @@
 #include "mbd/evaluate.h"
 #include "mbd/force_elements.h"
 #include "mbd/flexible_dynamics.h"
+#include "mbd/hdf5_reader.h"
+#include "mbd/result_file.h"
+#include "mbd/simulation.h"
+#include "mbd/xdmf_writer.h"
 #include "mbd/integrator.h"
 #include "mbd/kinematics.h"
 #include "mbd/model.h"
@@ -400,6 +405,72 @@ TEST(FlexibleBody, BadInputIsNamed) {
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("geometric stiffness"), std::string::npos) << e.what();
   }
+}
+
+}  // namespace
+}  // namespace orrery
+
+namespace orrery {
+namespace {
+
+// The recorder's flexible-body outputs: modal coordinates, the von Mises hot spot (recomputed
+// here from the stress modes) and the deformed surface (equal to the node frames), plus the
+// XDMF file that animates it.
+TEST(FlexibleBody, RecorderWritesModesStressAndSurface) {
+  const PointMassBody pm;
+  auto modes = pm.Modes();
+  modes->surface_triangles = {{0, 1, 2}};
+  modes->stress_nodes = {0, 1, 2};
+  modes->stress_modes = Eigen::MatrixXd::Zero(18, 3);
+  for (int r = 0; r < 18; ++r)
+    for (int c = 0; c < 3; ++c) modes->stress_modes(r, c) = 1e6 * std::sin(1.0 + 3 * r + c);
+  ModelBuilder b;
+  const BodyIndex body = b.AddFlexibleBody("body", modes, {.record_surface = true});
+  b.AddJoint({.name = "free", .type = JointType::kFree, .parent = kWorldBody, .child = body});
+  b.SetModalCoordinates(body, Eigen::Vector3d(0.02, -0.03, 0.015), Eigen::Vector3d(0.1, 0.2, -0.15));
+  std::vector<FrameIndex> frames;
+  for (int j = 0; j < 3; ++j)
+    frames.push_back(b.AddNodeFrame("n" + std::to_string(j), body, j, Transform::Translation(pm.mover_pos[j])));
+  const auto model = std::move(b).Finalize();
+  const std::string path = ::testing::TempDir() + "flex_recorder.h5";
+  SimulationOptions opt;
+  opt.end_time = 0.05;
+  opt.output_interval = 0.01;
+  opt.integrator = IdaOptions();
+  {
+    ResultFile out = ResultFile::Create(path);
+    Simulate(*model, opt, &out);
+  }
+  WriteSurfaceXdmf(path);
+  Hdf5Reader r(path);
+  const Eigen::MatrixXd q = r.ReadMatrix("/flexible_bodies/body/modal_q");
+  const Eigen::MatrixXd vm = r.ReadMatrix("/flexible_bodies/body/von_mises_max");
+  const Eigen::MatrixXd surf = r.ReadMatrix("/flexible_bodies/body/surface/positions");
+  const Eigen::MatrixXd time = r.ReadMatrix("/time");
+  ASSERT_EQ(q.rows(), 6);
+  ASSERT_EQ(surf.cols(), 9);
+  // Last row: recompute from the modal coordinates and the final pose.
+  const int last = static_cast<int>(q.rows()) - 1;
+  Eigen::VectorXd state_q = model->q_initial;
+  const Eigen::MatrixXd qfree = r.ReadMatrix("/joints/free/q");
+  state_q.head(7) = qfree.row(last).transpose();
+  state_q.tail(3) = q.row(last).transpose();
+  Data d(*model);
+  CalcPositionKinematics(*model, state_q, d);
+  const Eigen::VectorXd sigma = modes->stress_modes * q.row(last).transpose();
+  double best = 0;
+  for (int k = 0; k < 3; ++k) {
+    const double* x = sigma.data() + 6 * k;
+    const double s = std::sqrt(0.5 * ((x[0] - x[1]) * (x[0] - x[1]) + (x[1] - x[2]) * (x[1] - x[2]) +
+                                      (x[2] - x[0]) * (x[2] - x[0])) +
+                               3 * (x[3] * x[3] + x[4] * x[4] + x[5] * x[5]));
+    best = std::max(best, s);
+  }
+  EXPECT_NEAR(vm(last, 0), best, 1e-9 * best);
+  for (int j = 0; j < 3; ++j)
+    EXPECT_LT((surf.row(last).segment<3>(3 * j).transpose() - d.X_WFrame[frames[j]].p).norm(), 1e-12);
+  EXPECT_TRUE(std::filesystem::exists(XdmfPathFor(path)));
+  EXPECT_NEAR(time(last, 0), 0.05, 1e-12);
 }
 
 }  // namespace
