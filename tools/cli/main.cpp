@@ -6,6 +6,9 @@
 //   orrery kinematics SCENE [--json] [--range NAME] [--set key=value ...]
 //   orrery modes SCENE [--json] [--set key=value ...]
 //   orrery fe-modes MESH.inp --E PA --nu NU --rho KG_M3 [--fix NODESET ...] --modes N [--json]
+//   orrery reduce INPUT.yaml -o BODY.h5 [--json]
+//   orrery reduce MESH.inp -o BODY.h5 --interface NODESET[:rbe2|rbe3] ... [--E PA --nu NU --rho KG_M3]
+//                 [--modes N] [--cutoff-hz F] [--json]
 //   orrery --version
 //
 // Exit codes: 0 success, 1 runtime failure, 2 bad usage, 128 + signal when interrupted.
@@ -24,6 +27,7 @@
 #include "tools/cli/inspect_command.h"
 #include "tools/cli/kinematics_command.h"
 #include "tools/cli/modes_command.h"
+#include "tools/cli/reduce_command.h"
 #include "tools/cli/run_command.h"
 
 namespace {
@@ -105,6 +109,24 @@ int Main(int argc, char** argv) {
   fe_modes->add_option("--modes", fe_args.num_modes, "Number of modes")->required()->check(CLI::Range(1, 100000));
   fe_modes->add_flag("--json", fe_args.json, "Write JSON to stdout");
 
+  // orrery reduce
+  ReduceArgs reduce_args;
+  CLI::App* reduce = app.add_subcommand("reduce", "Reduce an FE body (Craig-Bampton) and write a reduced-body file");
+  reduce->add_option("input", reduce_args.input_path, "Reduce input (YAML: generated gear) or mesh file (.inp)")
+      ->required();
+  reduce->add_option("-o,--output", reduce_args.output_path, "Reduced-body file (HDF5)")->required();
+  reduce->add_flag("--json", reduce_args.json, "Write JSON to stdout");
+  reduce->add_option("--interface", reduce_args.interfaces,
+                     "Interface node set of a mesh input, NODESET[:rbe2|rbe3] (repeatable; the first is the body frame's)")
+      ->allow_extra_args(false);
+  reduce->add_option("--E", reduce_args.youngs_modulus_pa, "Young's modulus of a mesh input (Pa)")->check(kPositiveValue);
+  reduce->add_option("--nu", reduce_args.poissons_ratio, "Poisson's ratio of a mesh input")->check(CLI::Range(-1.0, 0.5));
+  reduce->add_option("--rho", reduce_args.density_kg_m3, "Density of a mesh input (kg/m^3)")->check(kPositiveValue);
+  reduce->add_option("--modes", reduce_args.num_modes, "Fixed-interface modes kept, mesh input (default 20)")
+      ->check(CLI::Range(0, 100000));
+  reduce->add_option("--cutoff-hz", reduce_args.cutoff_hz, "Keep fixed-interface modes up to this frequency, mesh input")
+      ->check(kPositiveValue);
+
   // Parse: help and version go to stdout, any other problem is one line on stderr
   try {
     app.parse(argc, argv);
@@ -115,7 +137,7 @@ int Main(int argc, char** argv) {
     const std::vector<std::string> stray = app.remaining();
     if (app.get_subcommands().empty() && !stray.empty() && !stray.front().empty())
       reason = stray.front().front() == '-' ? "unknown option '" + stray.front() + "'"
-                                            : "unknown command '" + stray.front() + "' (expected run, inspect, kinematics, modes or fe-modes)";
+                                            : "unknown command '" + stray.front() + "' (expected run, inspect, kinematics, modes, fe-modes or reduce)";
     ReportError(std::cerr, reason + "; see orrery --help");
     return kExitUsage;
   }
@@ -129,6 +151,7 @@ int Main(int argc, char** argv) {
   if (kinematics->parsed()) return KinematicsCommand(kinematics_args, std::cout, std::cerr);
   if (modes->parsed()) return ModesCommand(modes_args, std::cout, std::cerr);
   if (fe_modes->parsed()) return FeModesCommand(fe_args, std::cout, std::cerr);
+  if (reduce->parsed()) return ReduceCommand(reduce_args, std::cout, std::cerr);
   return InspectCommand(inspect_args, std::cout, std::cerr);
 }
 

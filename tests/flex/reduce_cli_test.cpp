@@ -1,0 +1,241 @@
+// `orrery reduce` end to end (tools/cli/reduce_command.cpp; here because the CLI test folder does
+// not link flex/): coarse generated gears and a box mesh reduced by the built `orrery` program,
+// the JSON checked against the bounds the reduction must satisfy, the file read back and
+// validated, bad inputs rejected in one line naming the file and key. Skipped when the program
+// has not been built.
+//
+// Oracles for the frequencies (lambda = (2 pi f)^2, full = the FE model with the reference
+// master clamped and every interface constraint applied, the model the reduction approximates):
+// - One interface: the Craig-Bampton elastic basis is the lowest fixed-interface modes, which are
+//   exact eigenvectors of that model, so reduced = full to the Lanczos tolerance (1e-10 on the
+//   eigenvalues; 1e-8 relative on the frequencies leaves room for the re-orthogonalization).
+// - Two interfaces (the second an RBE3 whose master is free in the full model): Rayleigh-Ritz
+//   gives full_i <= reduced_i; the basis contains the fixed-interface modes of the model with the
+//   second master clamped too (6 more constraints), so by the interlacing of constrained
+//   eigenvalues reduced_i <= fixed_i <= full_(i+6).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <sys/wait.h>
+#include <unistd.h>
+#include <vector>
+
+#include "flex/box_mesher.h"
+#include "flex/inp_file.h"
+#include "flex/reduced_body_file.h"
+
+namespace orrery::flex {
+namespace {
+
+// Output (stdout and stderr) and exit status of a shell command.
+std::pair<std::string, int> RunCommand(const std::string& command) {
+  std::string out;
+  FILE* p = popen((command + " 2>&1").c_str(), "r");
+  std::array<char, 4096> buf;
+  while (std::fgets(buf.data(), buf.size(), p)) out += buf.data();
+  const int status = pclose(p);
+  return {out, WEXITSTATUS(status)};
+}
+
+// The numbers of the JSON array at "key": [ ... ] (empty if the key is missing).
+std::vector<double> JsonArray(const std::string& json, const std::string& key) {
+  std::string pattern = "\"";
+  pattern += key;
+  pattern += "\": [";
+  const std::size_t at = json.find(pattern);
+  std::vector<double> v;
+  if (at == std::string::npos) return v;
+  const char* p = json.c_str() + at + pattern.size();
+  for (;;) {
+    while (*p == ' ' || *p == '\n' || *p == ',') ++p;
+    if (*p == ']' || *p == '\0') return v;
+    char* end = nullptr;
+    v.push_back(std::strtod(p, &end));
+    if (end == p) return v;
+    p = end;
+  }
+}
+
+// A coarse hex8 gear (23 teeth, m_n 2 mm, bore 20 mm) with the given interfaces and material.
+std::string GearInput(const std::string& interfaces, const std::string& material = "{name: steel, E: 210e9, nu: 0.3, rho: 7850}") {
+  std::string s =
+      "gear: {teeth: 23, module_mm: 2, pressure_angle_deg: 20, face_width_mm: 10, bore_diameter_mm: 20}\n"
+      "mesh: {element: hex8, flank_divisions: 3, fillet_divisions: 2, tooth_divisions: 2,\n"
+      "       root_layer_divisions: 1, rim_divisions: 2, face_divisions: 2, smoothing_iterations: 50}\n"
+      "material: ";
+  s += material;
+  s += "\ninterfaces:\n";
+  s += interfaces;
+  s += "reduction: {modes: 8}\n";
+  return s;
+}
+
+class ReduceCliTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    orrery_ = std::filesystem::path(ORRERY_BINARY_DIR) / "bin" / "orrery";
+    if (!std::filesystem::exists(orrery_)) GTEST_SKIP() << "orrery program not built: " << orrery_;
+    dir_ = std::filesystem::temp_directory_path() / ("orrery_reduce_cli_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir_);
+  }
+  void TearDown() override {
+    if (!dir_.empty()) std::filesystem::remove_all(dir_);
+  }
+
+  std::string Write(const std::string& name, const std::string& text) const {
+    const std::string path = (dir_ / name).string();
+    std::ofstream(path) << text;
+    return path;
+  }
+  // `orrery reduce <args>` (built by appending: GCC 12 warns falsely (-Wrestrict) about chains
+  // of string operator+).
+  std::pair<std::string, int> Reduce(const std::string& args) const {
+    std::string c = "'";
+    c += orrery_.string();
+    c += "' reduce ";
+    c += args;
+    return RunCommand(c);
+  }
+
+  std::filesystem::path orrery_, dir_;
+};
+
+TEST_F(ReduceCliTest, OneInterfaceReducedEqualsFullAndFileReadsBack) {
+  const std::string input = Write("gear.yaml", GearInput("  - {name: bore, node_set: BORE, kind: rbe2}\n"));
+  const std::string body = (dir_ / "gear.h5").string();
+  const auto [json, status] = Reduce("'" + input + "' -o '" + body + "' --json");
+  ASSERT_EQ(status, 0) << json;
+  for (const char* key : {"\"full_frequencies_hz\"", "\"reduced_frequencies_hz\"", "\"full_model_boundary\"",
+                          "\"elastic_modes\": 8", "\"modes_kept\": 8", "\"reference_interface\": \"bore\"",
+                          "\"timings_s\"", "\"output\"", "\"element_type\": \"C3D8\""})
+    EXPECT_NE(json.find(key), std::string::npos) << key << "\n" << json;
+  const std::vector<double> full = JsonArray(json, "full_frequencies_hz");
+  const std::vector<double> reduced = JsonArray(json, "reduced_frequencies_hz");
+  ASSERT_EQ(full.size(), 8u) << json;
+  ASSERT_EQ(reduced.size(), 8u) << json;
+  for (std::size_t i = 0; i < full.size(); ++i) EXPECT_NEAR(reduced[i], full[i], 1e-8 * full[i]) << i;
+
+  // The file: the same frequencies, modes that pass the engine's checks, its provenance
+  const ReducedBody b = ReadReducedBody(body);
+  EXPECT_EQ(b.full_frequencies_hz, full);
+  EXPECT_EQ(std::vector<double>(b.reduced_frequencies_hz.begin() + 6, b.reduced_frequencies_hz.end()), reduced);
+  EXPECT_EQ(b.modes.frequencies_hz, reduced);
+  EXPECT_NO_THROW(ValidateFlexibleBodyModes("gear", b.modes));
+  EXPECT_EQ(b.modes.nf, 8);
+  EXPECT_FALSE(b.modes.surface_triangles.empty());
+  EXPECT_EQ(b.modes.geometric_stiffness.size(), 6u);
+  EXPECT_GT(b.modes.stress_modes.rows(), 0);
+  EXPECT_EQ(b.provenance.element_type, "C3D8");
+  EXPECT_EQ(b.provenance.modes_kept, 8);
+  EXPECT_EQ(b.provenance.material.youngs_modulus_pa, 210e9);
+  EXPECT_EQ(b.provenance.source.rfind("gear z=23, m_n=0.002 m", 0), 0u) << b.provenance.source;
+  // Asking for more modes than the file holds: stale, with the reason
+  ReducedBodyProvenance expected = b.provenance;
+  expected.modes_kept = 30;
+  try {
+    ReadReducedBody(body, &expected);
+    FAIL() << "stale file accepted";
+  } catch (const StaleReducedBodyError& e) {
+    EXPECT_NE(std::string(e.what()).find("modes kept 8, the scene asks 30"), std::string::npos) << e.what();
+  }
+  // Text output: the table of both
+  const auto [text, text_status] = Reduce("'" + input + "' -o '" + body + "'");
+  EXPECT_EQ(text_status, 0) << text;
+  EXPECT_NE(text.find("mode         full (Hz)      reduced (Hz)"), std::string::npos) << text;
+}
+
+TEST_F(ReduceCliTest, TwoInterfacesReducedFrequenciesAreBracketed) {
+  const std::string input = Write("gear2.yaml", GearInput("  - {name: bore, node_set: BORE, kind: rbe2}\n"
+                                                          "  - {name: mesh_point, node_set: TOOTH0_FLANK_PLUS, kind: rbe3}\n"));
+  const auto [json, status] = Reduce("'" + input + "' -o '" + (dir_ / "gear2.h5").string() + "' --json");
+  ASSERT_EQ(status, 0) << json;
+  const std::vector<double> full = JsonArray(json, "full_frequencies_hz");
+  const std::vector<double> reduced = JsonArray(json, "reduced_frequencies_hz");
+  ASSERT_EQ(full.size(), 14u) << json;  // 6 constraint modes of the second interface + 8
+  ASSERT_EQ(reduced.size(), 14u);
+  for (std::size_t i = 0; i < full.size(); ++i) {
+    EXPECT_GE(reduced[i], full[i] * (1 - 1e-9)) << i;
+    if (i + 6 < full.size()) {
+      EXPECT_LE(reduced[i], full[i + 6] * (1 + 1e-9)) << i;
+    }
+  }
+  const ReducedBody b = ReadReducedBody((dir_ / "gear2.h5").string());
+  ASSERT_EQ(b.interfaces.size(), 2u);
+  EXPECT_EQ(b.interfaces[1].kind, InterfaceKind::kRbe3);
+  EXPECT_EQ(b.modes.node_sets.count("mesh_point"), 1u);
+}
+
+TEST_F(ReduceCliTest, MeshInputWithInterfacesFromTheCommandLine) {
+  FeMesh mesh = MakeBoxMesh({.size_m = {0.3, 0.04, 0.04}, .divisions = {6, 1, 1}, .type = ElementType::kHex20});
+  WriteInpFile(dir_ / "beam.inp", mesh);
+  const std::string beam = (dir_ / "beam.inp").string();
+  const std::string body = (dir_ / "beam.h5").string();
+  const auto [json, status] =
+      Reduce("'" + beam + "' -o '" + body + "' --interface XMIN --interface XMAX:rbe3 --E 7e10 --nu 0.33 --rho 2700 --modes 4 --json");
+  ASSERT_EQ(status, 0) << json;
+  const std::vector<double> full = JsonArray(json, "full_frequencies_hz");
+  const std::vector<double> reduced = JsonArray(json, "reduced_frequencies_hz");
+  ASSERT_EQ(full.size(), 10u) << json;
+  for (std::size_t i = 0; i < full.size(); ++i) EXPECT_GE(reduced[i], full[i] * (1 - 1e-9)) << i;
+  const ReducedBody b = ReadReducedBody(body);
+  EXPECT_EQ(b.provenance.source, "mesh file " + beam);
+  EXPECT_EQ(b.provenance.element_type, "C3D20");
+  EXPECT_EQ(b.interfaces[0].name, "XMIN");
+  // A mesh needs interfaces
+  const auto [none, s1] = Reduce("'" + beam + "' -o '" + body + "' --E 7e10 --nu 0.33 --rho 2700");
+  EXPECT_EQ(s1, 1);
+  EXPECT_NE(none.find("a mesh input needs --interface"), std::string::npos) << none;
+  const auto [kind, s2] = Reduce("'" + beam + "' -o '" + body + "' --interface XMIN:rbe9 --E 7e10 --nu 0.33 --rho 2700");
+  EXPECT_EQ(s2, 1);
+  EXPECT_EQ(kind, "orrery: error: --interface XMIN:rbe9: expected NODESET, NODESET:rbe2 or NODESET:rbe3\n");
+}
+
+TEST_F(ReduceCliTest, BadInputsNameTheFileAndKey) {
+  const std::string body = (dir_ / "bad.h5").string();
+  const auto run = [&](const std::string& name, const std::string& text) {
+    const std::string input = Write(name, text);
+    return Reduce("'" + input + "' -o '" + body + "'");
+  };
+  const std::string bore = "  - {name: bore, node_set: BORE, kind: rbe2}\n";
+  // Missing key
+  auto [missing, s1] = run("missing.yaml", GearInput(bore, "{name: steel, nu: 0.3, rho: 7850}"));
+  EXPECT_EQ(s1, 1);
+  EXPECT_EQ(missing, "orrery: error: " + (dir_ / "missing.yaml").string() +
+                         ":4: material.E: missing required key 'E'\n");
+  // Negative Young's modulus
+  auto [negative, s2] = run("negative.yaml", GearInput(bore, "{name: steel, E: -210e9, nu: 0.3, rho: 7850}"));
+  EXPECT_EQ(s2, 1);
+  EXPECT_EQ(negative, "orrery: error: " + (dir_ / "negative.yaml").string() +
+                          ":4: material.E: Young's modulus must be > 0 (Pa), got -210e9\n");
+  // Unknown node set: the interface's node_set key, and the set
+  auto [unknown, s3] = run("unknown.yaml", GearInput("  - {name: bore, node_set: HUB, kind: rbe2}\n"));
+  EXPECT_EQ(s3, 1);
+  EXPECT_EQ(unknown.rfind("orrery: error: " + (dir_ / "unknown.yaml").string() +
+                              ":6: interfaces[bore].node_set: no node set 'HUB'",
+                          0),
+            0u)
+      << unknown;
+  EXPECT_EQ(std::count(unknown.begin(), unknown.end(), '\n'), 1);
+  // Misspelt key, unknown reference
+  auto [typo, s4] = run("typo.yaml", GearInput(bore) + "outputs: {stres_modes: false}\n");
+  EXPECT_EQ(s4, 1);
+  EXPECT_NE(typo.find("outputs.stres_modes: unknown key 'stres_modes'; did you mean 'stress_modes'?"),
+            std::string::npos)
+      << typo;
+  // Missing file; missing -o is a usage error
+  const auto [nofile, s5] = Reduce("'" + (dir_ / "none.yaml").string() + "' -o '" + body + "'");
+  EXPECT_EQ(s5, 1);
+  EXPECT_EQ(nofile, "orrery: error: input file " + (dir_ / "none.yaml").string() + ": no such file\n");
+  const auto [usage, s6] = Reduce("'" + (dir_ / "missing.yaml").string() + "'");
+  EXPECT_EQ(s6, 2) << usage;
+  EXPECT_FALSE(std::filesystem::exists(body));
+}
+
+}  // namespace
+}  // namespace orrery::flex
