@@ -65,6 +65,42 @@ CraigBamptonModel ReduceCraigBampton(const FeMesh& mesh, const FeSystem& system,
     Phi = modes.shapes.leftCols(keep);
     r.fixed_interface_eigenvalues = modes.eigenvalues.head(keep);
   }
+  if (options.inertial_load_modes) {
+    // Unit inertial body-force fields g (per unit density, linear in x - p_r), loads T^T M g.
+    const Eigen::Vector3d p_r = it.master_positions[options.reference_interface];
+    const int nn = mesh.num_nodes();
+    Eigen::MatrixXd G = Eigen::MatrixXd::Zero(3 * nn, 12);
+    for (int i = 0; i < nn; ++i) {
+      const Eigen::Vector3d x = mesh.positions()[i] - p_r;
+      for (int a = 0; a < 3; ++a) {
+        const Eigen::Vector3d e = Eigen::Vector3d::Unit(a);
+        G.block<3, 1>(3 * i, a) = e;                    // translational acceleration
+        G.block<3, 1>(3 * i, 3 + a) = e.cross(x);       // angular acceleration
+        G.block<3, 1>(3 * i, 6 + a) = x - e * x(a);     // centrifugal (a, a)
+        const int b = (a + 1) % 3;                      // centrifugal (a, b): xy, yz, zx
+        G.block<3, 1>(3 * i, 9 + a) = -(e * x(b) + Eigen::Vector3d::Unit(b) * x(a));
+      }
+    }
+    const Eigen::MatrixXd Fq = Tt * (system.M * G);
+    Eigen::MatrixXd X = ldlt.solve(Fq.bottomRows(nI));
+    // Remove what the normal modes span (M-orthogonal projection), then an M-orthonormal basis of
+    // the rest, dropping directions below 1e-8 of the largest.
+    if (Phi.cols() > 0) X -= Phi * (Phi.transpose() * (Mii * X));
+    const Eigen::MatrixXd MX = Symmetrized(X.transpose() * (Mii * X));
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(MX);
+    const double top = es.eigenvalues().maxCoeff();
+    std::vector<int> keep;
+    for (int k = 0; k < 12; ++k)
+      if (top > 0 && es.eigenvalues()(k) > 1e-8 * top) keep.push_back(k);
+    const int na = static_cast<int>(keep.size());
+    Eigen::MatrixXd Xo(nI, na);
+    for (int k = 0; k < na; ++k)
+      Xo.col(k) = X * es.eigenvectors().col(keep[k]) / std::sqrt(es.eigenvalues()(keep[k]));
+    Eigen::MatrixXd aug(nI, Phi.cols() + na);
+    aug << Phi, Xo;
+    Phi = aug;
+    r.num_load_modes = na;
+  }
   const int nm = static_cast<int>(Phi.cols());
   const int ncb = nb + nm;
 

@@ -44,6 +44,13 @@ struct CraigBamptonOptions {
   double cutoff_hz = 0;       // > 0: keep only fixed-interface modes at or below this frequency
   int reference_interface = 0;
   double tolerance = 1e-10;   // Lanczos relative tolerance (FeModesOptions::tolerance)
+  // Augment the fixed-interface modes with the static response of the interior (interfaces held)
+  // to the 12 unit inertial loads of a moving body: translational and angular acceleration and
+  // the six centrifugal products (mbd/flexible_body.h), about the reference master. Normal modes
+  // converge slowly to such quasi-static deformations (the centrifugal growth of a disk lies in
+  // in-plane modes far above the bending modes); with these columns they are exact. Columns
+  // already spanned by the modes are dropped.
+  bool inertial_load_modes = false;
 };
 
 // Filled by ReduceCraigBampton. nr = 6 + num_elastic coordinates.
@@ -59,6 +66,7 @@ struct CraigBamptonModel {
   std::vector<Eigen::Vector3d> master_positions_m;    // (num_interfaces)
   int reference_interface = 0;
   Eigen::VectorXd fixed_interface_eigenvalues;        // (normal modes kept) (rad/s)^2
+  int num_load_modes = 0;            // inertial-load columns added (options.inertial_load_modes)
   bool cutoff_reached = false;       // cutoff_hz > 0 and a computed mode lay above it
   // Rigid-body mass properties from the rigid 6 x 6 block of M:
   double mass_kg = 0;

@@ -4,6 +4,7 @@
 #include <cerrno>
 #include <charconv>
 #include <cstdio>
+#include <cstring>
 #include <cstdlib>
 #include <fstream>
 #include <map>
@@ -316,9 +317,15 @@ InpReadResult ReadInp(const std::filesystem::path& path) {
 
 namespace {
 
+// Shortest of the round-trip form and what CalculiX can read: ccx takes at most 20 characters per
+// field, which %.17g exceeds for small magnitudes ("-3.8867686406668911e-16"); precision is then
+// lowered until the field fits (14 digits at worst).
 std::string Num(double x) {
   char b[40];
-  std::snprintf(b, sizeof b, "%.17g", x);
+  for (int digits = 17; digits >= 14; --digits) {
+    std::snprintf(b, sizeof b, "%.*g", digits, x);
+    if (std::strlen(b) <= 20) break;
+  }
   return b;
 }
 
