@@ -365,6 +365,7 @@ TrainModel BuildTrainModel(const PlanetaryTrain& train, int range, const TrainMo
 
   // Planets on their carriers: joint frame turned by psi (x radial, y tangential).
   std::vector<std::vector<BodyIndex>> planet_body(train.planet_sets.size());
+  std::vector<std::vector<FrameIndex>> planet_mesh_frame(train.planet_sets.size());  // meshes act here
   tm.planet_joints.resize(train.planet_sets.size());
   for (size_t s = 0; s < train.planet_sets.size(); ++s) {
     const PlanetSet& ps = train.planet_sets[s];
@@ -376,13 +377,29 @@ TrainModel BuildTrainModel(const PlanetaryTrain& train, int range, const TrainMo
     for (size_t i = 0; i < ps.angles_rad.size(); ++i) {
       const double psi = ps.angles_rad[i];
       const std::string name = ps.name + std::to_string(i + 1);
-      const BodyIndex body = b.AddBody(name, p.mass_kg, Vec3::Zero(),
-                                       AxisymmetricInertia(p.polar_inertia_kg_m2, p.transverse_inertia_kg_m2));
+      const auto flex_it = o.flexible_planets.find(name);
+      const bool flexible = flex_it != o.flexible_planets.end();
+      const BodyIndex body =
+          flexible ? b.AddFlexibleBody(name, flex_it->second.modes, flex_it->second.options)
+                   : b.AddBody(name, p.mass_kg, Vec3::Zero(),
+                               AxisymmetricInertia(p.polar_inertia_kg_m2, p.transverse_inertia_kg_m2));
       const Transform X_PF(AxisAngle(Vec3::UnitZ(), psi), ps.center_radius_m * Vec3(std::cos(psi), std::sin(psi), 0));
       const JointIndex j = b.AddJoint({.name = name, .type = joint_type, .parent = carrier, .child = body,
                                        .X_PF = X_PF, .axis = Vec3::UnitZ(), .axis2 = Vec3::UnitX()});
       b.SetJointVelocity(j, joint_velocity(w_rel));
       planet_body[s].push_back(body);
+      planet_mesh_frame[s].push_back(b.body_frame(body));
+      if (flexible && !flex_it->second.mesh_interface.empty()) {
+        const FlexibleBodyModes& modes = *flex_it->second.modes;
+        const auto set = modes.node_sets.find(flex_it->second.mesh_interface);
+        if (set == modes.node_sets.end() || set->second.size() != 1)
+          throw std::invalid_argument("flexible planet '" + name + "': mesh_interface '" +
+                                      flex_it->second.mesh_interface +
+                                      "' is not an interface of its reduced body");
+        const int node = set->second[0];
+        planet_mesh_frame[s].back() =
+            b.AddNodeFrame(name + "_mesh", body, node, Transform::Translation(modes.nodes[node].position));
+      }
       tm.planet_joints[s].push_back(j);
       // Planet bearings on the pin (seed 002 eq. 10; no torsional stiffness).
       const double kr = ov.radial_bearing_stiffness_N_m.value_or(o.radial_bearing_stiffness_N_m);
@@ -407,10 +424,19 @@ TrainModel BuildTrainModel(const PlanetaryTrain& train, int range, const TrainMo
     }
   }
 
-  // Gear body, base radius and face width by train gear index and branch.
-  auto gear_body = [&](int g, int branch) {
+  // Unknown flexible planets are an error, not a silent rigid planet.
+  for (const auto& [name, planet] : o.flexible_planets) {
+    bool found = false;
+    for (size_t s = 0; s < train.planet_sets.size(); ++s)
+      for (size_t i = 0; i < train.planet_sets[s].angles_rad.size(); ++i)
+        found = found || train.planet_sets[s].name + std::to_string(i + 1) == name;
+    if (!found) throw std::invalid_argument("flexible planet '" + name + "': no planet of that name in the train");
+  }
+
+  // Frame the meshes act on, base radius and face width by train gear index and branch.
+  auto gear_frame = [&](int g, int branch) {
     const TrainGear& gear = train.gears[g];
-    return gear.planet_set < 0 ? member_body[gear.member] : planet_body[gear.planet_set][branch];
+    return gear.planet_set < 0 ? b.body_frame(member_body[gear.member]) : planet_mesh_frame[gear.planet_set][branch];
   };
   auto gear_params = [&](int g) -> const TrainBodyParams& {
     const TrainGear& gear = train.gears[g];
@@ -559,8 +585,8 @@ TrainModel BuildTrainModel(const PlanetaryTrain& train, int range, const TrainMo
       for (int i = 0; i < st.num_planets; ++i) {
         const std::vector<double>& tab = branch_tables.empty() ? table : branch_tables[i];
         GearMeshSpec spec{
-            .name = m.name + "#" + std::to_string(i + 1), .gear_a = b.body_frame(gear_body(a, i)),
-            .gear_b = b.body_frame(gear_body(bb, i)), .reference = reference,
+            .name = m.name + "#" + std::to_string(i + 1), .gear_a = gear_frame(a, i),
+            .gear_b = gear_frame(bb, i), .reference = reference,
             .teeth_a = train.gears[a].teeth, .teeth_b = train.gears[bb].teeth,
             .base_radius_a = gear_params(a).base_radius_m, .base_radius_b = gear_params(bb).base_radius_m,
             .working_pressure_angle = alpha[k], .base_helix_angle = beta_b, .internal_b = internal,

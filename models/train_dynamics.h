@@ -242,6 +242,20 @@ struct TrainModelOptions {
 
   std::unordered_map<std::string, TrainMemberOverride> members;  // by member or planet-set name
   std::unordered_map<std::string, TrainMeshOverride> meshes;     // by train mesh name
+
+  // Flexible planets, by planet body name (set name and branch number, e.g. "p1"): the planet
+  // is this reduced body (mbd/flexible_body.h; mass and inertia from its FE model instead of the
+  // lumped parameters), its frame B the reduction's reference interface (the bore) on the pin.
+  // The lumped meshes act on the master of the interface `mesh_interface` (for example an RBE3
+  // over the root circle, so that the mesh load deforms rim and web) or on B if it is empty.
+  // The mesh stiffness should then be the teeth's and the contact's only (the FE body carries
+  // the rest); it is the scene's to choose.
+  struct FlexiblePlanet {
+    std::shared_ptr<const FlexibleBodyModes> modes;
+    FlexibleBodyOptions options;
+    std::string mesh_interface;
+  };
+  std::unordered_map<std::string, FlexiblePlanet> flexible_planets;
 };
 
 // Resolved lumped parameters of a member or planet set (filled by BuildTrainModel).
