@@ -236,6 +236,7 @@ std::string HashReductionOptions(const CraigBamptonOptions& options, std::span<c
   h.Double(options.cutoff_hz);
   h.Int(options.reference_interface);
   h.Double(options.tolerance);
+  if (options.inertial_load_modes) h.Text("inertial-load-modes");  // files reduced without them keep their hash
   h.Int(static_cast<std::int64_t>(interfaces.size()));
   for (const FeInterface& i : interfaces) {
     h.Text(i.name);

@@ -1,6 +1,8 @@
 #include "import/reduce_input.h"
 
+#include <cstdio>
 #include <fstream>
+#include <numbers>
 #include <set>
 #include <sstream>
 
@@ -153,8 +155,9 @@ ReduceInput Read(const Context& ctx, const YAML::Node& root) {
 
   // reduction: modes, cutoff, reference interface
   if (const auto item = top.Find("reduction")) {
-    const MapReader m(ctx, *item, {"modes", "cutoff_hz", "reference"});
+    const MapReader m(ctx, *item, {"modes", "cutoff_hz", "reference", "inertial_load_modes"});
     in.modes = Count(m, "modes", in.modes, 0);
+    in.inertial_load_modes = m.Bool("inertial_load_modes", false);
     in.cutoff_hz = Bounded(m, "cutoff_hz", 0, 0, false);
     if (const auto ref = m.Find("reference")) {
       const std::string name = ToString(ctx, *ref);
@@ -200,6 +203,45 @@ ReduceInput LoadReduceInput(const std::string& path) {
   std::ostringstream text;
   text << in.rdbuf();
   return ParseReduceInput(text.str(), path);
+}
+
+GearReduction PrepareGearReduction(const ReduceInput& in) {
+  GearReduction job;
+  const gears::Gear gear(in.gear);
+  try {
+    job.mesh = gears::MakeGearFeMesh(gear, in.mesh);
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(in.file + ": mesh: " + e.what());
+  }
+  for (const ReduceInput::Interface& f : in.interfaces) {
+    try {
+      job.interfaces.push_back(flex::MakeInterface(job.mesh, f.node_set, f.rbe3 ? flex::InterfaceKind::kRbe3
+                                                                                 : flex::InterfaceKind::kRbe2));
+    } catch (const std::invalid_argument& e) {
+      throw std::runtime_error(f.node_set_at + ": " + e.what());
+    }
+    job.interfaces.back().name = f.name;
+    job.interface_sets.push_back(f.node_set);
+  }
+  for (const std::string& set : in.export_node_sets) {
+    try {
+      job.mesh.NodeSet(set);
+    } catch (const std::invalid_argument& e) {
+      throw std::runtime_error(in.file + ": outputs.export_node_sets: " + e.what());
+    }
+  }
+  job.cb_options = {.num_modes = in.modes, .cutoff_hz = in.cutoff_hz, .reference_interface = in.reference_interface,
+                    .inertial_load_modes = in.inertial_load_modes};
+  job.outputs = {.export_node_sets = in.export_node_sets,
+                 .stress_modes = in.stress_modes,
+                 .geometric_stiffness = in.geometric_stiffness};
+  const gears::GearSpec& g = in.gear;
+  constexpr double kDeg = 180 / std::numbers::pi;
+  job.source = "gear z=" + std::to_string(g.teeth) + ", m_n=" + Num(g.normal_module_m) + " m, alpha_n=" +
+               Num(g.normal_pressure_angle_rad * kDeg) + " deg, beta=" + Num(g.helix_angle_rad * kDeg) +
+               " deg, b=" + Num(g.face_width_m) + " m, x=" + Num(g.profile_shift) + ", bore radius " +
+               Num(in.mesh.bore_radius_m) + " m; " + flex::CalculixName(in.mesh.type) + " mesh (" + in.file + ")";
+  return job;
 }
 
 }  // namespace orrery

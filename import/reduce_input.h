@@ -11,7 +11,7 @@
 //   material: {name: steel, E: 210e9, nu: 0.3, rho: 7850}          # Pa, -, kg/m^3
 //   interfaces:
 //     - {name: bore, node_set: BORE, kind: rbe2}
-//   reduction: {modes: 20, cutoff_hz: 0, reference: bore}
+//   reduction: {modes: 20, cutoff_hz: 0, reference: bore, inertial_load_modes: false}
 //   outputs: {stress_modes: true, geometric_stiffness: true, export_node_sets: [TOOTH0_FLANK_PLUS]}
 //
 // Lengths take a unit suffix (module, module_mm; face_width, face_width_mm; bore_diameter,
@@ -26,6 +26,10 @@
 #include <string>
 #include <vector>
 
+#include "flex/craig_bampton.h"
+#include "flex/fe_interface.h"
+#include "flex/fe_mesh.h"
+#include "flex/flexible_body_modes.h"
 #include "models/gear_fe_mesh.h"
 #include "models/gear_geometry.h"
 
@@ -45,6 +49,7 @@ struct ReduceInput {
   std::vector<Interface> interfaces;  // at least one
 
   int modes = 20;             // reduction.modes: fixed-interface normal modes (>= 0)
+  bool inertial_load_modes = false;  // reduction.inertial_load_modes (CraigBamptonOptions)
   double cutoff_hz = 0;       // reduction.cutoff_hz (>= 0; 0: none)
   int reference_interface = 0;  // reduction.reference (an interface name; default the first)
   bool stress_modes = true;         // outputs.stress_modes
@@ -57,5 +62,21 @@ struct ReduceInput {
 ReduceInput LoadReduceInput(const std::string& path);
 // The same from text; `file` names it in messages.
 ReduceInput ParseReduceInput(const std::string& text, const std::string& file);
+
+// What reducing a generated gear takes: its mesh (material assigned), the interfaces over their
+// node sets, the reduction options, the outputs and a description of the source. Shared by
+// `orrery reduce` and by scenes that check a reduced-body file against its input (the expected
+// provenance is MakeReducedBodyProvenance of these).
+struct GearReduction {
+  flex::FeMesh mesh;
+  std::vector<flex::FeInterface> interfaces;
+  std::vector<std::string> interface_sets;  // node set of each interface
+  flex::CraigBamptonOptions cb_options;
+  flex::FlexibleBodyModesOptions outputs;
+  std::string source;
+};
+// Throws std::runtime_error "FILE: KEY: reason" when the mesh cannot be generated or an
+// interface's or output's node set does not exist.
+GearReduction PrepareGearReduction(const ReduceInput& input);
 
 }  // namespace orrery

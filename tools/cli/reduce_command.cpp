@@ -65,35 +65,14 @@ flex::FeInterface Interface(const flex::FeMesh& mesh, const std::string& name, c
 
 // A generated gear from a reduce input file.
 Job GearJob(const std::string& path) {
-  const ReduceInput in = LoadReduceInput(path);
+  GearReduction g = PrepareGearReduction(LoadReduceInput(path));
   Job job;
-  const gears::Gear gear(in.gear);
-  try {
-    job.mesh = gears::MakeGearFeMesh(gear, in.mesh);
-  } catch (const std::invalid_argument& e) {
-    throw std::runtime_error(path + ": mesh: " + e.what());
-  }
-  for (const ReduceInput::Interface& f : in.interfaces) {
-    job.interfaces.push_back(Interface(job.mesh, f.name, f.node_set,
-                                       f.rbe3 ? flex::InterfaceKind::kRbe3 : flex::InterfaceKind::kRbe2, f.node_set_at));
-    job.interface_sets.push_back(f.node_set);
-  }
-  for (const std::string& set : in.export_node_sets) {
-    try {
-      job.mesh.NodeSet(set);
-    } catch (const std::invalid_argument& e) {
-      throw std::runtime_error(path + ": outputs.export_node_sets: " + e.what());
-    }
-  }
-  job.cb_options = {.num_modes = in.modes, .cutoff_hz = in.cutoff_hz, .reference_interface = in.reference_interface};
-  job.outputs = {.export_node_sets = in.export_node_sets,
-                 .stress_modes = in.stress_modes,
-                 .geometric_stiffness = in.geometric_stiffness};
-  const gears::GearSpec& g = in.gear;
-  job.source = "gear z=" + std::to_string(g.teeth) + ", m_n=" + Num(g.normal_module_m) + " m, alpha_n=" +
-               Num(g.normal_pressure_angle_rad * 180 / std::numbers::pi) + " deg, beta=" + Num(g.helix_angle_rad * 180 / std::numbers::pi) +
-               " deg, b=" + Num(g.face_width_m) + " m, x=" + Num(g.profile_shift) + ", bore radius " +
-               Num(in.mesh.bore_radius_m) + " m; " + flex::CalculixName(in.mesh.type) + " mesh (" + path + ")";
+  job.mesh = std::move(g.mesh);
+  job.interfaces = std::move(g.interfaces);
+  job.interface_sets = std::move(g.interface_sets);
+  job.cb_options = g.cb_options;
+  job.outputs = std::move(g.outputs);
+  job.source = std::move(g.source);
   return job;
 }
 
