@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <limits>
 #include <map>
 #include <memory>
@@ -16,6 +17,8 @@
 #include <utility>
 #include <vector>
 
+#include "flex/reduced_body_file.h"
+#include "import/reduce_input.h"
 #include "import/train_mesh_geometry.h"
 #include "models/mesh_stiffness.h"
 #include "models/planetary_kinematics.h"
@@ -421,6 +424,63 @@ std::vector<std::pair<std::string, Item>> NamedEntries(const Context& ctx, const
   return entries;
 }
 
+// A flexible planet: its reduced-body file (made by `orrery reduce`), checked against the reduce
+// input when one is named (a stale file is rejected with the reasons), and its options.
+gears::TrainModelOptions::FlexiblePlanet ReadFlexiblePlanet(const Context& ctx, const Item& item) {
+  const MapReader m(ctx, item, {"reduced_body", "reduce_input", "mesh_interface", "damping_ratio",
+                                "rayleigh_alpha", "rayleigh_beta", "geometric_stiffening", "frozen",
+                                "record_surface"});
+  const std::filesystem::path dir = std::filesystem::path(ctx.file()).parent_path();
+  auto resolve = [&](const std::string& p) {
+    const std::filesystem::path path(p);
+    return (path.is_absolute() ? path : dir / path).lexically_normal().string();
+  };
+  const Item body_item = m.Need("reduced_body");
+  const std::string body_path = resolve(m.String("reduced_body"));
+  std::optional<flex::ReducedBodyProvenance> expected;
+  std::string input_path;
+  if (const auto in = m.Find("reduce_input")) {
+    input_path = resolve(m.String("reduce_input"));
+    try {
+      const GearReduction job = PrepareGearReduction(LoadReduceInput(input_path));
+      expected = flex::MakeReducedBodyProvenance(job.mesh, job.cb_options, job.interfaces, job.outputs, "");
+      expected->source = "the reduce input " + input_path;
+    } catch (const SceneError& e) {
+      ctx.Fail(*in, e.what());
+    } catch (const std::exception& e) {
+      ctx.Fail(*in, e.what());
+    }
+  }
+  const std::string remake = input_path.empty() ? std::string("make it with `orrery reduce INPUT -o ") + body_path + "`"
+                                                : "make it with `orrery reduce " + input_path + " -o " + body_path + "`";
+  if (!std::filesystem::exists(body_path)) ctx.Fail(body_item, "no reduced-body file " + body_path + "; " + remake);
+  gears::TrainModelOptions::FlexiblePlanet planet;
+  try {
+    planet.modes = std::make_shared<FlexibleBodyModes>(
+        flex::ReadReducedBody(body_path, expected ? &*expected : nullptr).modes);
+  } catch (const flex::StaleReducedBodyError& e) {
+    ctx.Fail(body_item, std::string(e.what()) + "; re" + remake.substr(1));
+  } catch (const std::exception& e) {
+    ctx.Fail(body_item, e.what());
+  }
+  planet.mesh_interface = m.Has("mesh_interface") ? m.String("mesh_interface") : "";
+  if (!planet.mesh_interface.empty()) {
+    const auto set = planet.modes->node_sets.find(planet.mesh_interface);
+    if (set == planet.modes->node_sets.end() || set->second.size() != 1)
+      ctx.Fail(m.Need("mesh_interface"), "'" + planet.mesh_interface + "' is not an interface of " + body_path);
+  }
+  if (m.Has("damping_ratio")) planet.options.damping_ratios = {OptScaled(m, Plain("damping_ratio"), 0)};
+  planet.options.rayleigh_alpha = OptScaled(m, Plain("rayleigh_alpha"), 0);
+  planet.options.rayleigh_beta = OptScaled(m, Plain("rayleigh_beta"), 0);
+  planet.options.geometric_stiffening = m.Bool("geometric_stiffening", false);
+  if (planet.options.geometric_stiffening && planet.modes->geometric_stiffness.empty())
+    ctx.Fail(m.Need("geometric_stiffening"), body_path + " has no geometric stiffness (reduce with "
+                                                         "outputs.geometric_stiffness: true)");
+  planet.options.frozen = m.Bool("frozen", false);
+  planet.options.record_surface = m.Bool("record_surface", false);
+  return planet;
+}
+
 // The dynamics map -> TrainModelOptions (mesh stiffness method returned separately).
 std::string ReadDynamics(const Context& ctx, const std::optional<Item>& item, const PlanetaryTrain& train,
                          TrainModelOptions& o, std::optional<Item>& stiffness_item) {
@@ -431,7 +491,8 @@ std::string ReadDynamics(const Context& ctx, const std::optional<Item>& item, co
                                    "ring_rim_modules", "connection_stiffness", "clutch_stiffness",
                                    "brake_stiffness", "bearing_stiffness", "axial_bearing_stiffness",
                                    "tilt_bearing_stiffness", "bearing_damping", "port_loads",
-                                   "stage_phase_cycles", "members", "meshes", "backlash", "backlash_um"};
+                                   "stage_phase_cycles", "members", "meshes", "backlash", "backlash_um",
+                                   "flexible_planets"};
   Append(allowed, Names(LengthMm("stage_spacing")));
   const MapReader m(ctx, *item, allowed, {{"damping_ratio", "write 'mesh_damping_ratio'"}});
   const std::string dofs = m.Choice("dofs", {"torsional", "planar", "spatial"}, "torsional");
@@ -473,6 +534,13 @@ std::string ReadDynamics(const Context& ctx, const std::optional<Item>& item, co
     for (const gears::TrainMesh& x : train.meshes) known.push_back(x.name);
     for (const auto& [name, entry] : NamedEntries(ctx, *meshes, known, "mesh"))
       o.meshes[name] = ReadMeshOverride(ctx, entry);
+  }
+  if (const auto planets = m.Find("flexible_planets")) {
+    std::vector<std::string> known;
+    for (const gears::PlanetSet& x : train.planet_sets)
+      for (size_t i = 0; i < x.angles_rad.size(); ++i) known.push_back(x.name + std::to_string(i + 1));
+    for (const auto& [name, entry] : NamedEntries(ctx, *planets, known, "planet"))
+      o.flexible_planets[name] = ReadFlexiblePlanet(ctx, entry);
   }
   // Mean mesh stiffness: c_gamma b (default), one value for all meshes, ISO 6336 or TVMS.
   const auto k = m.Find("mesh_stiffness");

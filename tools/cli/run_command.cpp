@@ -7,7 +7,9 @@
 #include <system_error>
 
 #include "import/scene.h"
+#include "mbd/hdf5_reader.h"
 #include "mbd/result_file.h"
+#include "mbd/xdmf_writer.h"
 #include "tools/cli/error_message.h"
 #include "tools/cli/interrupt.h"
 #include "tools/cli/progress_bar.h"
@@ -33,6 +35,37 @@ std::string Number(const char* format, double value) {
   char buffer[64];
   std::snprintf(buffer, sizeof buffer, format, value);
   return buffer;
+}
+
+// Flexible bodies: the largest von Mises stress of the run and where, and the XDMF file that
+// animates the recorded surfaces (written beside the result file).
+void PrintFlexibleBodies(std::ostream& out, const Model& model, const std::string& output_path) {
+  bool surfaces = false;
+  for (const FlexibleBody& fb : model.flexible_bodies) {
+    surfaces = surfaces || fb.options.record_surface;
+    const std::string name = model.bodies[fb.body].name;
+    const std::string path = "/flexible_bodies/" + name + "/von_mises_max";
+    try {
+      const Hdf5Reader r(output_path);
+      if (!r.Exists(path)) continue;
+      const Eigen::MatrixXd vm = r.ReadMatrix(path);
+      if (vm.rows() == 0) continue;
+      Eigen::Index row;
+      vm.col(0).maxCoeff(&row);
+      const std::string where = "t = " + Number("%.4g", r.ReadMatrix("/time")(row, 0)) + " s, node " +
+                                Number("%.0f", vm(row, 1)) + " at (" + Number("%.4g", vm(row, 2)) + ", " +
+                                Number("%.4g", vm(row, 3)) + ", " + Number("%.4g", vm(row, 4)) + ") m";
+      SummaryLine(out, "max von Mises", name + ": " + Number("%.4g MPa", vm(row, 0) * 1e-6) + ", " + where);
+    } catch (const std::exception& e) {
+      SummaryLine(out, "max von Mises", name + ": not read: " + e.what());
+    }
+  }
+  if (!surfaces) return;
+  try {
+    SummaryLine(out, "animation", WriteSurfaceXdmf(output_path).string() + " (ParaView)");
+  } catch (const std::exception& e) {
+    SummaryLine(out, "animation", std::string("not written: ") + e.what());
+  }
 }
 
 void PrintSummary(std::ostream& out, const std::string& output_path, const SimulationReport& report) {
@@ -128,6 +161,7 @@ int RunCommand(const RunArgs& args, std::ostream& out, std::ostream& err) {
     return kExitFailure;
   }
   PrintSummary(out, output_path, report);
+  PrintFlexibleBodies(out, *scene->model, output_path);
   return kExitSuccess;
 }
 
