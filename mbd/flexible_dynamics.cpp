@@ -186,7 +186,10 @@ double FlexibleKineticEnergy(const Model& model, const Data& data) {
     const FlexibleBody& fb = model.flexible_bodies[i];
     if (fb.nf == 0) continue;
     const auto& qd = data.flex[i].qf_dot;
-    T += data.V_WB[fb.body].dot(data.flex[i].F_W * qd) + 0.5 * qd.dot(fb.mass * qd);
+    const Vec6 h = data.flex[i].F_W * qd;  // fixed size: no temporary on the heap
+    double modal = 0;
+    for (int k = 0; k < fb.nf; ++k) modal += qd(k) * fb.mass.col(k).dot(qd);
+    T += data.V_WB[fb.body].dot(h) + 0.5 * modal;
   }
   return T;
 }

@@ -116,6 +116,48 @@ JointSpec Joint(const std::string& name, JointType type, BodyIndex parent, BodyI
   return j;
 }
 
+// A small flexible body: point masses, three of them moved by three modes, with damping,
+// geometric stiffness, stress modes and a surface (every output path of the engine).
+std::shared_ptr<FlexibleBodyModes> PointMassModes() {
+  auto m = std::make_shared<FlexibleBodyModes>();
+  const int n = 3;
+  m->nf = n;
+  m->I2 = Eigen::Matrix<double, 3, Eigen::Dynamic>::Zero(3, n);
+  m->I4.assign(n, Mat3::Zero());
+  m->I5.assign(n * n, Mat3::Zero());
+  const Vec3 core[4] = {{0.2, 0, 0}, {-0.1, 0.25, 0.05}, {0, -0.15, 0.3}, {0.05, 0.1, -0.2}};
+  for (const Vec3& x : core) {
+    m->mass += 1.0;
+    m->I1 += x;
+    m->I3 += x * x.transpose();
+  }
+  for (int j = 0; j < 3; ++j) {
+    FlexibleBodyModes::Node node;
+    node.id = j + 1;
+    node.position = Vec3(0.3 * j, 0.2, -0.1 * j);
+    node.translation_shapes = Eigen::Matrix<double, 3, Eigen::Dynamic>::Zero(3, n);
+    node.translation_shapes.col(j) = Vec3(1, 0.5 * j, 0.2).normalized();
+    node.rotation_shapes = 0.1 * node.translation_shapes;
+    const double mass = 0.5;
+    m->mass += mass;
+    m->I1 += mass * node.position;
+    m->I3 += mass * node.position * node.position.transpose();
+    m->I2 += mass * node.translation_shapes;
+    for (int k = 0; k < n; ++k) {
+      m->I4[k] += mass * node.position * node.translation_shapes.col(k).transpose();
+      for (int l = 0; l < n; ++l)
+        m->I5[k * n + l] += mass * node.translation_shapes.col(k) * node.translation_shapes.col(l).transpose();
+    }
+    m->nodes.push_back(node);
+  }
+  m->stiffness = Eigen::Vector3d(400, 900, 1600).asDiagonal();
+  m->geometric_stiffness.assign(6, Eigen::MatrixXd::Identity(n, n) * 0.1);
+  m->surface_triangles = {{0, 1, 2}};
+  m->stress_nodes = {0, 1, 2};
+  m->stress_modes = Eigen::MatrixXd::Ones(18, n) * 1e6;
+  return m;
+}
+
 std::shared_ptr<const Model> BuildModel() {
   const double r = 0.1, l = 0.35, theta = 0.3;
   ModelBuilder b;
@@ -149,6 +191,12 @@ std::shared_ptr<const Model> BuildModel() {
   K.bottomLeftCorner<3, 3>() = Mat3::Identity() * 100;
   K.bottomRightCorner<3, 3>() = Mat3::Identity() * 1e3;
   b.AddBushing({"mount", anchor, mark, K, K * 1e-3});
+  const BodyIndex flex = b.AddFlexibleBody("flex", PointMassModes(),
+                                           {.damping_ratios = {0.02}, .geometric_stiffening = true,
+                                            .record_surface = true});
+  b.AddJoint(Joint("flex", JointType::kRevolute, kWorldBody, flex, Transform::Translation(Vec3(2, 0, 0))));
+  const FrameIndex node = b.AddNodeFrame("flex_node", flex, 1, Transform::Translation(Vec3(0.3, 0.2, -0.1)));
+  b.AddTranslationalSpring({"flex_spring", anchor, node, 100, 1, 0.4, 0});
   const double s = std::sin(theta), x = r * std::cos(theta) + std::sqrt(l * l - r * r * s * s);
   b.SetJointPosition(jc, Eigen::VectorXd::Constant(1, theta));
   b.SetJointPosition(jr, Eigen::Vector2d(std::atan2(-r * s, x - r * std::cos(theta)) - theta, 0));
