@@ -101,7 +101,10 @@ TEST(FlexiblePlanet, RunsOnTheCarrierPinThroughLumpedMeshes) {
   int dof = 0;
   const auto modes = ReducedPlanet(*train, o, &mass, &dof);
   const TrainModel rigid = BuildTrainModel(*train, 0, o);
-  o.flexible_planets["S.planet1"] = {.modes = modes, .options = {.damping_ratios = {0.02}}, .mesh_interface = "rim"};
+  TrainModelOptions::FlexiblePlanet& planet = o.flexible_planets["S.planet1"];
+  planet.modes = modes;
+  planet.options.damping_ratios = {0.02};
+  planet.mesh_interface = "rim";
   const TrainModel flexible = BuildTrainModel(*train, 0, o);
   const FlexibleBody& fb = flexible.model->flexible_bodies.at(0);
   std::printf("[flex planet] seed 002 planet: %d FE DOF, %.1f kg (lumped model %.1f kg), %d modal coordinates, "
