@@ -1,14 +1,13 @@
 #include "contact/candidate_pairs.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <utility>
 #include <stdexcept>
 
-#include <fcl/broadphase/broadphase_dynamic_AABB_tree.h>
 #include <fcl/geometry/bvh/BVH_model.h>
 #include <fcl/math/bv/OBBRSS.h>
-#include <fcl/narrowphase/collision_object.h>
 #include <fcl/narrowphase/collision_request.h>
 #include <fcl/narrowphase/collision_result.h>
 #include <fcl/narrowphase/detail/traversal/collision/mesh_collision_traversal_node.h>
@@ -23,26 +22,13 @@ using Bvh = fcl::BVHModel<fcl::OBBRSSd>;
 class CullingGeometry {
  public:
   std::vector<std::shared_ptr<Bvh>> parts;  // one hierarchy per part, part-local triangle ids
-  double inflate = 0;                       // m: margin / 2
+  double inflate = 0;                       // m: (margin + slack) / 2
 };
 
-namespace {
-
-// The local AABB that the broad phase transforms, inflated by margin / 2. FCL's CollisionObject
-// constructor recomputes the local AABB, so this runs again after every construction.
-void InflateLocalAabb(Bvh& bvh, double inflate) {
-  bvh.computeLocalAABB();
-  bvh.aabb_local.min_.array() -= inflate;
-  bvh.aabb_local.max_.array() += inflate;
-  bvh.aabb_center = bvh.aabb_local.center();
-  bvh.aabb_radius = (bvh.aabb_local.min_ - bvh.aabb_center).norm();
-}
-
-}  // namespace
 
 std::shared_ptr<const CullingGeometry> BuildCullingGeometry(const ContactSurface& surface) {
   auto geometry = std::make_shared<CullingGeometry>();
-  const double inflate = 0.5 * surface.margin_m();
+  const double inflate = 0.5 * (surface.margin_m() + surface.slack_m());
   geometry->inflate = inflate;
   for (int j = 0; j < surface.num_parts(); ++j) {
     // The part's vertices and triangles, indices local to the part.
@@ -61,14 +47,13 @@ std::shared_ptr<const CullingGeometry> BuildCullingGeometry(const ContactSurface
         bvh->addSubModel(points, triangles) != fcl::BVH_OK || bvh->endModel() != fcl::BVH_OK)
       throw std::runtime_error("ContactSurface: FCL could not build the BVH of part " +
                                std::to_string(j));
-    // Inflate every bounding volume by margin / 2 (OBB half-extents and RSS radius): two
-    // inflated volumes overlap whenever the originals are closer than the margin.
+    // Inflate every bounding volume by (margin + slack) / 2 (OBB half-extents and RSS radius):
+    // two inflated volumes overlap whenever the originals are closer than d + s.
     for (int i = 0; i < bvh->getNumBVs(); ++i) {
       fcl::OBBRSSd& bv = bvh->getBV(i).bv;
       bv.obb.extent.array() += inflate;
       bv.rss.r += inflate;
     }
-    InflateLocalAabb(*bvh, inflate);
     geometry->parts.push_back(std::move(bvh));
   }
   return geometry;
@@ -116,94 +101,52 @@ class PairCollector final : public fcl::detail::MeshCollisionTraversalNodeOBBRSS
 }  // namespace
 
 struct CandidateSearch::Impl {
-  // Broad phase: one collision object per part, one manager per surface.
-  std::vector<std::unique_ptr<fcl::CollisionObjectd>> objects_a, objects_b;
-  std::vector<fcl::CollisionObjectd*> raw_a, raw_b;
-  fcl::DynamicAABBTreeCollisionManagerd manager_a, manager_b;
-  // User data of the objects: j for part j of A, -(j + 1) for part j of B.
-  std::vector<int> id_a, id_b;
-  // Overlapping part pairs of the last broad phase.
+  // Overlapping part pairs of the last broad phase (capacity #parts_A * #parts_B).
   std::vector<std::pair<int, int>> part_pairs;
-  Transform X_WA, X_WB, X_AB_last;
-  bool have_pose = false, have_pairs = false;
+  // B's part centres in A's frame (capacity #parts_B).
+  std::vector<Vec3> centers_b_A;
+  Transform X_WA, X_WB, X_AB_search, X_AB_previous;
+  bool have_pairs = false, have_previous = false;
   fcl::CollisionRequestd request;
   fcl::CollisionResultd result;
 };
 
-namespace {
-
-bool CollectPartPair(fcl::CollisionObjectd* o1, fcl::CollisionObjectd* o2, void* data) {
-  auto* part_pairs = static_cast<std::vector<std::pair<int, int>>*>(data);
-  int id1 = *static_cast<const int*>(o1->getUserData());
-  int id2 = *static_cast<const int*>(o2->getUserData());
-  if (id1 < 0) std::swap(id1, id2);
-  if (id1 >= 0 && id2 < 0) part_pairs->emplace_back(id1, -id2 - 1);
-  return false;  // keep going
-}
-
-}  // namespace
-
 CandidateSearch::CandidateSearch(const ContactSurface& surface_a, const ContactSurface& surface_b)
     : impl_(std::make_unique<Impl>()), a_(surface_a), b_(surface_b),
-      search_distance_(0.5 * (surface_a.margin_m() + surface_b.margin_m())) {
-  Impl& m = *impl_;
-  const int na = surface_a.num_parts(), nb = surface_b.num_parts();
-  for (int j = 0; j < na; ++j) m.id_a.push_back(j);
-  for (int j = 0; j < nb; ++j) m.id_b.push_back(-(j + 1));
-  for (int j = 0; j < na; ++j) {
-    m.objects_a.push_back(std::make_unique<fcl::CollisionObjectd>(surface_a.culling().parts[j]));
-    InflateLocalAabb(*surface_a.culling().parts[j], surface_a.culling().inflate);
-    m.objects_a.back()->computeAABB();
-    m.objects_a.back()->setUserData(&m.id_a[j]);
-    m.raw_a.push_back(m.objects_a.back().get());
-  }
-  for (int j = 0; j < nb; ++j) {
-    m.objects_b.push_back(std::make_unique<fcl::CollisionObjectd>(surface_b.culling().parts[j]));
-    InflateLocalAabb(*surface_b.culling().parts[j], surface_b.culling().inflate);
-    m.objects_b.back()->computeAABB();
-    m.objects_b.back()->setUserData(&m.id_b[j]);
-    m.raw_b.push_back(m.objects_b.back().get());
-  }
-  m.manager_a.registerObjects(m.raw_a);
-  m.manager_b.registerObjects(m.raw_b);
-  m.manager_a.setup();
-  m.manager_b.setup();
-  m.part_pairs.reserve(static_cast<size_t>(na) * nb);
+      search_distance_(0.5 * (surface_a.margin_m() + surface_b.margin_m())),
+      slack_(0.5 * (surface_a.slack_m() + surface_b.slack_m())) {
+  impl_->part_pairs.reserve(static_cast<size_t>(surface_a.num_parts()) * surface_b.num_parts());
+  impl_->centers_b_A.resize(surface_b.num_parts());
 }
 
 CandidateSearch::~CandidateSearch() = default;
 
 int CandidateSearch::suggested_capacity() const {
-  return 16 * (a_.num_triangles() + b_.num_triangles());
+  return 4 * (a_.num_triangles() + b_.num_triangles());
+}
+
+double CandidateSearch::MotionBound(const Transform& X_AB0, const Transform& X_AB1) const {
+  return (X_AB1.R - X_AB0.R).norm() * b_.max_vertex_radius_m() + (X_AB1.p - X_AB0.p).norm();
 }
 
 void CandidateSearch::UpdateBroadPhase(const Transform& X_WA, const Transform& X_WB) {
   Impl& m = *impl_;
-  // Refit only the surfaces that moved.
-  const bool moved_a = !m.have_pose || !SamePose(X_WA, m.X_WA);
-  const bool moved_b = !m.have_pose || !SamePose(X_WB, m.X_WB);
-  if (moved_a) {
-    const fcl::Transform3d tf = ToFcl(X_WA);
-    for (auto* o : m.raw_a) {
-      o->setTransform(tf);
-      o->computeAABB();
-    }
-    m.manager_a.update();
-  }
-  if (moved_b) {
-    const fcl::Transform3d tf = ToFcl(X_WB);
-    for (auto* o : m.raw_b) {
-      o->setTransform(tf);
-      o->computeAABB();
-    }
-    m.manager_b.update();
-  }
   m.X_WA = X_WA;
   m.X_WB = X_WB;
-  m.have_pose = true;
-  // Overlapping parts, A's part first.
+  const Transform X_AB = X_WA.Inverse() * X_WB;
+  // Part spheres of B in A's frame, grown by d + s, against A's spheres.
+  const double reach = search_distance_ + slack_;
+  const int na = a_.num_parts(), nb = b_.num_parts();
+  for (int j = 0; j < nb; ++j) m.centers_b_A[j] = X_AB * b_.part_centers()[j];
   m.part_pairs.clear();
-  m.manager_a.collide(&m.manager_b, &m.part_pairs, CollectPartPair);
+  for (int i = 0; i < na; ++i) {
+    const Vec3& c_a = a_.part_centers()[i];
+    const double r_a = a_.part_radii()[i] + reach;
+    for (int j = 0; j < nb; ++j) {
+      const double r = r_a + b_.part_radii()[j];
+      if ((m.centers_b_A[j] - c_a).squaredNorm() <= r * r) m.part_pairs.emplace_back(i, j);
+    }
+  }
   stats_.part_pairs = static_cast<int>(m.part_pairs.size());
 }
 
@@ -213,6 +156,7 @@ void CandidateSearch::FindPairs(std::vector<TrianglePair>* pairs) {
   stats_.leaf_tests = 0;
   const Transform X_AB = m.X_WA.Inverse() * m.X_WB;
   const fcl::Transform3d tf_a = ToFcl(m.X_WA), tf_b = ToFcl(m.X_WB);
+  const double reach = search_distance_ + slack_;
   for (const auto& [pa, pb] : m.part_pairs) {
     // FCL's traversal over the two inflated hierarchies, our leaf test.
     PairCollector node;
@@ -224,7 +168,7 @@ void CandidateSearch::FindPairs(std::vector<TrianglePair>* pairs) {
     node.triangle_start_a = a_.part_triangle_start()[pa];
     node.triangle_start_b = b_.part_triangle_start()[pb];
     node.X_AB = X_AB;
-    node.search_distance2 = search_distance_ * search_distance_;
+    node.search_distance2 = reach * reach;
     node.pairs = pairs;
     node.leaf_tests = &stats_.leaf_tests;
     fcl::detail::collide(&node, nullptr);
@@ -236,12 +180,27 @@ bool CandidateSearch::Find(const Transform& X_WA, const Transform& X_WB,
                            std::vector<TrianglePair>* pairs) {
   Impl& m = *impl_;
   const Transform X_AB = X_WA.Inverse() * X_WB;
-  if (m.have_pairs && SamePose(X_AB, m.X_AB_last)) return false;
+  // Largest motion between consecutive calls (what the slack must cover per step).
+  if (m.have_previous)
+    stats_.max_motion_between_calls_m =
+        std::max(stats_.max_motion_between_calls_m, MotionBound(m.X_AB_previous, X_AB));
+  m.X_AB_previous = X_AB;
+  m.have_previous = true;
+  if (m.have_pairs) {
+    stats_.motion_since_search_m = MotionBound(m.X_AB_search, X_AB);
+    if (stats_.motion_since_search_m <= slack_ &&
+        (slack_ > 0 || SamePose(X_AB, m.X_AB_search)))
+      return false;
+  }
   UpdateBroadPhase(X_WA, X_WB);
   FindPairs(pairs);
-  m.X_AB_last = X_AB;
+  m.X_AB_search = X_AB;
   m.have_pairs = true;
+  stats_.motion_since_search_m = 0;
+  ++stats_.searches;
   return true;
 }
+
+void CandidateSearch::Invalidate() { impl_->have_pairs = false; }
 
 }  // namespace orrery::contact

@@ -17,6 +17,8 @@ bool SamePose(const Transform& X, const Transform& Y) { return X.R == Y.R && X.p
 ContactWorkspace::ContactWorkspace(const ContactSurface& a, const ContactSurface& b)
     : search(a, b), scratch_a(a), scratch_b(b) {
   pairs.reserve(search.suggested_capacity());
+  node_faces_a.reserve(3 * pairs.capacity());
+  node_faces_b.reserve(3 * pairs.capacity());
   gaps_a.reserve(a.num_vertices());
   gaps_b.reserve(b.num_vertices());
 }
@@ -47,15 +49,19 @@ void ContactElement::UpdateGaps(const Transform& X_WA, const Transform& X_WB,
   ws.searched = false;
   ws.gaps_recomputed = false;
   if (ws.have_gaps && SamePose(X_WA, ws.X_WA) && SamePose(X_WB, ws.X_WB)) return;
-  // Candidate pairs (unchanged if the relative pose is).
-  ws.searched = ws.search.Find(X_WA, X_WB, &ws.pairs);
-  // Gaps both ways.
   const ContactSurface& a = *spec_.surface_a;
   const ContactSurface& b = *spec_.surface_b;
+  // Candidate pairs (kept while the motion since the search is within the slack) and their
+  // node-face combinations.
+  ws.searched = ws.search.Find(X_WA, X_WB, &ws.pairs);
+  if (ws.searched) {
+    ListNodeFaceCandidates(a, ws.pairs, /*nodes_are_a=*/true, &ws.scratch_a, &ws.node_faces_a);
+    ListNodeFaceCandidates(b, ws.pairs, /*nodes_are_a=*/false, &ws.scratch_b, &ws.node_faces_b);
+  }
+  // Gaps both ways.
   const double d = ws.search.search_distance_m();
-  ComputeNodeGaps(a, X_WA, b, X_WB, ws.pairs, /*nodes_are_a=*/true, d, &ws.scratch_a, &ws.gaps_a);
-  ComputeNodeGaps(b, X_WB, a, X_WA, ws.pairs, /*nodes_are_a=*/false, d, &ws.scratch_b,
-                  &ws.gaps_b);
+  ComputeNodeGapsFromCandidates(a, X_WA, b, X_WB, ws.node_faces_a, d, &ws.gaps_a);
+  ComputeNodeGapsFromCandidates(b, X_WB, a, X_WA, ws.node_faces_b, d, &ws.gaps_b);
   ws.X_WA = X_WA;
   ws.X_WB = X_WB;
   ws.have_gaps = true;

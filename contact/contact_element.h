@@ -3,16 +3,21 @@
 // (mbd/external_force.h): the `contact` mesh model of DESIGN.md.
 //
 // One Apply() (MuJoCo-style table of contents):
-//   1. candidate triangle pairs (candidate_pairs.h): FCL broad phase over the surfaces' parts,
-//      then the inflated-BVH traversal; skipped when the relative pose has not changed;
+//   1. candidate triangle pairs (candidate_pairs.h): part spheres (the mesh zone), then the
+//      inflated-BVH traversal; skipped while the relative motion since the last search is within
+//      the surfaces' slack; after a search, the distinct node-face candidates of each pass;
 //   2. signed gaps both ways (signed_gap.h, seed 000 eqs. 6-9): nodes of A against faces of B
-//      and nodes of B against faces of A; skipped when neither body moved;
+//      and nodes of B against faces of A, over the node-face candidates; skipped when neither
+//      body moved;
 //   3. contact law at every penetrating node (contact_law.h): penalty per unit area, Hunt-
 //      Crossley damping, regularized Coulomb friction, each pass weighted by 1/2 so that the two
 //      passes together integrate the pressure once (seed 000 eq. 20);
 //   4. the node force F on the node's body at the node P and -F on the other body at P
 //      (spatial forces about the world origin in data.f_ext), elastic energy to
 //      data.potential_energy, dissipation to data.power_dissipated.
+// Apply() allocates nothing once the workspace's lists have reached the size the scene needs
+// (they are reserved for 4 pairs per triangle and never shrink; tests/contact/
+// no_allocation_test.cpp counts).
 // Relative velocity at a node P on body N against the face body F:
 //   v_rel = v_N(P) - v_F(P), depth rate = -v_rel . n, slip v_t = v_rel - (v_rel . n) n.
 //
@@ -53,6 +58,7 @@ class ContactWorkspace final : public ExternalForceWorkspace {
 
   CandidateSearch search;
   std::vector<TrianglePair> pairs;       // candidate pairs of the last search
+  std::vector<NodeFaceCandidate> node_faces_a, node_faces_b;  // of the pairs, per pass
   GapScratch scratch_a, scratch_b;       // per-node scratch of the passes (nodes of A, of B)
   std::vector<NodeGap> gaps_a, gaps_b;   // nodes of A on B's faces, nodes of B on A's faces
   Transform X_WA, X_WB;                  // poses of the last gap computation

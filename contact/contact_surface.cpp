@@ -1,5 +1,7 @@
 #include "contact/contact_surface.h"
 
+#include <algorithm>
+#include <limits>
 #include <map>
 #include <stdexcept>
 #include <string>
@@ -9,11 +11,15 @@
 
 namespace orrery::contact {
 
-ContactSurface::ContactSurface(const std::vector<gears::TriangleMesh>& parts, double margin_m)
-    : margin_m_(margin_m) {
+ContactSurface::ContactSurface(const std::vector<gears::TriangleMesh>& parts, double margin_m,
+                               double slack_m)
+    : margin_m_(margin_m), slack_m_(slack_m) {
   if (!(margin_m > 0))
     throw std::invalid_argument("ContactSurface: margin_m must be > 0, got " +
                                 std::to_string(margin_m));
+  if (!(slack_m >= 0))
+    throw std::invalid_argument("ContactSurface: slack_m must be >= 0, got " +
+                                std::to_string(slack_m));
   // Concatenate the parts, offsetting the vertex indices.
   part_triangle_start_.push_back(0);
   part_vertex_start_.push_back(0);
@@ -68,6 +74,22 @@ ContactSurface::ContactSurface(const std::vector<gears::TriangleMesh>& parts, do
     for (int k = 0; k < 3; ++k)
       if (edge_uses[std::minmax(triangles_[t][k], triangles_[t][(k + 1) % 3])] == 1)
         boundary_edges_[t] |= static_cast<std::uint8_t>(1u << k);
+
+  // Bounding sphere of every part (centre of its box, farthest vertex) and the largest radius.
+  for (int j = 0; j < num_parts(); ++j) {
+    Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+    for (int v = part_vertex_start_[j]; v < part_vertex_start_[j + 1]; ++v) {
+      lo = lo.cwiseMin(vertices_[v]);
+      hi = hi.cwiseMax(vertices_[v]);
+    }
+    const Vec3 c = 0.5 * (lo + hi);
+    double r = 0;
+    for (int v = part_vertex_start_[j]; v < part_vertex_start_[j + 1]; ++v)
+      r = std::max(r, (vertices_[v] - c).norm());
+    part_centers_.push_back(c);
+    part_radii_.push_back(r);
+  }
+  for (const Vec3& v : vertices_) max_vertex_radius_m_ = std::max(max_vertex_radius_m_, v.norm());
 
   culling_ = BuildCullingGeometry(*this);
 }

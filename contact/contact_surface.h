@@ -12,8 +12,10 @@
 //
 // margin_m: the contact search lists every triangle pair closer than this (candidate_pairs.h),
 // so it bounds the penetration that can be seen; choose it above the largest expected
-// penetration (penalty contacts: F_max / (k_A A) plus the motion slack) and well below the
-// tooth size.
+// penetration (penalty contacts: F_max / (k_A A)) and well below the tooth size.
+// slack_m (>= 0): the search looks (margin + slack) far and keeps its pairs until the surfaces
+// have moved relative to each other by more than the slack (candidate_pairs.h); a larger slack
+// means fewer searches and more candidates per gap evaluation.
 //
 // Usage:
 //   auto flank = std::make_shared<const ContactSurface>(
@@ -35,7 +37,8 @@ class ContactSurface {
   // parts: at least one non-empty mesh, vertices in the body frame (m). Throws
   // std::invalid_argument for an empty surface, a triangle index out of range, a degenerate
   // triangle (zero area) or margin_m <= 0.
-  ContactSurface(const std::vector<gears::TriangleMesh>& parts, double margin_m);
+  ContactSurface(const std::vector<gears::TriangleMesh>& parts, double margin_m,
+                 double slack_m = 0);
   ~ContactSurface();
   ContactSurface(const ContactSurface&) = delete;
   ContactSurface& operator=(const ContactSurface&) = delete;
@@ -44,6 +47,9 @@ class ContactSurface {
   int num_triangles() const { return static_cast<int>(triangles_.size()); }
   int num_parts() const { return static_cast<int>(part_triangle_start_.size()) - 1; }
   double margin_m() const { return margin_m_; }
+  double slack_m() const { return slack_m_; }
+  // Largest distance of a vertex from the body origin (m): bounds how far a rotation moves it.
+  double max_vertex_radius_m() const { return max_vertex_radius_m_; }
 
   const std::vector<Vec3>& vertices() const { return vertices_; }                     // #V, B
   const std::vector<std::array<int, 3>>& triangles() const { return triangles_; }     // #T
@@ -56,6 +62,9 @@ class ContactSurface {
   const std::vector<int>& part_triangle_start() const { return part_triangle_start_; }
   const std::vector<int>& part_vertex_start() const { return part_vertex_start_; }
   double total_area() const { return total_area_; }
+  // #parts: a sphere around each part (body frame), the broad phase's per-part bounding test.
+  const std::vector<Vec3>& part_centers() const { return part_centers_; }
+  const std::vector<double>& part_radii() const { return part_radii_; }
 
   const CullingGeometry& culling() const { return *culling_; }
 
@@ -67,7 +76,9 @@ class ContactSurface {
   std::vector<Vec3> vertex_normals_;
   std::vector<std::uint8_t> boundary_edges_;
   std::vector<int> part_triangle_start_, part_vertex_start_;
-  double margin_m_ = 0, total_area_ = 0;
+  std::vector<Vec3> part_centers_;
+  std::vector<double> part_radii_;
+  double margin_m_ = 0, slack_m_ = 0, total_area_ = 0, max_vertex_radius_m_ = 0;
   std::shared_ptr<const CullingGeometry> culling_;
 };
 

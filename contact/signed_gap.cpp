@@ -111,4 +111,95 @@ void ComputeNodeGaps(const ContactSurface& node_surface, const Transform& X_WN,
   s.touched.clear();
 }
 
+void ListNodeFaceCandidates(const ContactSurface& node_surface,
+                            const std::vector<TrianglePair>& pairs, bool nodes_are_a,
+                            GapScratch* scratch, std::vector<NodeFaceCandidate>* out) {
+  GapScratch& s = *scratch;  // best_face: -1 for untouched nodes, used as count, then offset
+  const auto& node_tris = node_surface.triangles();
+  // Count the entries of every node.
+  for (const TrianglePair& pair : pairs) {
+    const int node_tri = nodes_are_a ? pair.a : pair.b;
+    for (int k = 0; k < 3; ++k) {
+      const int node = node_tris[node_tri][k];
+      if (s.best_face[node] < 0) {
+        s.best_face[node] = 0;
+        s.touched.push_back(node);
+      }
+      ++s.best_face[node];
+    }
+  }
+  // Offsets in node order.
+  std::sort(s.touched.begin(), s.touched.end());
+  int offset = 0;
+  for (const int node : s.touched) {
+    const int count = s.best_face[node];
+    s.best_face[node] = offset;
+    offset += count;
+  }
+  out->resize(offset);
+  // Scatter; afterwards best_face[node] is the end of the node's range.
+  for (const TrianglePair& pair : pairs) {
+    const int node_tri = nodes_are_a ? pair.a : pair.b;
+    const int face = nodes_are_a ? pair.b : pair.a;
+    for (int k = 0; k < 3; ++k) {
+      const int node = node_tris[node_tri][k];
+      (*out)[s.best_face[node]++] = {node, face};
+    }
+  }
+  // Sort each node's faces, drop repeats, compact; reset the scratch.
+  auto write = out->begin();
+  auto begin = out->begin();
+  for (const int node : s.touched) {
+    const auto end = out->begin() + s.best_face[node];
+    std::sort(begin, end);
+    const auto last = std::unique(begin, end);
+    write = std::move(begin, last, write);
+    begin = end;
+    s.best_face[node] = -1;
+  }
+  out->erase(write, out->end());
+  s.touched.clear();
+}
+
+void ComputeNodeGapsFromCandidates(const ContactSurface& node_surface, const Transform& X_WN,
+                                   const ContactSurface& face_surface, const Transform& X_WF,
+                                   const std::vector<NodeFaceCandidate>& candidates,
+                                   double search_distance_m, std::vector<NodeGap>* gaps) {
+  gaps->clear();
+  const Transform X_FN = X_WF.Inverse() * X_WN;
+  const auto& face_tris = face_surface.triangles();
+  const auto& fv = face_surface.vertices();
+  const double d2_max = search_distance_m * search_distance_m;
+  const size_t n = candidates.size();
+  size_t i = 0;
+  while (i < n) {
+    // One node: its position in the face frame, then the closest of its faces (eq. 6); faces
+    // come in increasing order, so a strict < keeps the lowest index on ties.
+    const int node = candidates[i].node;
+    const Vec3 p_F = X_FN * node_surface.vertices()[node];
+    double best_d2 = std::numeric_limits<double>::max();
+    int best_face = -1;
+    ClosestPoint best;
+    for (; i < n && candidates[i].node == node; ++i) {
+      const int face = candidates[i].face;
+      const auto& ft = face_tris[face];
+      const ClosestPoint c = ClosestPointOnTriangle(p_F, fv[ft[0]], fv[ft[1]], fv[ft[2]]);
+      const double d2 = (p_F - c.point).squaredNorm();
+      if (d2 < best_d2) {
+        best_d2 = d2;
+        best_face = face;
+        best = c;
+      }
+    }
+    // Signed gap (eqs. 7-9) of a node within the search distance.
+    if (best_d2 > d2_max) continue;
+    NodeGap g = NodeGapFromClosest(face_surface, best_face, p_F, best.point, best.feature);
+    g.node = node;
+    g.p_W = X_WF * p_F;
+    g.q_W = X_WF * best.point;
+    g.n_W = X_WF.R * face_surface.face_normals()[g.face];
+    gaps->push_back(g);
+  }
+}
+
 }  // namespace orrery::contact

@@ -12,6 +12,12 @@
 // Only nodes with |P - Q| <= the search distance are listed: for them the candidate faces hold
 // the true closest face (candidate_pairs.h), so the gaps equal a search over all faces.
 //
+// Two ways to run a pass over the same candidates, with identical results (tested):
+//   - ComputeNodeGaps() straight from the triangle pairs (each node-face combination is visited
+//     once per pair that contains it, up to 6 times; kept as the oracle),
+//   - ListNodeFaceCandidates() once per search, then ComputeNodeGapsFromCandidates() at every
+//     evaluation: each node-face combination once, each node transformed once (the step's path).
+//
 // Usage:
 //   GapScratch scratch(nodes_surface);
 //   ComputeNodeGaps(surface_a, X_WA, surface_b, X_WB, pairs, /*nodes_are_a=*/true, d,
@@ -54,6 +60,30 @@ void ComputeNodeGaps(const ContactSurface& node_surface, const Transform& X_WN,
                      const ContactSurface& face_surface, const Transform& X_WF,
                      const std::vector<TrianglePair>& pairs, bool nodes_are_a,
                      double search_distance_m, GapScratch* scratch, std::vector<NodeGap>* gaps);
+
+// A node of one surface and a candidate face of the other.
+struct NodeFaceCandidate {
+  int node = -1;
+  int face = -1;
+  bool operator==(const NodeFaceCandidate&) const = default;
+  bool operator<(const NodeFaceCandidate& o) const {
+    return node != o.node ? node < o.node : face < o.face;
+  }
+};
+
+// The distinct (node, face) combinations of the pairs for one pass (nodes of A if nodes_are_a),
+// sorted by node then face, by a counting sort over the nodes (scratch: of the node surface,
+// left as found). Clears *out; allocates only if *out's capacity is below 3 * pairs.size().
+void ListNodeFaceCandidates(const ContactSurface& node_surface,
+                            const std::vector<TrianglePair>& pairs, bool nodes_are_a,
+                            GapScratch* scratch, std::vector<NodeFaceCandidate>* out);
+
+// The pass of ComputeNodeGaps() over a list from ListNodeFaceCandidates(): same gaps, same
+// order, same tie-breaking (lowest face index). Clears and fills *gaps.
+void ComputeNodeGapsFromCandidates(const ContactSurface& node_surface, const Transform& X_WN,
+                                   const ContactSurface& face_surface, const Transform& X_WF,
+                                   const std::vector<NodeFaceCandidate>& candidates,
+                                   double search_distance_m, std::vector<NodeGap>* gaps);
 
 // The gap of one node P (face frame) against its closest face q (feature as found), by the
 // rules above; shared by the pass and by tests.

@@ -110,7 +110,7 @@ struct GearSurfaces {
 };
 
 // Three tooth surfaces (one part each) of a 19/27-tooth spur pair, m = 2 mm, b = 10 mm.
-GearSurfaces MakeGearSurfaces(double margin) {
+GearSurfaces MakeGearSurfaces(double margin, double slack = 0) {
   GearSurfaces s;
   s.g1 = std::make_unique<Gear>(GearSpec{.teeth = 19, .normal_module_m = 2e-3, .face_width_m = 0.01});
   s.g2 = std::make_unique<Gear>(GearSpec{.teeth = 27, .normal_module_m = 2e-3, .face_width_m = 0.01});
@@ -119,8 +119,8 @@ GearSurfaces MakeGearSurfaces(double margin) {
   std::vector<gears::TriangleMesh> p1, p2;
   for (int tooth : {18, 0, 1}) p1.push_back(gears::MakeToothSurfaceMesh(*s.g1, tooth, res, 4));
   for (int tooth : {26, 0, 1}) p2.push_back(gears::MakeToothSurfaceMesh(*s.g2, tooth, res, 4));
-  s.s1 = std::make_unique<ContactSurface>(p1, margin);
-  s.s2 = std::make_unique<ContactSurface>(p2, margin);
+  s.s1 = std::make_unique<ContactSurface>(p1, margin, slack);
+  s.s2 = std::make_unique<ContactSurface>(p2, margin, slack);
   return s;
 }
 
@@ -177,6 +177,61 @@ TEST(CandidatePairsTest, FclCullingFindsExactlyTheBruteForcePairsAndGaps) {
   }
   // The poses must exercise contact, or the test proves nothing.
   EXPECT_GE(poses_with_contact, 6);
+}
+
+// Pairs found with a slack s stay valid while the motion bound since the search is within s:
+// gaps from the kept candidates (node-face lists) equal the brute force at the moved pose, and
+// equal the oracle pass over the pairs; a motion beyond the slack searches again.
+TEST(CandidatePairsTest, PairsKeptWithinTheSlackGiveTheBruteForceGaps) {
+  const double margin = 60e-6, slack = 100e-6;
+  GearSurfaces gs = MakeGearSurfaces(margin, slack);
+  CandidateSearch search(*gs.s1, *gs.s2);
+  EXPECT_DOUBLE_EQ(search.slack_m(), slack);
+  const double pi = 3.14159265358979323846;
+  const Transform X_W2(AxisAngle(Vec3::UnitZ(), pi + pi / 27), Vec3(gs.a, 0, 0));
+  std::vector<TrianglePair> pairs;
+  pairs.reserve(search.suggested_capacity());
+  ASSERT_TRUE(search.Find(Transform(AxisAngle(Vec3::UnitZ(), 0.004), Vec3::Zero()), X_W2, &pairs));
+  // Turn gear 1 towards gear 2 in steps; the bound grows with the angle.
+  int kept = 0, penetrating = 0;
+  for (double dtheta = 1e-5; dtheta < 1e-2; dtheta *= 1.6) {
+    const Transform X_W1(AxisAngle(Vec3::UnitZ(), 0.004 + dtheta), Vec3::Zero());
+    const Transform X_AB = X_W1.Inverse() * X_W2;
+    const Transform X_AB0 = Transform(AxisAngle(Vec3::UnitZ(), 0.004), Vec3::Zero()).Inverse() * X_W2;
+    const bool within = search.MotionBound(X_AB0, X_AB) <= slack;
+    const bool searched = search.Find(X_W1, X_W2, &pairs);
+    ASSERT_EQ(searched, !within) << "dtheta " << dtheta;
+    if (searched) break;
+    ++kept;
+    for (int dir = 0; dir < 2; ++dir) {
+      const ContactSurface& nodes = dir == 0 ? *gs.s1 : *gs.s2;
+      const ContactSurface& faces = dir == 0 ? *gs.s2 : *gs.s1;
+      const Transform& X_WN = dir == 0 ? X_W1 : X_W2;
+      const Transform& X_WF = dir == 0 ? X_W2 : X_W1;
+      GapScratch scratch(nodes);
+      std::vector<NodeFaceCandidate> candidates;
+      ListNodeFaceCandidates(nodes, pairs, dir == 0, &scratch, &candidates);
+      std::vector<NodeGap> gaps, oracle;
+      ComputeNodeGapsFromCandidates(nodes, X_WN, faces, X_WF, candidates, margin, &gaps);
+      ComputeNodeGaps(nodes, X_WN, faces, X_WF, pairs, dir == 0, margin, &scratch, &oracle);
+      const std::vector<NodeGap> expected = BruteGaps(nodes, X_WN, faces, X_WF, margin);
+      ASSERT_EQ(gaps.size(), expected.size()) << "dtheta " << dtheta << " dir " << dir;
+      ASSERT_EQ(gaps.size(), oracle.size());
+      for (size_t i = 0; i < gaps.size(); ++i) {
+        ASSERT_EQ(gaps[i].node, expected[i].node);
+        EXPECT_NEAR(gaps[i].gap, expected[i].gap, 1e-13) << "node " << gaps[i].node;
+        EXPECT_EQ(gaps[i].on_surface, expected[i].on_surface);
+        // The same arithmetic as the oracle pass: identical.
+        EXPECT_EQ(gaps[i].gap, oracle[i].gap);
+        EXPECT_EQ(gaps[i].face, oracle[i].face);
+        penetrating += gaps[i].gap < 0 && gaps[i].on_surface;
+      }
+    }
+  }
+  // Several kept steps, with contact, before the motion exceeded the slack and forced a search.
+  EXPECT_GE(kept, 3);
+  EXPECT_GT(penetrating, 0);
+  EXPECT_EQ(search.stats().searches, 2);
 }
 
 TEST(CandidatePairsTest, SunkTriangleIsACandidate) {

@@ -1,8 +1,11 @@
 // Cost of one contact evaluation for a rigid spur-gear pair in mesh (19/27 teeth, m = 2 mm,
-// b = 10 mm, every tooth a part of its gear's surface), split by stage: broad phase (part AABBs),
-// triangle pairs (inflated-BVH traversal + exact distance), gaps (both passes), forces. Each
-// iteration alternates between two poses 1 nrad apart so that no cache skips work; the last
-// benchmark repeats one pose (what a velocity column of a finite-difference Jacobian costs).
+// b = 10 mm, every tooth a part of its gear's surface, zero backlash so that both flanks touch),
+// split by stage: broad phase (part spheres), triangle pairs (inflated-BVH traversal + exact
+// distance), node-face lists (once per search), gaps (both passes), forces. The surfaces carry a
+// slack of 50 um (candidate_pairs.h): BM_EvaluationWithinSlack alternates between two poses
+// 1 nrad apart (what a step or a position column of a finite-difference Jacobian costs: no
+// search), BM_EvaluationWithSearch forces a search every time, BM_SamePoseEvaluation repeats one
+// pose (a velocity column).
 #include <memory>
 #include <vector>
 
@@ -32,8 +35,8 @@ GearPairContact& Setup() {
     std::vector<gears::TriangleMesh> p1, p2;
     for (int i = 0; i < g1.teeth(); ++i) p1.push_back(gears::MakeToothSurfaceMesh(g1, i, {}, 10));
     for (int i = 0; i < g2.teeth(); ++i) p2.push_back(gears::MakeToothSurfaceMesh(g2, i, {}, 10));
-    auto s1 = std::make_shared<const ContactSurface>(p1, 50e-6);
-    auto s2 = std::make_shared<const ContactSurface>(p2, 50e-6);
+    auto s1 = std::make_shared<const ContactSurface>(p1, 50e-6, 50e-6);
+    auto s2 = std::make_shared<const ContactSurface>(p2, 50e-6, 50e-6);
     s->element = std::make_unique<ContactElement>(ContactElementSpec{
         .name = "mesh", .body_a = 1, .body_b = 2, .surface_a = s1, .surface_b = s2,
         .law = {.stiffness_per_area = 1e14, .hunt_crossley_s_per_m = 1,
@@ -59,6 +62,8 @@ void Report(benchmark::State& state, const GearPairContact& c) {
   state.counters["part_pairs"] = c.ws->search.stats().part_pairs;
   state.counters["leaf_tests"] = c.ws->search.stats().leaf_tests;
   state.counters["pairs"] = c.ws->search.stats().candidate_pairs;
+  state.counters["node_faces"] = static_cast<double>(c.ws->node_faces_a.size() +
+                                                     c.ws->node_faces_b.size());
   int contacts = 0;
   for (const auto* gaps : {&c.ws->gaps_a, &c.ws->gaps_b})
     for (const NodeGap& g : *gaps) contacts += g.gap < 0 && g.on_surface;
@@ -81,7 +86,39 @@ void BM_TrianglePairs(benchmark::State& state) {
 }
 BENCHMARK(BM_TrianglePairs)->Unit(benchmark::kMicrosecond);
 
+void BM_NodeFaceLists(benchmark::State& state) {
+  GearPairContact& c = Setup();
+  c.ws->search.UpdateBroadPhase(c.X_W1[0], c.X_W2);
+  c.ws->search.FindPairs(&c.ws->pairs);
+  const ContactSurface& a = *c.element->spec().surface_a;
+  const ContactSurface& b = *c.element->spec().surface_b;
+  for (auto _ : state) {
+    ListNodeFaceCandidates(a, c.ws->pairs, true, &c.ws->scratch_a, &c.ws->node_faces_a);
+    ListNodeFaceCandidates(b, c.ws->pairs, false, &c.ws->scratch_b, &c.ws->node_faces_b);
+  }
+  Report(state, c);
+}
+BENCHMARK(BM_NodeFaceLists)->Unit(benchmark::kMicrosecond);
+
 void BM_Gaps(benchmark::State& state) {
+  GearPairContact& c = Setup();
+  c.ws->search.UpdateBroadPhase(c.X_W1[0], c.X_W2);
+  c.ws->search.FindPairs(&c.ws->pairs);
+  const ContactSurface& a = *c.element->spec().surface_a;
+  const ContactSurface& b = *c.element->spec().surface_b;
+  ListNodeFaceCandidates(a, c.ws->pairs, true, &c.ws->scratch_a, &c.ws->node_faces_a);
+  ListNodeFaceCandidates(b, c.ws->pairs, false, &c.ws->scratch_b, &c.ws->node_faces_b);
+  const double d = c.ws->search.search_distance_m();
+  for (auto _ : state) {
+    ComputeNodeGapsFromCandidates(a, c.X_W1[0], b, c.X_W2, c.ws->node_faces_a, d, &c.ws->gaps_a);
+    ComputeNodeGapsFromCandidates(b, c.X_W2, a, c.X_W1[0], c.ws->node_faces_b, d, &c.ws->gaps_b);
+  }
+  Report(state, c);
+}
+BENCHMARK(BM_Gaps)->Unit(benchmark::kMicrosecond);
+
+// The oracle pass straight from the triangle pairs (what every evaluation cost before the lists).
+void BM_GapsFromPairs(benchmark::State& state) {
   GearPairContact& c = Setup();
   c.ws->search.UpdateBroadPhase(c.X_W1[0], c.X_W2);
   c.ws->search.FindPairs(&c.ws->pairs);
@@ -94,7 +131,7 @@ void BM_Gaps(benchmark::State& state) {
   }
   Report(state, c);
 }
-BENCHMARK(BM_Gaps)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_GapsFromPairs)->Unit(benchmark::kMicrosecond);
 
 void BM_Forces(benchmark::State& state) {
   GearPairContact& c = Setup();
@@ -110,19 +147,36 @@ void BM_Forces(benchmark::State& state) {
 }
 BENCHMARK(BM_Forces)->Unit(benchmark::kMicrosecond);
 
-void BM_FullEvaluation(benchmark::State& state) {
+void BM_EvaluationWithinSlack(benchmark::State& state) {
+  GearPairContact& c = Setup();
+  Vec6 fa, fb;
+  double e, p;
+  int k = 0;
+  const long searches = c.ws->search.stats().searches;
+  for (auto _ : state) {
+    c.element->UpdateGaps(c.X_W1[k ^= 1], c.X_W2, *c.ws);
+    c.element->CalcForces(c.V1, c.V2, *c.ws, &fa, &fb, &e, &p);
+    benchmark::DoNotOptimize(fa);
+  }
+  state.counters["searches"] = static_cast<double>(c.ws->search.stats().searches - searches);
+  Report(state, c);
+}
+BENCHMARK(BM_EvaluationWithinSlack)->Unit(benchmark::kMicrosecond);
+
+void BM_EvaluationWithSearch(benchmark::State& state) {
   GearPairContact& c = Setup();
   Vec6 fa, fb;
   double e, p;
   int k = 0;
   for (auto _ : state) {
+    c.ws->search.Invalidate();
     c.element->UpdateGaps(c.X_W1[k ^= 1], c.X_W2, *c.ws);
     c.element->CalcForces(c.V1, c.V2, *c.ws, &fa, &fb, &e, &p);
     benchmark::DoNotOptimize(fa);
   }
   Report(state, c);
 }
-BENCHMARK(BM_FullEvaluation)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_EvaluationWithSearch)->Unit(benchmark::kMicrosecond);
 
 void BM_SamePoseEvaluation(benchmark::State& state) {
   GearPairContact& c = Setup();

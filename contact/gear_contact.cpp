@@ -1,0 +1,201 @@
+#include "contact/gear_contact.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "models/mesh_stiffness.h"
+
+namespace orrery::contact {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// Index of the part holding element `index` given the part start offsets.
+int PartOf(const std::vector<int>& starts, int index) {
+  return static_cast<int>(std::upper_bound(starts.begin(), starts.end(), index) - starts.begin()) - 1;
+}
+
+}  // namespace
+
+GearContactCalibration CalibrateGearContact(const gears::GearPair& pair,
+                                            const GearContactOptions& options) {
+  GearContactCalibration c;
+  const double b = pair.face_width_m();
+  c.single_pair_stiffness_n_per_m = options.single_pair_stiffness_n_per_m
+                                        ? *options.single_pair_stiffness_n_per_m
+                                        : gears::CalcIso6336Stiffness(pair).c_single_n_per_m;
+  if (!(c.single_pair_stiffness_n_per_m > 0))
+    throw std::invalid_argument("CalibrateGearContact: single-pair stiffness must be > 0, got " +
+                                std::to_string(c.single_pair_stiffness_n_per_m));
+  if (!(options.calibration_load_n > 0))
+    throw std::invalid_argument("CalibrateGearContact: calibration load must be > 0, got " +
+                                std::to_string(options.calibration_load_n));
+  // Curvature radii of the involutes at the pitch point: distances to T1 and T2.
+  const double rho1 = pair.pitch_point_m();
+  const double rho2 = pair.internal() ? pair.line_of_action_length_m() + rho1
+                                      : pair.line_of_action_length_m() - rho1;
+  c.equivalent_radius_m = pair.internal() ? rho1 * rho2 / (rho2 - rho1) : rho1 * rho2 / (rho1 + rho2);
+  c.reference_deflection_m = options.calibration_load_n / c.single_pair_stiffness_n_per_m;
+  c.stiffness_per_area = (options.calibration_load_n / b) /
+                         (4.0 / 3.0 * std::sqrt(2 * c.equivalent_radius_m) *
+                          std::pow(c.reference_deflection_m, 1.5));
+  return c;
+}
+
+std::shared_ptr<const ContactSurface> MakeGearContactSurface(const gears::Gear& gear,
+                                                             const GearContactOptions& options,
+                                                             const std::vector<int>& missing,
+                                                             const Transform& X_BG) {
+  for (int t : missing)
+    if (t < 0 || t >= gear.teeth())
+      throw std::invalid_argument("MakeGearContactSurface: missing tooth " + std::to_string(t) +
+                                  " is not in [0, " + std::to_string(gear.teeth()) + ")");
+  const gears::ProfileResolution res{.root = options.root_intervals,
+                                     .fillet = options.fillet_intervals,
+                                     .involute = options.involute_intervals,
+                                     .tip = options.tip_intervals};
+  std::vector<gears::TriangleMesh> parts;
+  for (int t = 0; t < gear.teeth(); ++t) {
+    if (std::find(missing.begin(), missing.end(), t) != missing.end()) continue;
+    gears::TriangleMesh m = gears::MakeToothSurfaceMesh(gear, t, res, options.face_intervals);
+    for (Vec3& v : m.vertices) v = X_BG * v;
+    parts.push_back(std::move(m));
+  }
+  if (parts.empty()) throw std::invalid_argument("MakeGearContactSurface: no tooth left");
+  return std::make_shared<const ContactSurface>(parts, options.margin_m, options.slack_m);
+}
+
+ContactElementSpec MakeGearContactSpec(const std::string& name, const gears::GearPair& pair,
+                                       BodyIndex body1, BodyIndex body2,
+                                       const GearContactOptions& options) {
+  const GearContactCalibration c = CalibrateGearContact(pair, options);
+  ContactElementSpec spec;
+  spec.name = name;
+  spec.body_a = body1;
+  spec.body_b = body2;
+  spec.surface_a = MakeGearContactSurface(pair.gear1(), options, options.missing_teeth1,
+                                          options.X_B1G1);
+  spec.surface_b = MakeGearContactSurface(pair.gear2(), options, options.missing_teeth2,
+                                          options.X_B2G2);
+  spec.law = {.stiffness_per_area = c.stiffness_per_area,
+              .hunt_crossley_s_per_m = options.hunt_crossley_s_per_m,
+              .friction_coefficient = options.friction_coefficient,
+              .slip_velocity_m_s = options.slip_velocity_m_s};
+  return spec;
+}
+
+MeshSweep SweepGearMesh(const gears::GearPair& pair, const GearContactOptions& options,
+                        double load_n, int points) {
+  if (!(load_n > 0)) throw std::invalid_argument("SweepGearMesh: load must be > 0");
+  if (points < 1) throw std::invalid_argument("SweepGearMesh: points must be >= 1");
+  GearContactOptions o = options;
+  o.X_B1G1 = o.X_B2G2 = Transform();
+  MeshSweep sweep;
+  sweep.load_n = load_n;
+  sweep.calibration = CalibrateGearContact(pair, o);
+  const ContactElement element(MakeGearContactSpec("sweep", pair, 1, 2, o));
+  ContactWorkspace ws(*element.spec().surface_a, *element.spec().surface_b);
+  const ContactSurface& sa = *element.spec().surface_a;
+  const ContactSurface& sb = *element.spec().surface_b;
+
+  const double z1 = pair.gear1().teeth(), z2 = pair.gear2().teeth();
+  const double rb1 = pair.gear1().base_radius_m();
+  const double a = pair.center_distance_m();
+  const double torque = load_n * rb1;
+  const Vec3 p2 = pair.internal() ? Vec3(-a, 0, 0) : Vec3(a, 0, 0);
+  const Vec6 zero = Vec6::Zero();
+
+  for (int i = 0; i < points; ++i) {
+    MeshSweepPoint pt;
+    pt.roll_angle_rad = 2 * kPi / z1 * i / points;
+    // Gear 2 held at its kinematic angle.
+    const double theta2 = pair.internal() ? kPi / z2 + z1 / z2 * pt.roll_angle_rad
+                                          : kPi + kPi / z2 - z1 / z2 * pt.roll_angle_rad;
+    const Transform X_W2(AxisAngle(Vec3::UnitZ(), theta2), p2);
+    // Moment balance of gear 1 as a function of the TE: contact moment + applied torque.
+    auto residual = [&](double te) {
+      const Transform X_W1(AxisAngle(Vec3::UnitZ(), pt.roll_angle_rad + te / rb1), Vec3::Zero());
+      element.UpdateGaps(X_W1, X_W2, ws);
+      Vec6 f1, f2;
+      double e = 0, p = 0;
+      element.CalcForces(zero, zero, ws, &f1, &f2, &e, &p);
+      ++pt.evaluations;
+      return -(torque + f1(2));  // increases with te: the contact moment opposes the drive
+    };
+    // Bracket the equilibrium, then the Illinois variant of regula falsi.
+    const double d = sweep.calibration.reference_deflection_m * std::pow(
+        load_n / o.calibration_load_n, 2.0 / 3.0);
+    double lo = -0.25 * d, hi = 2 * d;
+    double r_lo = residual(lo), r_hi = residual(hi);
+    while (r_lo > 0 && lo > -20 * d) r_lo = residual(lo -= d);
+    while (r_hi < 0 && hi < 20 * d) r_hi = residual(hi += 2 * d);
+    if (!(r_lo <= 0 && r_hi >= 0))
+      throw std::runtime_error("SweepGearMesh: no equilibrium within 20 reference deflections "
+                               "at roll angle " + std::to_string(pt.roll_angle_rad));
+    const double tol = 1e-7 * d;
+    double te = hi;
+    int side = 0;
+    for (int k = 0; k < 100 && hi - lo > tol; ++k) {
+      te = (lo * r_hi - hi * r_lo) / (r_hi - r_lo);
+      if (!(te > lo && te < hi)) te = 0.5 * (lo + hi);
+      const double r = residual(te);
+      if (r == 0) break;
+      if (r < 0) {
+        lo = te, r_lo = r;
+        if (side == -1) r_hi *= 0.5;
+        side = -1;
+      } else {
+        hi = te, r_hi = r;
+        if (side == 1) r_lo *= 0.5;
+        side = 1;
+      }
+    }
+    residual(te);  // leave the workspace at the solution
+    pt.transmission_error_m = te;
+    pt.stiffness_n_per_m = load_n / te;
+    pt.normal_force_n = ws.normal_force;
+    pt.friction_force_n = ws.friction_force;
+    pt.contact_points = ws.contact_points;
+    // Contact pattern on gear 1: roll distance of every contact, per tooth (part) of gear 1.
+    const Transform X_W1(AxisAngle(Vec3::UnitZ(), pt.roll_angle_rad + te / rb1), Vec3::Zero());
+    const Transform X_1W = X_W1.Inverse();
+    int teeth[3] = {-1, -1, -1};
+    auto add = [&](int tooth, const Vec3& p_W) {
+      const Vec3 p = X_1W * p_W;
+      const double r = std::hypot(p.x(), p.y());
+      const double s = r > rb1 ? std::sqrt(r * r - rb1 * rb1) : 0.0;
+      int k = 0;
+      while (k < 3 && teeth[k] != tooth && teeth[k] >= 0) ++k;
+      if (k == 3) return;
+      if (teeth[k] < 0) {
+        teeth[k] = tooth;
+        pt.pattern_min_m[k] = pt.pattern_max_m[k] = s;
+        ++pt.teeth_in_contact;
+      }
+      pt.pattern_min_m[k] = std::min(pt.pattern_min_m[k], s);
+      pt.pattern_max_m[k] = std::max(pt.pattern_max_m[k], s);
+    };
+    for (const NodeGap& g : ws.gaps_a)
+      if (g.gap < 0 && g.on_surface) add(PartOf(sa.part_vertex_start(), g.node), g.p_W);
+    for (const NodeGap& g : ws.gaps_b)
+      if (g.gap < 0 && g.on_surface) add(PartOf(sa.part_triangle_start(), g.face), g.q_W);
+    (void)sb;
+    sweep.points.push_back(pt);
+  }
+  // Mean stiffness and TE peak to peak.
+  double sum = 0, te_min = 1e300, te_max = -1e300;
+  for (const MeshSweepPoint& p : sweep.points) {
+    sum += p.stiffness_n_per_m;
+    te_min = std::min(te_min, p.transmission_error_m);
+    te_max = std::max(te_max, p.transmission_error_m);
+  }
+  sweep.mean_stiffness_n_per_m = sum / points;
+  sweep.te_peak_to_peak_m = te_max - te_min;
+  sweep.searches = ws.search.stats().searches;
+  return sweep;
+}
+
+}  // namespace orrery::contact

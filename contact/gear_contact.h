@@ -1,0 +1,128 @@
+#pragma once
+// Tooth contact of a gear pair (models/gear_geometry.h GearPair) as a ContactElement: the
+// `contact` mesh model built from the gears' own geometry, and the quasi-static mesh sweep that
+// measures its transmission error and mesh stiffness.
+//
+// Surfaces: every tooth of each gear is one part (the broad phase's unit): its whole outline
+// (root, fillet, involute flanks, tip) from gears::MakeToothSurfaceMesh, with
+// `involute_intervals` along each flank and `face_intervals` across the face width. Missing teeth
+// (a broken tooth with its geometry removed) are left out.
+//
+// Penalty calibration (rigid gears): the linear penalty per unit area k_A of contact_law.h on
+// two convex flanks (equivalent radius rho = rho1 rho2 / (rho1 +- rho2), + external, - internal,
+// at the pitch point) pressed by an approach delta along the normal gives a contact strip of
+// half width sqrt(2 rho delta) and a force per unit face width
+//   w = k_A int (delta - x^2 / (2 rho)) dx = (4/3) sqrt(2 rho) k_A delta^(3/2).
+// k_A is chosen so that one tooth pair carrying the calibration load F deflects by
+// delta_ref = F / (c' b) along the line of action, i.e. its secant stiffness at that load is the
+// single-pair stiffness c' b of ISO 6336-1 (models/mesh_stiffness.h; or a given value, e.g. the
+// TVMS of one pair):
+//   k_A = (F / b) / ((4/3) sqrt(2 rho) delta_ref^(3/2)).
+// The force grows as delta^(3/2), so the tangent stiffness at F is 1.5 c' b, and two pairs
+// sharing F deflect by (1/2)^(2/3) delta_ref each. The rigid pair's compliance then stands for the
+// whole tooth pair (bending, shear, foundation and Hertz); for flexible gears only the local
+// contact compliance would be left to the penalty.
+//
+// Quasi-static sweep (SweepGearMesh): gear 2 is held at the kinematic angle of each roll angle
+// theta1 of gear 1 over one mesh period 2 pi / z1; gear 1 carries the torque F r_b1 and is
+// turned until the contact balances it (safeguarded secant on the moment). Transmission error
+// TE = r_b1 (theta1 - theta1_kinematic) along the line of action (> 0: gear 1 ahead, flanks
+// pressed), mesh stiffness k = F / TE (secant). Frames: gear 1 at the origin, gear 2 at
+// (a, 0, 0) (external) or (-a, 0, 0) (internal ring), gear axes +z, gear 1 driving
+// counter-clockwise; at theta1 = 0 a space of gear 2 faces tooth 0 of gear 1.
+//
+// Usage:
+//   gears::GearPair pair(gears::Gear(sun), gears::Gear(planet));
+//   GearContactOptions o;
+//   ContactElementSpec spec = MakeGearContactSpec("sun_planet", pair, sun_body, planet_body, o);
+//   builder.AddExternalForce(std::make_shared<ContactElement>(spec));
+//   MeshSweep sweep = SweepGearMesh(pair, o, /*load_n=*/1429, /*points=*/40);
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "contact/contact_element.h"
+#include "models/gear_geometry.h"
+
+namespace orrery::contact {
+
+struct GearContactOptions {
+  // Surface resolution. Faceting study (seed 001's 18/34 sun-planet pair, m = 1.5 mm, 21.3 deg,
+  // b = 30 mm, 40 roll angles per mesh period; false TE = peak to peak of TE(n) - TE(240)):
+  //   involute intervals      16     24     40     60     100
+  //   at   50 N (um)        0.99   0.73   0.18   0.100  0.041
+  //   at 1429 N (um)        0.93   0.52   0.20   0.055  0.054
+  // 100 keeps it below 0.1 um at light and full load. Spur contact lines run along the axis, so
+  // 2 face intervals integrate a uniform load exactly (helical gears need more).
+  int involute_intervals = 100;
+  int root_intervals = 2, fillet_intervals = 6, tip_intervals = 4;
+  int face_intervals = 2;
+  double margin_m = 30e-6;   // above the largest penetration (delta_ref is a few um)
+  double slack_m = 100e-6;   // per surface: pairs are kept for relative motions up to this
+  std::vector<int> missing_teeth1, missing_teeth2;  // teeth removed (gear frame indices)
+  // Penalty calibration: c' b (N/m along the line of action) of one tooth pair, default ISO 6336
+  // c' times the face width; the load at which the secant stiffness equals it, default 1000 N.
+  std::optional<double> single_pair_stiffness_n_per_m;
+  double calibration_load_n = 1000;
+  double hunt_crossley_s_per_m = 0;
+  double friction_coefficient = 0;
+  double slip_velocity_m_s = 1e-3;
+  // Poses of the gear frames in the body frames (default: the same frame).
+  Transform X_B1G1, X_B2G2;
+};
+
+struct GearContactCalibration {
+  double single_pair_stiffness_n_per_m = 0;  // c' b
+  double equivalent_radius_m = 0;            // rho at the pitch point
+  double reference_deflection_m = 0;         // delta_ref = F / (c' b)
+  double stiffness_per_area = 0;             // k_A (N/m^3)
+};
+
+// Throws std::invalid_argument for a non-positive load or stiffness.
+GearContactCalibration CalibrateGearContact(const gears::GearPair& pair,
+                                            const GearContactOptions& options);
+
+// The surface of one gear (gear frame, then X_BG), one part per present tooth. Throws
+// std::invalid_argument for a missing-tooth index out of range or no tooth left.
+std::shared_ptr<const ContactSurface> MakeGearContactSurface(const gears::Gear& gear,
+                                                             const GearContactOptions& options,
+                                                             const std::vector<int>& missing,
+                                                             const Transform& X_BG);
+
+// The element's spec: body1 carries gear 1, body2 gear 2; law from CalibrateGearContact().
+ContactElementSpec MakeGearContactSpec(const std::string& name, const gears::GearPair& pair,
+                                       BodyIndex body1, BodyIndex body2,
+                                       const GearContactOptions& options);
+
+// One roll angle of the sweep.
+struct MeshSweepPoint {
+  double roll_angle_rad = 0;       // theta1 (kinematic) of gear 1
+  double transmission_error_m = 0; // along the line of action
+  double stiffness_n_per_m = 0;    // load / TE
+  double normal_force_n = 0;       // sum of the node normal forces
+  double friction_force_n = 0;
+  int contact_points = 0;
+  int teeth_in_contact = 0;        // teeth of gear 1 with a penetrating node or face
+  // Contact pattern on gear 1: extent of the contact along the line of action (roll distance
+  // sqrt(r^2 - r_b1^2) of the contact nodes, m), per tooth in contact up to 3.
+  double pattern_min_m[3] = {0, 0, 0}, pattern_max_m[3] = {0, 0, 0};
+  int evaluations = 0;             // contact evaluations of the equilibrium search
+};
+
+struct MeshSweep {
+  std::vector<MeshSweepPoint> points;
+  double load_n = 0;
+  double mean_stiffness_n_per_m = 0;
+  double te_peak_to_peak_m = 0;
+  GearContactCalibration calibration;
+  long searches = 0;               // candidate searches over the sweep
+};
+
+// Quasi-static sweep over one mesh period of gear 1 at `points` roll angles; load_n along the
+// line of action; the options' X_BG transforms are ignored (gears in their own frames).
+// Throws std::runtime_error if the equilibrium is not bracketed (no contact within 20 delta_ref).
+MeshSweep SweepGearMesh(const gears::GearPair& pair, const GearContactOptions& options,
+                        double load_n, int points);
+
+}  // namespace orrery::contact

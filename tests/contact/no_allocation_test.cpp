@@ -1,0 +1,149 @@
+// Contact evaluation allocates nothing once the workspace is sized (STYLE.md, "no allocation in
+// a step"): the counting allocator of tests/mbd/no_allocation_test.cpp (operator new and the
+// malloc family), off unless a test turns it on.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <atomic>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <memory>
+#include <new>
+#include <string>
+
+#include "contact/gear_contact.h"
+#include "mbd/data.h"
+#include "mbd/dynamics.h"
+#include "mbd/evaluate.h"
+#include "mbd/model.h"
+#include "mbd/state.h"
+
+namespace {
+std::atomic<long> g_allocations{0};
+std::atomic<bool> g_counting{false};
+inline void Count() {
+  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
+}
+}  // namespace
+
+extern "C" {
+void* __libc_malloc(std::size_t);
+void* __libc_calloc(std::size_t, std::size_t);
+void* __libc_realloc(void*, std::size_t);
+void* malloc(std::size_t n) {
+  Count();
+  return __libc_malloc(n);
+}
+void* calloc(std::size_t n, std::size_t s) {
+  Count();
+  return __libc_calloc(n, s);
+}
+void* realloc(void* p, std::size_t n) {
+  Count();
+  return __libc_realloc(p, n);
+}
+}
+
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
+void* operator new(std::size_t n) {
+  Count();
+  if (void* p = __libc_malloc(n ? n : 1)) return p;
+  throw std::bad_alloc();
+}
+void* operator new[](std::size_t n) { return operator new(n); }
+void* operator new(std::size_t n, const std::nothrow_t&) noexcept {
+  Count();
+  return __libc_malloc(n ? n : 1);
+}
+void* operator new[](std::size_t n, const std::nothrow_t&) noexcept { return operator new(n, std::nothrow); }
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete[](void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+void* operator new(std::size_t n, std::align_val_t a) {
+  Count();
+  void* p = nullptr;
+  if (posix_memalign(&p, std::max(sizeof(void*), static_cast<std::size_t>(a)), n ? n : 1) != 0) throw std::bad_alloc();
+  return p;
+}
+void* operator new[](std::size_t n, std::align_val_t a) { return operator new(n, a); }
+void operator delete(void* p, std::align_val_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::align_val_t) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
+#pragma GCC diagnostic pop
+
+namespace orrery::contact {
+namespace {
+
+template <class F>
+long AllocationsIn(F&& f) {
+  g_allocations = 0;
+  g_counting = true;
+  f();
+  g_counting = false;
+  return g_allocations.load();
+}
+
+TEST(ContactNoAllocation, CounterCountsVectorGrowth) {
+  std::vector<int> v;
+  EXPECT_GT(AllocationsIn([&] { v.assign(100, 1); }), 0);
+}
+
+// A 18/34 spur pair (seed 001's sun and planet) on revolute joints with gear contact: after one
+// pass over the roll angles has sized the workspace's lists, a second pass (searches and kept
+// pairs alike, poses 0.1 nrad to 0.3 mrad apart) evaluates the dynamics without allocating.
+TEST(ContactNoAllocation, GearContactEvaluation) {
+  const double deg = 3.14159265358979323846 / 180;
+  gears::GearSpec s1{.teeth = 18, .normal_module_m = 1.5e-3,
+                     .normal_pressure_angle_rad = 21.3 * deg, .face_width_m = 0.03};
+  gears::GearSpec s2 = s1;
+  s2.teeth = 34;
+  const gears::GearPair pair{gears::Gear(s1), gears::Gear(s2)};
+  ModelBuilder b;
+  const Mat3 I = Mat3::Identity() * 1e-4;
+  const BodyIndex g1 = b.AddBody("pinion", 0.3, Vec3::Zero(), I);
+  const BodyIndex g2 = b.AddBody("gear", 1.0, Vec3::Zero(), I);
+  JointSpec j1;
+  j1.name = "j1", j1.type = JointType::kRevolute, j1.parent = kWorldBody, j1.child = g1;
+  JointSpec j2 = j1;
+  j2.name = "j2", j2.child = g2;
+  j2.X_PF = Transform(AxisAngle(Vec3::UnitZ(), 3.14159265358979323846 * (1 + 1.0 / 34)),
+                      Vec3(pair.center_distance_m(), 0, 0));
+  const JointIndex ji1 = b.AddJoint(j1);
+  b.AddJoint(j2);
+  GearContactOptions o;
+  o.involute_intervals = 16;
+  o.face_intervals = 2;
+  b.AddExternalForce(std::make_shared<ContactElement>(MakeGearContactSpec("mesh", pair, g1, g2, o)));
+  const std::shared_ptr<const Model> model = std::move(b).Finalize();
+  const Model& m = *model;
+  Data data(m);
+  State s = State::Initial(m);
+  s.v.setConstant(1.0);
+  const Eigen::VectorXd vdot = Eigen::VectorXd::Zero(m.nv);
+  const int iq1 = m.joints[ji1].q_start;
+  // Gear 1 ahead by 2 um along the line of action (flanks pressed), turned over half a mesh
+  // period in steps that alternate between tiny (within the slack) and large (a search).
+  auto pass = [&] {
+    for (int k = 0; k < 60; ++k) {
+      const double theta1 = 0.01 * (k / 2) + (k % 2) * 1e-10;
+      s.q(iq1) = theta1 + 2e-6 / pair.gear1().base_radius_m();
+      s.q(iq1 + 1) = -theta1 * 18.0 / 34.0;
+      EvaluateDynamics(m, 0.0, s.q, s.v, vdot, data);
+    }
+  };
+  pass();
+  const auto& ws = static_cast<const ContactWorkspace&>(*data.external[0]);
+  const long searches = ws.search.stats().searches;
+  EXPECT_EQ(AllocationsIn(pass), 0);
+  // Both kinds of evaluation happened, under load.
+  EXPECT_GE(ws.search.stats().searches - searches, 25);
+  EXPECT_GT(ws.normal_force, 0);
+}
+
+}  // namespace
+}  // namespace orrery::contact
