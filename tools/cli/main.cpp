@@ -9,6 +9,7 @@
 //   orrery reduce INPUT.yaml -o BODY.h5 [--json]
 //   orrery reduce MESH.inp -o BODY.h5 --interface NODESET[:rbe2|rbe3] ... [--E PA --nu NU --rho KG_M3]
 //                 [--modes N] [--cutoff-hz F] [--json]
+//   orrery mesh-stiffness SCENE --mesh NAME [--load N] [--points K] [--json] [--set key=value ...]
 //   orrery --version
 //
 // Exit codes: 0 success, 1 runtime failure, 2 bad usage, 128 + signal when interrupted.
@@ -26,6 +27,7 @@
 #include "tools/cli/fe_modes_command.h"
 #include "tools/cli/inspect_command.h"
 #include "tools/cli/kinematics_command.h"
+#include "tools/cli/mesh_stiffness_command.h"
 #include "tools/cli/modes_command.h"
 #include "tools/cli/reduce_command.h"
 #include "tools/cli/run_command.h"
@@ -127,6 +129,20 @@ int Main(int argc, char** argv) {
   reduce->add_option("--cutoff-hz", reduce_args.cutoff_hz, "Keep fixed-interface modes up to this frequency, mesh input")
       ->check(kPositiveValue);
 
+  // orrery mesh-stiffness
+  MeshStiffnessArgs ms_args;
+  CLI::App* mesh_stiffness = app.add_subcommand(
+      "mesh-stiffness", "Quasi-static mesh stiffness and transmission error of a gear mesh with tooth contact");
+  mesh_stiffness->add_option("scene", ms_args.scene_path, "Scene file (YAML, gear_train)")->required();
+  mesh_stiffness->add_option("--mesh", ms_args.mesh, "Train mesh, e.g. S1.sun-planet")->required();
+  mesh_stiffness->add_option("--load", ms_args.load_n, "Force along the line of action (N, default 1000)")
+      ->check(kPositiveValue);
+  mesh_stiffness->add_option("--points", ms_args.points, "Roll angles per mesh period (default 40)")
+      ->check(CLI::Range(1, 100000));
+  mesh_stiffness->add_option("--set", ms_args.overrides, "Scene override key.path=value (repeatable)")
+      ->allow_extra_args(false);
+  mesh_stiffness->add_flag("--json", ms_args.json, "Write JSON to stdout");
+
   // Parse: help and version go to stdout, any other problem is one line on stderr
   try {
     app.parse(argc, argv);
@@ -137,7 +153,7 @@ int Main(int argc, char** argv) {
     const std::vector<std::string> stray = app.remaining();
     if (app.get_subcommands().empty() && !stray.empty() && !stray.front().empty())
       reason = stray.front().front() == '-' ? "unknown option '" + stray.front() + "'"
-                                            : "unknown command '" + stray.front() + "' (expected run, inspect, kinematics, modes, fe-modes or reduce)";
+                                            : "unknown command '" + stray.front() + "' (expected run, inspect, kinematics, modes, fe-modes, reduce or mesh-stiffness)";
     ReportError(std::cerr, reason + "; see orrery --help");
     return kExitUsage;
   }
@@ -152,6 +168,7 @@ int Main(int argc, char** argv) {
   if (modes->parsed()) return ModesCommand(modes_args, std::cout, std::cerr);
   if (fe_modes->parsed()) return FeModesCommand(fe_args, std::cout, std::cerr);
   if (reduce->parsed()) return ReduceCommand(reduce_args, std::cout, std::cerr);
+  if (mesh_stiffness->parsed()) return MeshStiffnessCommand(ms_args, std::cout, std::cerr);
   return InspectCommand(inspect_args, std::cout, std::cerr);
 }
 
