@@ -1,0 +1,73 @@
+// Gear contact from gear geometry (contact/gear_contact.h) on seed 001's 18/34 sun-planet pair
+// (m = 1.5 mm, 21.3 deg, b = 30 mm).
+//   Faceting: a perfect rigid involute pair under light load (50 N) has no transmission error
+//   apart from the load sharing; the flat facets add a false TE that vanishes as the flanks are
+//   refined. Oracle: the sweep at 240 involute intervals (false TE of a resolution = peak to peak
+//   of its TE minus the reference's). The default resolution must stay under 0.1 um (DESIGN.md,
+//   "Tooth contact"), and a coarse one (24) must not, or the test could not fail.
+//   Calibration: k_A from the closed form of the header reproduces delta_ref = F / (c' b).
+#include "contact/gear_contact.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "models/mesh_stiffness.h"
+
+namespace orrery::contact {
+namespace {
+
+gears::GearPair Seed001SunPlanet() {
+  const double deg = 3.14159265358979323846 / 180;
+  gears::GearSpec planet{.teeth = 18, .normal_module_m = 1.5e-3,
+                         .normal_pressure_angle_rad = 21.3 * deg, .face_width_m = 0.03};
+  gears::GearSpec sun = planet;
+  sun.teeth = 34;
+  return gears::GearPair(gears::Gear(planet), gears::Gear(sun));
+}
+
+std::vector<double> Te(const gears::GearPair& pair, int involute_intervals, double load) {
+  GearContactOptions o;
+  o.involute_intervals = involute_intervals;
+  std::vector<double> te;
+  for (const MeshSweepPoint& p : SweepGearMesh(pair, o, load, 12).points)
+    te.push_back(p.transmission_error_m);
+  return te;
+}
+
+double PeakToPeakDifference(const std::vector<double>& a, const std::vector<double>& b) {
+  double lo = 1e300, hi = -1e300;
+  for (size_t i = 0; i < a.size(); ++i) {
+    lo = std::min(lo, a[i] - b[i]);
+    hi = std::max(hi, a[i] - b[i]);
+  }
+  return hi - lo;
+}
+
+TEST(GearContactTest, DefaultFlankResolutionKeepsFalseTeBelowOneTenthMicrometre) {
+  const gears::GearPair pair = Seed001SunPlanet();
+  const std::vector<double> reference = Te(pair, 240, 50);
+  const double false_default = PeakToPeakDifference(Te(pair, GearContactOptions{}.involute_intervals, 50), reference);
+  const double false_coarse = PeakToPeakDifference(Te(pair, 24, 50), reference);
+  EXPECT_LT(false_default, 0.1e-6);
+  EXPECT_GT(false_coarse, 0.1e-6);
+}
+
+TEST(GearContactTest, PenaltyCalibrationFollowsTheLineContactClosedForm) {
+  const gears::GearPair pair = Seed001SunPlanet();
+  GearContactOptions o;
+  o.calibration_load_n = 1429;
+  const GearContactCalibration c = CalibrateGearContact(pair, o);
+  EXPECT_DOUBLE_EQ(c.single_pair_stiffness_n_per_m,
+                   gears::CalcIso6336Stiffness(pair).c_single_n_per_m);
+  // w = (4/3) sqrt(2 rho) k_A delta^(3/2) at delta_ref carries the load per face width.
+  const double w = 4.0 / 3.0 * std::sqrt(2 * c.equivalent_radius_m) * c.stiffness_per_area *
+                   std::pow(c.reference_deflection_m, 1.5);
+  EXPECT_NEAR(w * pair.face_width_m(), 1429, 1e-9 * 1429);
+  EXPECT_NEAR(c.reference_deflection_m * c.single_pair_stiffness_n_per_m, 1429, 1e-9 * 1429);
+}
+
+}  // namespace
+}  // namespace orrery::contact
