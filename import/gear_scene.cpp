@@ -438,22 +438,30 @@ gears::TrainModelOptions::FlexiblePlanet ReadFlexiblePlanet(const Context& ctx, 
   const Item body_item = m.Need("reduced_body");
   const std::string body_path = resolve(m.String("reduced_body"));
   std::optional<flex::ReducedBodyProvenance> expected;
+  std::optional<GearReduction> job;
   std::string input_path;
   if (const auto in = m.Find("reduce_input")) {
     input_path = resolve(m.String("reduce_input"));
     try {
-      const GearReduction job = PrepareGearReduction(LoadReduceInput(input_path));
-      expected = flex::MakeReducedBodyProvenance(job.mesh, job.cb_options, job.interfaces, job.outputs, "");
+      job = PrepareGearReduction(LoadReduceInput(input_path));
+      expected = flex::MakeReducedBodyProvenance(job->mesh, job->cb_options, job->interfaces, job->outputs, "");
       expected->source = "the reduce input " + input_path;
-    } catch (const SceneError& e) {
-      ctx.Fail(*in, e.what());
     } catch (const std::exception& e) {
       ctx.Fail(*in, e.what());
     }
   }
   const std::string remake = input_path.empty() ? std::string("make it with `orrery reduce INPUT -o ") + body_path + "`"
                                                 : "make it with `orrery reduce " + input_path + " -o " + body_path + "`";
-  if (!std::filesystem::exists(body_path)) ctx.Fail(body_item, "no reduced-body file " + body_path + "; " + remake);
+  // A missing file is made from the reduce input (once; later runs reuse it).
+  if (!std::filesystem::exists(body_path)) {
+    if (!job) ctx.Fail(body_item, "no reduced-body file " + body_path + "; " + remake + ", or name its reduce_input");
+    try {
+      flex::WriteReducedBody(body_path, ReduceBody(job->mesh, job->interfaces, job->cb_options, job->outputs,
+                                                   job->source).body);
+    } catch (const std::exception& e) {
+      ctx.Fail(body_item, "could not make " + body_path + " from " + input_path + ": " + e.what());
+    }
+  }
   gears::TrainModelOptions::FlexiblePlanet planet;
   try {
     planet.modes = std::make_shared<FlexibleBodyModes>(

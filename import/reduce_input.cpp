@@ -1,11 +1,13 @@
 #include "import/reduce_input.h"
 
+#include <chrono>
 #include <cstdio>
 #include <fstream>
 #include <numbers>
 #include <set>
 #include <sstream>
 
+#include "flex/fe_assembly.h"
 #include "import/scene_reader.h"
 
 namespace orrery {
@@ -242,6 +244,32 @@ GearReduction PrepareGearReduction(const ReduceInput& in) {
                " deg, b=" + Num(g.face_width_m) + " m, x=" + Num(g.profile_shift) + ", bore radius " +
                Num(in.mesh.bore_radius_m) + " m; " + flex::CalculixName(in.mesh.type) + " mesh (" + in.file + ")";
   return job;
+}
+
+Reduction ReduceBody(const flex::FeMesh& mesh, std::span<const flex::FeInterface> interfaces,
+                     const flex::CraigBamptonOptions& cb_options, const flex::FlexibleBodyModesOptions& outputs,
+                     const std::string& source) {
+  using Clock = std::chrono::steady_clock;
+  auto since = [](Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); };
+  Reduction r;
+  auto start = Clock::now();
+  r.system = flex::AssembleFeSystem(mesh);
+  r.assembly_s = since(start);
+  start = Clock::now();
+  r.cb = flex::ReduceCraigBampton(mesh, r.system, interfaces, cb_options);
+  r.reduction_s = since(start);
+  start = Clock::now();
+  flex::ReducedBody& body = r.body;
+  body.modes = flex::MakeFlexibleBodyModes(mesh, r.system, r.cb, interfaces, outputs);
+  r.modes_s = since(start);
+  body.K = r.cb.K;
+  body.M = r.cb.M;
+  body.reduced_frequencies_hz = r.cb.frequencies_hz;
+  body.full_model_boundary = "not computed";
+  for (const flex::FeInterface& i : interfaces) body.interfaces.push_back(flex::DescribeInterface(mesh, i));
+  body.reference_interface = cb_options.reference_interface;
+  body.provenance = flex::MakeReducedBodyProvenance(mesh, cb_options, interfaces, outputs, source);
+  return r;
 }
 
 }  // namespace orrery

@@ -23,6 +23,7 @@
 //   ReduceInput in = LoadReduceInput("planet.yaml");
 //   gears::Gear gear(in.gear);
 //   flex::FeMesh mesh = gears::MakeGearFeMesh(gear, in.mesh);
+#include <span>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,7 @@
 #include "flex/fe_interface.h"
 #include "flex/fe_mesh.h"
 #include "flex/flexible_body_modes.h"
+#include "flex/reduced_body_file.h"
 #include "models/gear_fe_mesh.h"
 #include "models/gear_geometry.h"
 
@@ -78,5 +80,19 @@ struct GearReduction {
 // Throws std::runtime_error "FILE: KEY: reason" when the mesh cannot be generated or an
 // interface's or output's node set does not exist.
 GearReduction PrepareGearReduction(const ReduceInput& input);
+
+// Assembles and reduces a mesh with its interfaces: the reduced body with its provenance,
+// Craig-Bampton K, M and frequencies and the interfaces, plus the assembled system, the reduction
+// and the time of each stage. The full model's frequencies are left empty (`orrery reduce` adds
+// them; a scene that makes a missing body file on the fly does not need them).
+struct Reduction {
+  flex::FeSystem system;
+  flex::CraigBamptonModel cb;
+  flex::ReducedBody body;
+  double assembly_s = 0, reduction_s = 0, modes_s = 0;  // wall time of each stage
+};
+Reduction ReduceBody(const flex::FeMesh& mesh, std::span<const flex::FeInterface> interfaces,
+                     const flex::CraigBamptonOptions& cb_options, const flex::FlexibleBodyModesOptions& outputs,
+                     const std::string& source);
 
 }  // namespace orrery

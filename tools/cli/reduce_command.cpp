@@ -151,34 +151,23 @@ int ReduceCommand(const ReduceArgs& args, std::ostream& out, std::ostream& err) 
     auto start = std::chrono::steady_clock::now();
     job = inp ? InpJob(args) : GearJob(args.input_path);
     t_mesh = Since(start);
-    // Assembly and reduction
-    start = std::chrono::steady_clock::now();
-    const flex::FeSystem system = flex::AssembleFeSystem(job.mesh);
-    dofs = system.K.rows();
-    t_assembly = Since(start);
-    start = std::chrono::steady_clock::now();
-    cb = flex::ReduceCraigBampton(job.mesh, system, job.interfaces, job.cb_options);
-    t_reduction = Since(start);
-    // What the engine needs
-    start = std::chrono::steady_clock::now();
-    body.modes = flex::MakeFlexibleBodyModes(job.mesh, system, cb, job.interfaces, job.outputs);
+    // Assembly, reduction and what the engine needs
+    Reduction reduction = ReduceBody(job.mesh, job.interfaces, job.cb_options, job.outputs, job.source);
+    dofs = reduction.system.K.rows();
+    t_assembly = reduction.assembly_s;
+    t_reduction = reduction.reduction_s;
+    t_modes = reduction.modes_s;
+    cb = reduction.cb;
+    body = std::move(reduction.body);
     ValidateFlexibleBodyModes(std::filesystem::path(args.output_path).stem().string(), body.modes);
-    t_modes = Since(start);
     // The full model under the same boundary condition, as many modes as the reduction keeps
     start = std::chrono::steady_clock::now();
-    if (cb.num_elastic > 0) full = FullModel(job, system, cb.num_elastic);
+    if (cb.num_elastic > 0) full = FullModel(job, reduction.system, cb.num_elastic);
     t_full = Since(start);
     // The file, read back and checked against what was written
     start = std::chrono::steady_clock::now();
-    body.K = cb.K;
-    body.M = cb.M;
-    body.reduced_frequencies_hz = cb.frequencies_hz;
     body.full_frequencies_hz = full.frequencies_hz;
     body.full_model_boundary = kFullModelBoundary;
-    for (const flex::FeInterface& i : job.interfaces) body.interfaces.push_back(flex::DescribeInterface(job.mesh, i));
-    body.reference_interface = job.cb_options.reference_interface;
-    body.provenance =
-        flex::MakeReducedBodyProvenance(job.mesh, job.cb_options, job.interfaces, job.outputs, job.source);
     flex::WriteReducedBody(args.output_path, body);
     flex::ReadReducedBody(args.output_path, &body.provenance);
     t_write = Since(start);
