@@ -28,8 +28,10 @@
 //   A triangle that has sunk wholly below the other surface intersects nothing (a block's bottom
 //   face pressed into a plane gives no pair at all), so its nodes would be missed.
 //   Why not FCL's DynamicAABBTreeCollisionManager for stage 1: its update() rebuilds the tree
-//   (allocating), and world-axis boxes of rotating teeth overlapped 22 tooth pairs of a 19/27
-//   mesh where the spheres in the pinion frame keep 6-10.
+//   (allocating). Spheres keep 18 tooth pairs of a 19/27, b = 10 mm mesh (world boxes: 22), but
+//   they are loose around wide teeth (168 of seed 001's 18/34, b = 30 mm pair); each extra pair
+//   costs one root bounding-volume test in stage 2. A tighter per-tooth test (the mesh zone from
+//   the gears' angles) is still to do.
 //
 // Usage:
 //   CandidateSearch search(surface_a, surface_b);

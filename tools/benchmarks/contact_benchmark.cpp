@@ -12,6 +12,7 @@
 #include <benchmark/benchmark.h>
 
 #include "contact/contact_element.h"
+#include "contact/gear_contact.h"
 #include "models/gear_geometry.h"
 
 namespace {
@@ -190,6 +191,73 @@ void BM_SamePoseEvaluation(benchmark::State& state) {
   Report(state, c);
 }
 BENCHMARK(BM_SamePoseEvaluation)->Unit(benchmark::kMicrosecond);
+
+// Seed 001's 18/34 sun-planet pair with MakeGearContactSpec's defaults (100 involute intervals,
+// 2 face intervals, margin 30 um, slack 100 um), gear 1 ahead by 3 um on the line of action:
+// one evaluation within the slack (a step or a Jacobian column) and one with a search.
+struct Seed001Contact {
+  std::unique_ptr<ContactElement> element;
+  std::unique_ptr<ContactWorkspace> ws;
+  Transform X_W1[2], X_W2;
+};
+
+Seed001Contact& SetupSeed001() {
+  static Seed001Contact* c = [] {
+    auto* s = new Seed001Contact;
+    const double deg = 3.14159265358979323846 / 180;
+    gears::GearSpec g1{.teeth = 18, .normal_module_m = 1.5e-3,
+                       .normal_pressure_angle_rad = 21.3 * deg, .face_width_m = 0.03};
+    gears::GearSpec g2 = g1;
+    g2.teeth = 34;
+    const gears::GearPair pair{gears::Gear(g1), gears::Gear(g2)};
+    s->element = std::make_unique<ContactElement>(MakeGearContactSpec("mesh", pair, 1, 2, {}));
+    s->ws = std::make_unique<ContactWorkspace>(*s->element->spec().surface_a,
+                                               *s->element->spec().surface_b);
+    const double theta = 3e-6 / pair.gear1().base_radius_m();
+    for (int k = 0; k < 2; ++k)
+      s->X_W1[k] = Transform(AxisAngle(Vec3::UnitZ(), theta + 1e-9 * k), Vec3::Zero());
+    s->X_W2 = Transform(AxisAngle(Vec3::UnitZ(), 3.14159265358979323846 * (1 + 1.0 / 34)),
+                        Vec3(pair.center_distance_m(), 0, 0));
+    return s;
+  }();
+  return *c;
+}
+
+void BM_Seed001EvaluationWithinSlack(benchmark::State& state) {
+  Seed001Contact& c = SetupSeed001();
+  Vec6 fa, fb;
+  double e, p;
+  int k = 0;
+  const Vec6 zero = Vec6::Zero();
+  for (auto _ : state) {
+    c.element->UpdateGaps(c.X_W1[k ^= 1], c.X_W2, *c.ws);
+    c.element->CalcForces(zero, zero, *c.ws, &fa, &fb, &e, &p);
+    benchmark::DoNotOptimize(fa);
+  }
+  state.counters["normal_force_N"] = c.ws->normal_force;
+  state.counters["pairs"] = c.ws->search.stats().candidate_pairs;
+  state.counters["node_faces"] = static_cast<double>(c.ws->node_faces_a.size() + c.ws->node_faces_b.size());
+  state.counters["contact_nodes"] = c.ws->contact_points;
+}
+BENCHMARK(BM_Seed001EvaluationWithinSlack)->Unit(benchmark::kMicrosecond);
+
+void BM_Seed001EvaluationWithSearch(benchmark::State& state) {
+  Seed001Contact& c = SetupSeed001();
+  Vec6 fa, fb;
+  double e, p;
+  int k = 0;
+  const Vec6 zero = Vec6::Zero();
+  for (auto _ : state) {
+    c.ws->search.Invalidate();
+    c.element->UpdateGaps(c.X_W1[k ^= 1], c.X_W2, *c.ws);
+    c.element->CalcForces(zero, zero, *c.ws, &fa, &fb, &e, &p);
+    benchmark::DoNotOptimize(fa);
+  }
+  state.counters["part_pairs"] = c.ws->search.stats().part_pairs;
+  state.counters["leaf_tests"] = c.ws->search.stats().leaf_tests;
+  state.counters["pairs"] = c.ws->search.stats().candidate_pairs;
+}
+BENCHMARK(BM_Seed001EvaluationWithSearch)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 
