@@ -429,7 +429,7 @@ std::vector<std::pair<std::string, Item>> NamedEntries(const Context& ctx, const
 gears::TrainModelOptions::FlexiblePlanet ReadFlexiblePlanet(const Context& ctx, const Item& item) {
   const MapReader m(ctx, item, {"reduced_body", "reduce_input", "mesh_interface", "damping_ratio",
                                 "rayleigh_alpha", "rayleigh_beta", "geometric_stiffening", "frozen",
-                                "record_surface"});
+                                "record_surface", "record_node_sets"});
   const std::filesystem::path dir = std::filesystem::path(ctx.file()).parent_path();
   auto resolve = [&](const std::string& p) {
     const std::filesystem::path path(p);
@@ -486,6 +486,13 @@ gears::TrainModelOptions::FlexiblePlanet ReadFlexiblePlanet(const Context& ctx, 
                                                          "outputs.geometric_stiffness: true)");
   planet.options.frozen = m.Bool("frozen", false);
   planet.options.record_surface = m.Bool("record_surface", false);
+  if (const auto sets = m.Find("record_node_sets")) {
+    planet.options.record_node_sets = ToStrings(ctx, *sets);
+    for (const std::string& set : planet.options.record_node_sets)
+      if (!planet.modes->node_sets.count(set))
+        ctx.Fail(*sets, "no node set '" + set + "' in " + body_path +
+                            " (export it with outputs.export_node_sets when reducing)");
+  }
   return planet;
 }
 

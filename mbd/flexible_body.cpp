@@ -98,6 +98,12 @@ BodyIndex ModelBuilder::AddFlexibleBody(const std::string& name,
          std::to_string(m.nf) + " modes (give 1 or " + std::to_string(m.nf) + ")");
   for (double z : options.damping_ratios)
     if (!(z >= 0) || !std::isfinite(z)) Fail(what + "damping ratio " + std::to_string(z) + " is not >= 0");
+  for (const std::string& set : options.record_node_sets)
+    if (!m.node_sets.count(set)) {
+      std::string known;
+      for (const auto& [name, nodes] : m.node_sets) known += (known.empty() ? "" : ", ") + name;
+      Fail(what + "no node set '" + set + "' to record (the reduced body has: " + known + ")");
+    }
   if (options.rayleigh_alpha < 0 || options.rayleigh_beta < 0)
     Fail(what + "Rayleigh coefficients must be >= 0");
   // Undeformed mass properties: com = I1 / m, inertia about B's origin tr(I3) 1 - I3.

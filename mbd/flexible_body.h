@@ -88,6 +88,9 @@ struct FlexibleBodyOptions {
   // Output: deformed surface positions every output step (for the XDMF animation; 3 doubles per
   // surface node per row, so large surfaces make large files).
   bool record_surface = false;
+  // Output: elastic displacements (body frame B, m) of the nodes of these node sets every output
+  // step, /flexible_bodies/<name>/node_sets/<set>/displacement (3 columns per node).
+  std::vector<std::string> record_node_sets;
 };
 
 }  // namespace orrery

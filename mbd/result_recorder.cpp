@@ -113,6 +113,11 @@ ResultRecorder::ResultRecorder(const Model& model, ResultFile& out)
       fs.surface = out.AddSeries(g + "surface/positions", 3 * n, "m");
       max_surface = std::max(max_surface, 3 * n);
     }
+    for (const std::string& set : fb.options.record_node_sets) {
+      const int n = static_cast<int>(m.node_sets.at(set).size());
+      fs.node_sets.push_back(out.AddSeries(g + "node_sets/" + set + "/displacement", 3 * n, "m"));
+      max_surface = std::max(max_surface, 3 * n);
+    }
     flex_.push_back(std::move(fs));
     if (!m.frequencies_hz.empty()) out.WriteVector(g + "frequencies_hz", m.frequencies_hz, "Hz");
   }
@@ -250,6 +255,12 @@ void ResultRecorder::Record(const State& s, const Eigen::VectorXd& vdot,
         surface_row_.segment<3>(3 * k) = X * Vec3(node.position + node.translation_shapes.leftCols(fb.nf) * qf);
       }
       out_.Append(fs.surface, surface_row_.data());
+    }
+    for (size_t k = 0; k < fs.node_sets.size(); ++k) {
+      const std::vector<int>& nodes = m.node_sets.at(fb.options.record_node_sets[k]);
+      for (size_t j = 0; j < nodes.size(); ++j)
+        surface_row_.segment<3>(3 * j) = m.nodes[nodes[j]].translation_shapes.leftCols(fb.nf) * qf;
+      out_.Append(fs.node_sets[k], surface_row_.data());
     }
   }
   for (size_t e = 0; e < external_.size(); ++e) {

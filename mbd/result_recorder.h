@@ -32,6 +32,8 @@
 //   /flexible_bodies/<name>/surface/...    triangles, reference_positions and, per step,
 //                                          positions (world) of the surface nodes (bodies with
 //                                          record_surface; layout of xdmf_writer.h)
+//   /flexible_bodies/<name>/node_sets/<set>/displacement   m: elastic displacements of the set's
+//                                          nodes in the body frame (record_node_sets)
 //   /external/<name>/<output>              outputs of external force elements (contact)
 #include <string>
 #include <vector>
@@ -67,6 +69,7 @@ class ResultRecorder {
   struct FlexSeries {
     ResultFile::SeriesId q = -1, v = -1, von_mises = -1, surface = -1;
     std::vector<int> surface_nodes;  // indices into the modes' nodes
+    std::vector<ResultFile::SeriesId> node_sets;  // per FlexibleBodyOptions::record_node_sets
   };
   std::vector<FlexSeries> flex_;
   std::vector<std::vector<ResultFile::SeriesId>> external_;

@@ -422,10 +422,14 @@ TEST(FlexibleBody, RecorderWritesModesStressAndSurface) {
   modes->surface_triangles = {{0, 1, 2}};
   modes->stress_nodes = {0, 1, 2};
   modes->stress_modes = Eigen::MatrixXd::Zero(18, 3);
+  modes->node_sets["MOVERS"] = {2, 0};
   for (int r = 0; r < 18; ++r)
     for (int c = 0; c < 3; ++c) modes->stress_modes(r, c) = 1e6 * std::sin(1.0 + 3 * r + c);
   ModelBuilder b;
-  const BodyIndex body = b.AddFlexibleBody("body", modes, {.record_surface = true});
+  FlexibleBodyOptions options;
+  options.record_surface = true;
+  options.record_node_sets = {"MOVERS"};
+  const BodyIndex body = b.AddFlexibleBody("body", modes, options);
   b.AddJoint({.name = "free", .type = JointType::kFree, .parent = kWorldBody, .child = body});
   b.SetModalCoordinates(body, Eigen::Vector3d(0.02, -0.03, 0.015), Eigen::Vector3d(0.1, 0.2, -0.15));
   std::vector<FrameIndex> frames;
@@ -470,6 +474,10 @@ TEST(FlexibleBody, RecorderWritesModesStressAndSurface) {
   for (int j = 0; j < 3; ++j)
     EXPECT_LT((surf.row(last).segment<3>(3 * j).transpose() - d.X_WFrame[frames[j]].p).norm(), 1e-12);
   EXPECT_TRUE(std::filesystem::exists(XdmfPathFor(path)));
+  const Eigen::MatrixXd movers = r.ReadMatrix("/flexible_bodies/body/node_sets/MOVERS/displacement");
+  ASSERT_EQ(movers.cols(), 6);
+  EXPECT_LT((movers.row(last).segment<3>(0).transpose() - modes->nodes[2].translation_shapes * q.row(last).transpose()).norm(), 1e-15);
+  EXPECT_LT((movers.row(last).segment<3>(3).transpose() - modes->nodes[0].translation_shapes * q.row(last).transpose()).norm(), 1e-15);
   EXPECT_NEAR(time(last, 0), 0.05, 1e-12);
 }
 
