@@ -40,9 +40,14 @@ GapScratch::GapScratch(const ContactSurface& node_surface)
 
 NodeGap NodeGapFromClosest(const ContactSurface& face_surface, int face, const Vec3& p_F,
                            const Vec3& q_F, TriangleFeature feature) {
+  return NodeGapFromClosest(face_surface, face, face_surface.face_normals()[face], p_F, q_F,
+                            feature);
+}
+
+NodeGap NodeGapFromClosest(const ContactSurface& face_surface, int face, const Vec3& n,
+                           const Vec3& p_F, const Vec3& q_F, TriangleFeature feature) {
   NodeGap g;
   g.face = face;
-  const Vec3& n = face_surface.face_normals()[face];
   const Vec3 d = p_F - q_F;
   const double along = d.dot(n);
   if (feature == TriangleFeature::kFace) {
@@ -165,10 +170,22 @@ void ComputeNodeGapsFromCandidates(const ContactSurface& node_surface, const Tra
                                    const ContactSurface& face_surface, const Transform& X_WF,
                                    const std::vector<NodeFaceCandidate>& candidates,
                                    double search_distance_m, std::vector<NodeGap>* gaps) {
+  ComputeNodeGapsFromCandidates(node_surface, node_surface.vertices(), X_WN, face_surface,
+                                face_surface.vertices(), face_surface.face_normals(), X_WF,
+                                candidates, search_distance_m, gaps);
+}
+
+void ComputeNodeGapsFromCandidates(const ContactSurface& /*node_surface*/,
+                                   const std::vector<Vec3>& node_vertices_N, const Transform& X_WN,
+                                   const ContactSurface& face_surface,
+                                   const std::vector<Vec3>& face_vertices_F,
+                                   const std::vector<Vec3>& face_normals_F, const Transform& X_WF,
+                                   const std::vector<NodeFaceCandidate>& candidates,
+                                   double search_distance_m, std::vector<NodeGap>* gaps) {
   gaps->clear();
   const Transform X_FN = X_WF.Inverse() * X_WN;
   const auto& face_tris = face_surface.triangles();
-  const auto& fv = face_surface.vertices();
+  const auto& fv = face_vertices_F;
   const double d2_max = search_distance_m * search_distance_m;
   const size_t n = candidates.size();
   size_t i = 0;
@@ -176,7 +193,7 @@ void ComputeNodeGapsFromCandidates(const ContactSurface& node_surface, const Tra
     // One node: its position in the face frame, then the closest of its faces (eq. 6); faces
     // come in increasing order, so a strict < keeps the lowest index on ties.
     const int node = candidates[i].node;
-    const Vec3 p_F = X_FN * node_surface.vertices()[node];
+    const Vec3 p_F = X_FN * node_vertices_N[node];
     double best_d2 = std::numeric_limits<double>::max();
     int best_face = -1;
     ClosestPoint best;
@@ -193,11 +210,12 @@ void ComputeNodeGapsFromCandidates(const ContactSurface& node_surface, const Tra
     }
     // Signed gap (eqs. 7-9) of a node within the search distance.
     if (best_d2 > d2_max) continue;
-    NodeGap g = NodeGapFromClosest(face_surface, best_face, p_F, best.point, best.feature);
+    NodeGap g = NodeGapFromClosest(face_surface, best_face, face_normals_F[best_face], p_F,
+                                   best.point, best.feature);
     g.node = node;
     g.p_W = X_WF * p_F;
     g.q_W = X_WF * best.point;
-    g.n_W = X_WF.R * face_surface.face_normals()[g.face];
+    g.n_W = X_WF.R * face_normals_F[g.face];
     gaps->push_back(g);
   }
 }

@@ -85,9 +85,25 @@ void ComputeNodeGapsFromCandidates(const ContactSurface& node_surface, const Tra
                                    const std::vector<NodeFaceCandidate>& candidates,
                                    double search_distance_m, std::vector<NodeGap>* gaps);
 
+// The same pass with the vertices given explicitly (flexible surfaces: the deformed positions
+// s_P + Phi_P q_f in each body frame, flexible_contact_element.h): node_vertices_N (#V of the
+// node surface, its frame N), face_vertices_F and face_normals_F (#V and #T of the face surface,
+// its frame F; the unit normals of the deformed faces). The surfaces give the topology, the rim
+// flags and nothing else. The call above is this one with the surfaces' own vertices and normals.
+void ComputeNodeGapsFromCandidates(const ContactSurface& node_surface,
+                                   const std::vector<Vec3>& node_vertices_N, const Transform& X_WN,
+                                   const ContactSurface& face_surface,
+                                   const std::vector<Vec3>& face_vertices_F,
+                                   const std::vector<Vec3>& face_normals_F, const Transform& X_WF,
+                                   const std::vector<NodeFaceCandidate>& candidates,
+                                   double search_distance_m, std::vector<NodeGap>* gaps);
+
 // The gap of one node P (face frame) against its closest face q (feature as found), by the
 // rules above; shared by the pass and by tests.
 NodeGap NodeGapFromClosest(const ContactSurface& face_surface, int face, const Vec3& p_F,
                            const Vec3& q_F, TriangleFeature feature);
+// The same with the face's unit normal n_F given (a deformed face).
+NodeGap NodeGapFromClosest(const ContactSurface& face_surface, int face, const Vec3& n_F,
+                           const Vec3& p_F, const Vec3& q_F, TriangleFeature feature);
 
 }  // namespace orrery::contact

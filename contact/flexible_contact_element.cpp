@@ -1,0 +1,224 @@
+#include "contact/flexible_contact_element.h"
+
+#include <algorithm>
+#include <stdexcept>
+#include <utility>
+
+#include "mbd/data.h"
+
+namespace orrery::contact {
+
+namespace {
+
+// Barycentric coordinates of q in the triangle (a, b, c) (q on the triangle).
+Vec3 Barycentric(const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 v0 = b - a, v1 = c - a, v2 = q - a;
+  const double d00 = v0.dot(v0), d01 = v0.dot(v1), d11 = v1.dot(v1);
+  const double d20 = v2.dot(v0), d21 = v2.dot(v1);
+  const double den = d00 * d11 - d01 * d01;
+  const double v = (d11 * d20 - d01 * d21) / den;
+  const double w = (d00 * d21 - d01 * d20) / den;
+  return {1.0 - v - w, v, w};
+}
+
+}  // namespace
+
+ContactSideBuffers::ContactSideBuffers(const ContactSide& side)
+    : vertices(side.surface().vertices()),
+      normals(side.surface().face_normals()),
+      node_force(side.surface().num_vertices(), Vec3::Zero()) {
+  const int nv = side.surface().num_vertices();
+  const int nf = side.flexible ? side.flexible->nf() : 0;
+  displacement = Eigen::VectorXd::Zero(3 * nv);
+  velocity = Eigen::VectorXd::Zero(side.flexible ? 3 * nv : 0);
+  modal_force = Eigen::VectorXd::Zero(nf);
+}
+
+FlexibleContactWorkspace::FlexibleContactWorkspace(const ContactSide& a, const ContactSide& b)
+    : search(a.surface(), b.surface()),
+      scratch_a(a.surface()),
+      scratch_b(b.surface()),
+      side_a(a),
+      side_b(b) {
+  pairs.reserve(search.suggested_capacity());
+  node_faces_a.reserve(3 * pairs.capacity());
+  node_faces_b.reserve(3 * pairs.capacity());
+  gaps_a.reserve(a.surface().num_vertices());
+  gaps_b.reserve(b.surface().num_vertices());
+}
+
+FlexibleContactElement::FlexibleContactElement(FlexibleContactElementSpec spec)
+    : spec_(std::move(spec)) {
+  const std::string what = "FlexibleContactElement '" + spec_.name + "': ";
+  for (const ContactSide* s : {&spec_.a, &spec_.b})
+    if (!s->rigid == !s->flexible)
+      throw std::invalid_argument(what + "each side needs exactly one of a rigid or a flexible "
+                                         "surface");
+  if (spec_.a.body == spec_.b.body)
+    throw std::invalid_argument(what + "both sides are on the same body");
+  try {
+    ValidateContactLaw(spec_.law);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(what + e.what());
+  }
+}
+
+std::unique_ptr<ExternalForceWorkspace> FlexibleContactElement::MakeWorkspace(
+    const Model& model) const {
+  const std::string what = "FlexibleContactElement '" + spec_.name + "': ";
+  for (const ContactSide* s : {&spec_.a, &spec_.b}) {
+    if (s->body < 0 || s->body >= model.nbodies)
+      throw std::invalid_argument(what + "body index " + std::to_string(s->body) +
+                                  " is not in the model");
+    if (!s->flexible) continue;
+    const int fb = model.bodies[s->body].flexible;
+    if (fb < 0)
+      throw std::invalid_argument(what + "body " + std::to_string(s->body) +
+                                  " has a flexible surface but is not a flexible body");
+    const FlexibleBody& f = model.flexible_bodies[fb];
+    if (f.modes.get() != &s->flexible->modes() && f.modes->nf != s->flexible->nf())
+      throw std::invalid_argument(what + "the surface's modes are not those of body " +
+                                  std::to_string(s->body));
+  }
+  return std::make_unique<FlexibleContactWorkspace>(spec_.a, spec_.b);
+}
+
+void FlexibleContactElement::Evaluate(const ContactSideState& a, const ContactSideState& b,
+                                      FlexibleContactWorkspace& ws) const {
+  // Deformation bounds, deformed vertices and normals of the flexible sides.
+  auto deform = [&](const ContactSide& side, const ContactSideState& st, ContactSideBuffers& buf) {
+    buf.deformation_bound = 0;
+    if (!side.flexible || !st.q_f || st.q_f->size() == 0) return;
+    const FlexibleContactSurface& fs = *side.flexible;
+    buf.deformation_bound = fs.DeformationBound(*st.q_f);
+    if (buf.deformation_bound > fs.spec().deformation_allowance_m) ++ws.inflation_exceeded;
+    fs.Deform(*st.q_f, &buf.displacement, &buf.vertices, &buf.normals);
+    if (st.q_f_dot)
+      buf.velocity.noalias() = fs.shapes() * *st.q_f_dot;
+    else
+      buf.velocity.setZero();
+  };
+  deform(spec_.a, a, ws.side_a);
+  deform(spec_.b, b, ws.side_b);
+  const ContactSurface& sa = spec_.a.surface();
+  const ContactSurface& sb = spec_.b.surface();
+  // Candidates of the undeformed surfaces.
+  ws.searched = ws.search.Find(a.X_WB, b.X_WB, &ws.pairs);
+  if (ws.searched) {
+    ListNodeFaceCandidates(sa, ws.pairs, /*nodes_are_a=*/true, &ws.scratch_a, &ws.node_faces_a);
+    ListNodeFaceCandidates(sb, ws.pairs, /*nodes_are_a=*/false, &ws.scratch_b, &ws.node_faces_b);
+  }
+  // Deformed gaps both ways.
+  const double d = 0.5 * (spec_.a.gap_margin_m() + spec_.b.gap_margin_m());
+  ComputeNodeGapsFromCandidates(sa, ws.side_a.vertices, a.X_WB, sb, ws.side_b.vertices,
+                                ws.side_b.normals, b.X_WB, ws.node_faces_a, d, &ws.gaps_a);
+  ComputeNodeGapsFromCandidates(sb, ws.side_b.vertices, b.X_WB, sa, ws.side_a.vertices,
+                                ws.side_a.normals, a.X_WB, ws.node_faces_b, d, &ws.gaps_b);
+
+  // Forces.
+  for (ContactSideBuffers* buf : {&ws.side_a, &ws.side_b}) {
+    buf->f_W.setZero();
+    std::fill(buf->node_force.begin(), buf->node_force.end(), Vec3::Zero());
+  }
+  ws.energy = ws.power_dissipated = 0;
+  ws.normal_force = ws.friction_force = ws.max_penetration = 0;
+  ws.contact_points = 0;
+  // Velocity (world) of a vertex's material point from the body motion and the deformation rate.
+  auto vertex_rate = [](const ContactSideBuffers& buf, const ContactSideState& st, int i) {
+    return buf.velocity.size() ? Vec3(st.X_WB.R * buf.velocity.segment<3>(3 * i)) : Vec3::Zero();
+  };
+  // One pass: nodes of side N against faces of side F; the force acts on N.
+  auto pass = [&](const std::vector<NodeGap>& gaps, const ContactSurface& node_surface,
+                  const ContactSurface& face_surface, const ContactSideState& N,
+                  const ContactSideState& F, ContactSideBuffers& bn, ContactSideBuffers& bf) {
+    const auto& face_tris = face_surface.triangles();
+    const Transform X_FW = F.X_WB.Inverse();
+    for (const NodeGap& g : gaps) {
+      if (!(g.gap < 0) || !g.on_surface) continue;
+      // Barycentric coordinates of the closest point on the deformed face.
+      const auto& tri = face_tris[g.face];
+      const Vec3 w = Barycentric(X_FW * g.q_W, bf.vertices[tri[0]], bf.vertices[tri[1]],
+                                 bf.vertices[tri[2]]);
+      Vec3 v_face = PointVelocity(F.V_WB, g.p_W);
+      for (int k = 0; k < 3; ++k) v_face += w(k) * vertex_rate(bf, F, tri[k]);
+      const Vec3 v_rel = PointVelocity(N.V_WB, g.p_W) + vertex_rate(bn, N, g.node) - v_face;
+      const double depth = -g.gap;
+      const NodeForce f = EvaluateContactLaw(spec_.law, depth, -v_rel.dot(g.n_W), g.n_W, v_rel,
+                                             0.5 * node_surface.vertex_areas()[g.node]);
+      // Spatial forces at the deformed node, and the vertex forces in the body frames.
+      const Vec6 wrench = ForceAtPoint(g.p_W, f.f_W);
+      bn.f_W += wrench;
+      bf.f_W -= wrench;
+      bn.node_force[g.node] += N.X_WB.R.transpose() * f.f_W;
+      const Vec3 f_F = F.X_WB.R.transpose() * f.f_W;
+      for (int k = 0; k < 3; ++k) bf.node_force[tri[k]] -= w(k) * f_F;
+      ws.energy += f.energy;
+      ws.power_dissipated += f.power_dissipated;
+      ws.normal_force += f.normal;
+      ws.friction_force += f.friction;
+      ws.max_penetration = std::max(ws.max_penetration, depth);
+      ++ws.contact_points;
+    }
+  };
+  pass(ws.gaps_a, sa, sb, a, b, ws.side_a, ws.side_b);
+  pass(ws.gaps_b, sb, sa, b, a, ws.side_b, ws.side_a);
+  // Modal forces Q = sum_P Phi_P^T F_P.
+  for (const auto& [side, buf] : {std::pair{&spec_.a, &ws.side_a}, std::pair{&spec_.b, &ws.side_b}}) {
+    if (!side->flexible) continue;
+    const Eigen::Map<const Eigen::VectorXd> forces(buf->node_force[0].data(),
+                                                   3 * static_cast<Eigen::Index>(buf->node_force.size()));
+    buf->modal_force.noalias() = side->flexible->shapes().transpose() * forces;
+  }
+}
+
+void FlexibleContactElement::Apply(const Model& model, double /*t*/, Data& data,
+                                   ExternalForceWorkspace& workspace) const {
+  auto& ws = static_cast<FlexibleContactWorkspace&>(workspace);
+  // The states of both sides from the kinematics.
+  auto state = [&](const ContactSide& side) {
+    ContactSideState s{.X_WB = data.X_WB[side.body], .V_WB = data.V_WB[side.body]};
+    const int fb = model.bodies[side.body].flexible;
+    if (side.flexible && fb >= 0 && model.flexible_bodies[fb].nf > 0) {
+      s.q_f = &data.flex[fb].qf;
+      s.q_f_dot = &data.flex[fb].qf_dot;
+    }
+    return s;
+  };
+  const ContactSideState a = state(spec_.a), b = state(spec_.b);
+  Evaluate(a, b, ws);
+  // Scatter: spatial forces on the bodies (the world takes none), modal forces on the modes.
+  auto scatter = [&](const ContactSide& side, const ContactSideState& st,
+                     const ContactSideBuffers& buf) {
+    if (side.body == kWorldBody) return;
+    data.f_ext[side.body] += buf.f_W;
+    if (!st.q_f) return;
+    const FlexibleBody& f = model.flexible_bodies[model.bodies[side.body].flexible];
+    data.tau_applied.segment(f.v_start, f.nf) += buf.modal_force;
+  };
+  scatter(spec_.a, a, ws.side_a);
+  scatter(spec_.b, b, ws.side_b);
+  data.potential_energy += ws.energy;
+  data.power_dissipated += ws.power_dissipated;
+}
+
+std::vector<std::string> FlexibleContactElement::OutputNames() const {
+  return {"normal_force",      "friction_force",    "contact_points",
+          "max_penetration",   "deformation_bound", "inflation_exceeded"};
+}
+
+std::vector<std::string> FlexibleContactElement::OutputUnits() const {
+  return {"N", "N", "1", "m", "m", "1"};
+}
+
+void FlexibleContactElement::GetOutputs(const ExternalForceWorkspace& workspace,
+                                        double* values) const {
+  const auto& ws = static_cast<const FlexibleContactWorkspace&>(workspace);
+  values[0] = ws.normal_force;
+  values[1] = ws.friction_force;
+  values[2] = ws.contact_points;
+  values[3] = ws.max_penetration;
+  values[4] = std::max(ws.side_a.deformation_bound, ws.side_b.deformation_bound);
+  values[5] = static_cast<double>(ws.inflation_exceeded);
+}
+
+}  // namespace orrery::contact

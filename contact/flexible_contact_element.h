@@ -1,0 +1,143 @@
+#pragma once
+// Surface contact where either side (or both) may be a flexible, Craig-Bampton-reduced body: the
+// ContactElement of contact_element.h with deformed surfaces (DESIGN.md, "Tooth contact":
+// deformed node positions s_P + Phi_P q_f, an inflated BVH of the undeformed surface, exact
+// deformed gaps).
+//
+// One Evaluate() (Apply() takes the poses, velocities and modal coordinates from Data):
+//   1. deformation bound u = sum_k |q_k| c_k of each flexible side (flexible_contact_surface.h);
+//      above the side's allowance the culling may miss pairs: counted in
+//      inflation_exceeded and reported as an output (the surfaces must then be rebuilt with a
+//      larger deformation_allowance_m; the step goes on with the pairs it has);
+//   2. deformed vertices s_P + Phi_P q_f and deformed face normals of each flexible side;
+//   3. candidate pairs of the UNDEFORMED surfaces (candidate_pairs.h; kept while the rigid
+//      relative motion is within the slack), their node-face lists per pass;
+//   4. signed gaps both ways with the deformed positions on both sides (signed_gap.h, explicit
+//      vertices), listed within d = (g_A + g_B) / 2, g the gap margin of a flexible side and the
+//      margin of a rigid one;
+//   5. contact law at each penetrating node (contact_law.h, weights 1/2 A_P of the undeformed
+//      surface, as contact_element.h); the relative velocity includes the deformation rates
+//      R Phi_P q_f-dot of the node and of the face point;
+//   6. the node force F (world): on the node's body as a spatial force about the world origin at
+//      the deformed node position p_W, and -F on the face's body at the same point; in the body
+//      frames the node takes F_B = R_WN^T F and the face's three vertices take -w_k R_WF^T F
+//      (w_k the barycentric coordinates of the closest point on the deformed face); the modal
+//      forces are Q = sum_P Phi_P^T F_P,B over the vertices of each flexible side.
+// For a node whose closest point lies inside a face, g = (p - sum w_k x_k) . n with p - q
+// parallel to n, so dg/dx_P = n, dg/dx_k = -w_k n exactly (the rotation of n does not change g to
+// first order): the forces above are then minus the gradient of the penalty energy, in the
+// modal coordinates too (checked by finite differences in tests/contact/
+// flexible_contact_element_test.cpp).
+// For flexible gears the penalty stands for the local contact compliance only (bending, shear
+// and foundation are in the modes): see flexible_mesh_stiffness (tools/cli) for its calibration.
+// Evaluate() and Apply() allocate nothing once the workspace's lists have reached the scene's
+// size (tests/contact/no_allocation_test.cpp).
+//
+// Outputs (/external/<name>/...): normal_force (N), friction_force (N), contact_points,
+// max_penetration (m), deformation_bound (m, the larger side's u), inflation_exceeded (count of
+// evaluations whose u exceeded the allowance).
+//
+// Usage:
+//   auto block = std::make_shared<const FlexibleContactSurface>(modes, FlexibleContactSurfaceSpec{});
+//   builder.AddExternalForce(std::make_shared<FlexibleContactElement>(FlexibleContactElementSpec{
+//       .name = "block_on_plane", .a = {.body = block_body, .flexible = block},
+//       .b = {.body = kWorldBody, .rigid = plane}, .law = {.stiffness_per_area = 1e13}}));
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "contact/candidate_pairs.h"
+#include "contact/contact_law.h"
+#include "contact/contact_surface.h"
+#include "contact/flexible_contact_surface.h"
+#include "contact/signed_gap.h"
+#include "mbd/external_force.h"
+#include "mbd/model.h"
+
+namespace orrery::contact {
+
+// One side: a rigid surface or a flexible one (exactly one of the two).
+struct ContactSide {
+  BodyIndex body = -1;
+  std::shared_ptr<const ContactSurface> rigid;             // in the body frame
+  std::shared_ptr<const FlexibleContactSurface> flexible;  // of the body's FlexibleBodyModes
+  const ContactSurface& surface() const { return flexible ? flexible->undeformed() : *rigid; }
+  double gap_margin_m() const {
+    return flexible ? flexible->spec().gap_margin_m : rigid->margin_m();
+  }
+};
+
+struct FlexibleContactElementSpec {
+  std::string name;
+  ContactSide a, b;
+  ContactLaw law;
+};
+
+// The state of one side for Evaluate(): pose and spatial velocity (world origin) of the body
+// frame; modal coordinates and rates (nf of a flexible side, ignored for a rigid one).
+struct ContactSideState {
+  Transform X_WB;
+  Vec6 V_WB = Vec6::Zero();
+  const Eigen::VectorXd* q_f = nullptr;
+  const Eigen::VectorXd* q_f_dot = nullptr;  // nullptr: zero
+};
+
+// Per side of one workspace.
+struct ContactSideBuffers {
+  explicit ContactSideBuffers(const ContactSide& side);
+  std::vector<Vec3> vertices;   // #V: deformed vertices (B); the undeformed ones for a rigid side
+  std::vector<Vec3> normals;    // #T: deformed face normals (B)
+  Eigen::VectorXd displacement; // 3 #V: Phi q_f (flexible)
+  Eigen::VectorXd velocity;     // 3 #V: Phi q_f-dot (flexible)
+  std::vector<Vec3> node_force; // #V: contact force on each vertex, body frame (N)
+  Vec6 f_W = Vec6::Zero();      // spatial force on the body, world origin
+  Eigen::VectorXd modal_force;  // nf: sum_P Phi_P^T node_force_P
+  double deformation_bound = 0; // m
+};
+
+class FlexibleContactWorkspace final : public ExternalForceWorkspace {
+ public:
+  FlexibleContactWorkspace(const ContactSide& a, const ContactSide& b);
+
+  CandidateSearch search;
+  std::vector<TrianglePair> pairs;
+  std::vector<NodeFaceCandidate> node_faces_a, node_faces_b;
+  GapScratch scratch_a, scratch_b;
+  std::vector<NodeGap> gaps_a, gaps_b;  // nodes of A on B's faces, nodes of B on A's faces
+  ContactSideBuffers side_a, side_b;
+  // Outputs of the last Evaluate().
+  double normal_force = 0, friction_force = 0, max_penetration = 0;
+  double energy = 0, power_dissipated = 0;
+  int contact_points = 0;
+  long inflation_exceeded = 0;
+  bool searched = false;
+};
+
+class FlexibleContactElement final : public ExternalForceElement {
+ public:
+  // Throws std::invalid_argument for a side with no surface or both, the same body on both
+  // sides, or an invalid law. MakeWorkspace() checks that a flexible side's body is a flexible
+  // body of the model with the surface's modes.
+  explicit FlexibleContactElement(FlexibleContactElementSpec spec);
+
+  const std::string& name() const override { return spec_.name; }
+  const FlexibleContactElementSpec& spec() const { return spec_; }
+  std::unique_ptr<ExternalForceWorkspace> MakeWorkspace(const Model& model) const override;
+  void Apply(const Model& model, double t, Data& data,
+             ExternalForceWorkspace& workspace) const override;
+  std::vector<std::string> OutputNames() const override;
+  std::vector<std::string> OutputUnits() const override;
+  void GetOutputs(const ExternalForceWorkspace& workspace, double* values) const override;
+
+  // Stages 1-6 for given states: fills ws.side_a / side_b (f_W, modal_force, node_force),
+  // ws.energy, ws.power_dissipated and the outputs.
+  void Evaluate(const ContactSideState& a, const ContactSideState& b,
+                FlexibleContactWorkspace& ws) const;
+
+ private:
+  FlexibleContactElementSpec spec_;
+};
+
+}  // namespace orrery::contact

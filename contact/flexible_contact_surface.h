@@ -1,0 +1,84 @@
+#pragma once
+// The contact surface of a flexible (Craig-Bampton-reduced) body: triangles of its
+// FlexibleBodyModes surface whose nodes move with the modal coordinates,
+//   x_P(q_f) = s_P + Phi_P q_f          (body frame B, mbd/flexible_body.h),
+// s_P the undeformed node position, Phi_P its 3 x nf translation shapes.
+//
+// The culling works on the UNDEFORMED surface and is never refitted (DESIGN.md, "Tooth
+// contact"): the ContactSurface held here is built from s_P with its margin inflated by twice the
+// deformation allowance u_max,
+//   margin = gap_margin + 2 u_max,
+// so that the candidate search (candidate_pairs.h: pairs within (margin_A + margin_B) / 2 at the
+// search pose) lists every triangle pair within gap_margin + u_max,A + u_max,B, which contains
+// every pair of DEFORMED triangles within gap_margin while no node has moved by more than its
+// surface's u_max (a point of a triangle moves by a convex combination of its vertices'
+// displacements, so triangle distances change by at most u_A + u_B).
+// Deformation bound checked at every evaluation, in O(nf):
+//   max_P |Phi_P q_f| <= sum_k |q_k| c_k,   c_k = max_P |Phi_P e_k|   (DeformationBound()).
+// Gaps are then computed with the deformed positions on both sides (flexible_contact_element.h).
+//
+// Which triangles: the whole exported surface, or only those whose three nodes all lie in the
+// given node sets (for a gear from models/gear_fe_mesh.h: the TOOTHk_FLANK_PLUS/MINUS, fillet and
+// tip sets). Parts (the broad phase's unit): one, or one per angular sector of equal width about
+// B's z axis, starting at part_angle_offset_rad (for a gear: one per tooth, sectors of 2 pi / z
+// centred on the teeth).
+//
+// Usage:
+//   FlexibleContactSurfaceSpec s{.gap_margin_m = 30e-6, .deformation_allowance_m = 50e-6};
+//   auto surface = std::make_shared<const FlexibleContactSurface>(modes, s);
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "contact/contact_surface.h"
+#include "mbd/flexible_body.h"
+
+namespace orrery::contact {
+
+struct FlexibleContactSurfaceSpec {
+  std::vector<std::string> node_sets;   // empty: every surface triangle
+  double gap_margin_m = 30e-6;          // > 0: the gap distance of the deformed surfaces
+  double deformation_allowance_m = 50e-6;  // u_max >= 0: the inflation of the culling geometry
+  double slack_m = 0;                   // >= 0: rigid relative motion kept (contact_surface.h)
+  int angular_parts = 1;                // >= 1 sectors about z
+  double part_angle_offset_rad = 0;     // sector k spans offset + (k -+ 1/2) 2 pi / angular_parts
+};
+
+class FlexibleContactSurface {
+ public:
+  // Throws std::invalid_argument for no surface triangles, an unknown node set, no triangle in
+  // the sets, a non-positive gap margin or a negative allowance or slack.
+  FlexibleContactSurface(std::shared_ptr<const FlexibleBodyModes> modes,
+                         const FlexibleContactSurfaceSpec& spec);
+
+  const FlexibleContactSurfaceSpec& spec() const { return spec_; }
+  const FlexibleBodyModes& modes() const { return *modes_; }
+  int nf() const { return modes_->nf; }
+  // The undeformed surface (vertices s_P in B, margin inflated as above).
+  const ContactSurface& undeformed() const { return *surface_; }
+  // #V: index into modes().nodes of every surface vertex.
+  const std::vector<int>& vertex_node() const { return vertex_node_; }
+  // 3 #V x nf: the translation shapes of the vertices stacked (rows 3 i .. 3 i + 2: vertex i).
+  const Eigen::MatrixXd& shapes() const { return shapes_; }
+  // nf: c_k = max over the vertices of |Phi_P e_k| (m per unit modal coordinate).
+  const Eigen::VectorXd& mode_bounds() const { return mode_bounds_; }
+
+  // sum_k |q_k| c_k >= max_P |Phi_P q_f| (m). q_f: nf.
+  double DeformationBound(const Eigen::Ref<const Eigen::VectorXd>& q_f) const;
+  // Deformed vertex positions s_P + Phi_P q_f (B) and the unit normals of the deformed faces;
+  // *vertices and *normals must have #V and #T entries (no allocation).
+  void Deform(const Eigen::Ref<const Eigen::VectorXd>& q_f, Eigen::VectorXd* displacement,
+              std::vector<Vec3>* vertices, std::vector<Vec3>* normals) const;
+
+ private:
+  std::shared_ptr<const FlexibleBodyModes> modes_;
+  FlexibleContactSurfaceSpec spec_;
+  std::shared_ptr<const ContactSurface> surface_;
+  std::vector<int> vertex_node_;
+  Eigen::MatrixXd shapes_;
+  Eigen::VectorXd mode_bounds_;
+};
+
+}  // namespace orrery::contact
