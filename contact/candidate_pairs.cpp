@@ -80,6 +80,11 @@ class PairCollector final : public fcl::detail::MeshCollisionTraversalNodeOBBRSS
     const int tb = triangle_start_b + this->model2->getBV(b2).primitiveId();
     const auto& A = surface_a->triangles()[ta];
     const auto& B = surface_b->triangles()[tb];
+    // Pre-check: triangle spheres farther apart than the search distance (one transform).
+    const Vec3 c_b = X_AB * surface_b->triangle_centers()[tb];
+    const double r = surface_a->triangle_radii()[ta] + surface_b->triangle_radii()[tb] + reach;
+    if ((surface_a->triangle_centers()[ta] - c_b).squaredNorm() > r * r) return;
+    ++*exact_tests;
     const auto& va = surface_a->vertices();
     const auto& vb = surface_b->vertices();
     // Exact distance in A's frame.
@@ -93,10 +98,70 @@ class PairCollector final : public fcl::detail::MeshCollisionTraversalNodeOBBRSS
   const ContactSurface* surface_b = nullptr;
   int triangle_start_a = 0, triangle_start_b = 0;
   Transform X_AB;
-  double search_distance2 = 0;
+  double search_distance2 = 0, reach = 0;
   std::vector<TrianglePair>* pairs = nullptr;
   int* leaf_tests = nullptr;
+  int* exact_tests = nullptr;
 };
+
+// Angle wrapped to [-pi, pi].
+double Wrap(double a) {
+  constexpr double kTwoPi = 6.283185307179586;
+  return a - kTwoPi * std::floor((a + 0.5 * kTwoPi) / kTwoPi);
+}
+
+// The mesh zone seen from gear G: the polar angles phi in [0, pi] (measured from the direction
+// to the other gear's axis, at distance a) of the points of G's tooth band inner <= r <= outer
+// that lie in the other gear's band grown by `reach`:
+//   lo' - reach <= |P - O'| <= hi' + reach,  |P - O'|^2 = a^2 + r^2 - 2 a r cos(phi).
+// |P - O'| grows with phi, so at each r the angles form one interval; their hull over r sampled
+// at 33 radii, padded by the largest change between neighbouring samples, bounds the zone.
+// Returns false if the bands cannot meet.
+bool ZoneWindow(double a, double inner, double outer, double lo_other, double hi_other,
+                double reach, double* phi_min, double* phi_max) {
+  constexpr int kSamples = 33;
+  constexpr double kPi = 3.14159265358979323846;
+  const double near = std::max(0.0, lo_other - reach), far = hi_other + reach;
+  double lo = kPi, hi = 0, prev_lo = 0, prev_hi = 0, pad = 0;
+  bool any = false, prev = false;
+  for (int k = 0; k < kSamples; ++k) {
+    const double r = inner + (outer - inner) * k / (kSamples - 1);
+    if (r <= 0) continue;
+    const double c_far = (a * a + r * r - far * far) / (2 * a * r);    // cos at |P - O'| = far
+    const double c_near = (a * a + r * r - near * near) / (2 * a * r);  // cos at |P - O'| = near
+    if (c_far > 1 || c_near < -1) {
+      prev = false;
+      continue;
+    }
+    const double p_lo = std::acos(std::clamp(c_near, -1.0, 1.0));
+    const double p_hi = std::acos(std::clamp(c_far, -1.0, 1.0));
+    if (prev) pad = std::max({pad, std::abs(p_lo - prev_lo), std::abs(p_hi - prev_hi)});
+    prev_lo = p_lo, prev_hi = p_hi, prev = true, any = true;
+    lo = std::min(lo, p_lo);
+    hi = std::max(hi, p_hi);
+  }
+  if (!any) return false;
+  // An interval appearing between two samples: pad by a whole sample step's worth as well.
+  pad = std::max(pad, 2 * reach / std::max(inner, 1e-12));
+  *phi_min = std::max(0.0, lo - pad);
+  *phi_max = std::min(kPi, hi + pad);
+  return true;
+}
+
+// Flags the parts of a tooth ring inside the zone window, seen from the other gear's direction
+// beta (gear frame); returns how many.
+int FlagZoneParts(const ToothRing& ring, double beta, double phi_min, double phi_max,
+                  double angular_reach, std::vector<char>* flags) {
+  int n = 0;
+  const double h = ring.part_half_angle_rad + angular_reach;
+  for (size_t j = 0; j < ring.part_angles_rad.size(); ++j) {
+    const double delta = std::abs(Wrap(ring.part_angles_rad[j] - beta));
+    const bool in = delta + h >= phi_min && delta - h <= phi_max;
+    (*flags)[j] = in;
+    n += in;
+  }
+  return n;
+}
 
 }  // namespace
 
@@ -105,6 +170,8 @@ struct CandidateSearch::Impl {
   std::vector<std::pair<int, int>> part_pairs;
   // B's part centres in A's frame (capacity #parts_B).
   std::vector<Vec3> centers_b_A;
+  // Parts inside the mesh zone (tooth rings on both surfaces): flags, #parts_A and #parts_B.
+  std::vector<char> zone_a, zone_b;
   Transform X_WA, X_WB, X_AB_search, X_AB_previous;
   bool have_pairs = false, have_previous = false;
   fcl::CollisionRequestd request;
@@ -117,6 +184,8 @@ CandidateSearch::CandidateSearch(const ContactSurface& surface_a, const ContactS
       slack_(0.5 * (surface_a.slack_m() + surface_b.slack_m())) {
   impl_->part_pairs.reserve(static_cast<size_t>(surface_a.num_parts()) * surface_b.num_parts());
   impl_->centers_b_A.resize(surface_b.num_parts());
+  impl_->zone_a.assign(surface_a.num_parts(), 1);
+  impl_->zone_b.assign(surface_b.num_parts(), 1);
 }
 
 CandidateSearch::~CandidateSearch() = default;
@@ -138,11 +207,45 @@ void CandidateSearch::UpdateBroadPhase(const Transform& X_WA, const Transform& X
   const double reach = search_distance_ + slack_;
   const int na = a_.num_parts(), nb = b_.num_parts();
   for (int j = 0; j < nb; ++j) m.centers_b_A[j] = X_AB * b_.part_centers()[j];
+  // Mesh zone of two gears on (nearly) parallel axes: only teeth whose angular span meets the
+  // overlap of the two tooth bands (at the gears' current angles) go on.
+  std::fill(m.zone_a.begin(), m.zone_a.end(), 1);
+  std::fill(m.zone_b.begin(), m.zone_b.end(), 1);
+  stats_.zone_parts_a = na;
+  stats_.zone_parts_b = nb;
+  if (a_.tooth_ring() && b_.tooth_ring()) {
+    const ToothRing& ra = *a_.tooth_ring();
+    const ToothRing& rb = *b_.tooth_ring();
+    const Transform X_GaGb = (X_WA * ra.X_BG).Inverse() * (X_WB * rb.X_BG);
+    const Vec3 o_b = X_GaGb.p;                       // B's axis origin in Ga
+    const Vec3 o_a = X_GaGb.Inverse().p;             // A's axis origin in Gb
+    const double a = std::hypot(o_b.x(), o_b.y());
+    const bool parallel = X_GaGb.R(2, 2) > 1 - 1e-6;  // both axes +z (tilt below ~1.4 mrad)
+    double a_min = 0, a_max = 0, b_min = 0, b_max = 0;
+    if (parallel && a > 0 &&
+        ZoneWindow(a, ra.inner_radius_m, ra.outer_radius_m, rb.inner_radius_m,
+                   rb.outer_radius_m, reach, &a_min, &a_max) &&
+        ZoneWindow(a, rb.inner_radius_m, rb.outer_radius_m, ra.inner_radius_m,
+                   ra.outer_radius_m, reach, &b_min, &b_max)) {
+      stats_.zone_parts_a =
+          FlagZoneParts(ra, std::atan2(o_b.y(), o_b.x()), a_min, a_max,
+                        reach / std::max(ra.inner_radius_m, 1e-12), &m.zone_a);
+      stats_.zone_parts_b =
+          FlagZoneParts(rb, std::atan2(o_a.y(), o_a.x()), b_min, b_max,
+                        reach / std::max(rb.inner_radius_m, 1e-12), &m.zone_b);
+    } else if (parallel && a > 0) {
+      // The bands cannot meet: no part pair.
+      std::fill(m.zone_a.begin(), m.zone_a.end(), 0);
+      stats_.zone_parts_a = 0;
+    }
+  }
   m.part_pairs.clear();
   for (int i = 0; i < na; ++i) {
+    if (!m.zone_a[i]) continue;
     const Vec3& c_a = a_.part_centers()[i];
     const double r_a = a_.part_radii()[i] + reach;
     for (int j = 0; j < nb; ++j) {
+      if (!m.zone_b[j]) continue;
       const double r = r_a + b_.part_radii()[j];
       if ((m.centers_b_A[j] - c_a).squaredNorm() <= r * r) m.part_pairs.emplace_back(i, j);
     }
@@ -154,6 +257,7 @@ void CandidateSearch::FindPairs(std::vector<TrianglePair>* pairs) {
   Impl& m = *impl_;
   pairs->clear();
   stats_.leaf_tests = 0;
+  stats_.exact_tests = 0;
   const Transform X_AB = m.X_WA.Inverse() * m.X_WB;
   const fcl::Transform3d tf_a = ToFcl(m.X_WA), tf_b = ToFcl(m.X_WB);
   const double reach = search_distance_ + slack_;
@@ -169,8 +273,10 @@ void CandidateSearch::FindPairs(std::vector<TrianglePair>* pairs) {
     node.triangle_start_b = b_.part_triangle_start()[pb];
     node.X_AB = X_AB;
     node.search_distance2 = reach * reach;
+    node.reach = reach;
     node.pairs = pairs;
     node.leaf_tests = &stats_.leaf_tests;
+    node.exact_tests = &stats_.exact_tests;
     fcl::detail::collide(&node, nullptr);
   }
   stats_.candidate_pairs = static_cast<int>(pairs->size());

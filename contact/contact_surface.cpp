@@ -12,8 +12,8 @@
 namespace orrery::contact {
 
 ContactSurface::ContactSurface(const std::vector<gears::TriangleMesh>& parts, double margin_m,
-                               double slack_m)
-    : margin_m_(margin_m), slack_m_(slack_m) {
+                               double slack_m, std::optional<ToothRing> tooth_ring)
+    : tooth_ring_(std::move(tooth_ring)), margin_m_(margin_m), slack_m_(slack_m) {
   if (!(margin_m > 0))
     throw std::invalid_argument("ContactSurface: margin_m must be > 0, got " +
                                 std::to_string(margin_m));
@@ -90,6 +90,27 @@ ContactSurface::ContactSurface(const std::vector<gears::TriangleMesh>& parts, do
     part_radii_.push_back(r);
   }
   for (const Vec3& v : vertices_) max_vertex_radius_m_ = std::max(max_vertex_radius_m_, v.norm());
+
+  // Bounding sphere of every triangle: centroid and farthest vertex.
+  triangle_centers_.reserve(triangles_.size());
+  triangle_radii_.reserve(triangles_.size());
+  for (const auto& tri : triangles_) {
+    const Vec3 c = (vertices_[tri[0]] + vertices_[tri[1]] + vertices_[tri[2]]) / 3.0;
+    double r = 0;
+    for (int k = 0; k < 3; ++k) r = std::max(r, (vertices_[tri[k]] - c).norm());
+    triangle_centers_.push_back(c);
+    triangle_radii_.push_back(r);
+  }
+
+  if (tooth_ring_) {
+    if (static_cast<int>(tooth_ring_->part_angles_rad.size()) != num_parts())
+      throw std::invalid_argument("ContactSurface: the tooth ring has " +
+                                  std::to_string(tooth_ring_->part_angles_rad.size()) +
+                                  " part angles for " + std::to_string(num_parts()) + " parts");
+    if (!(tooth_ring_->inner_radius_m >= 0 &&
+          tooth_ring_->inner_radius_m < tooth_ring_->outer_radius_m))
+      throw std::invalid_argument("ContactSurface: the tooth ring needs 0 <= inner < outer radius");
+  }
 
   culling_ = BuildCullingGeometry(*this);
 }

@@ -16,6 +16,9 @@
 // slack_m (>= 0): the search looks (margin + slack) far and keeps its pairs until the surfaces
 // have moved relative to each other by more than the slack (candidate_pairs.h); a larger slack
 // means fewer searches and more candidates per gap evaluation.
+// tooth_ring (optional): the parts are the teeth of a gear; when both surfaces of a search have
+// one, the broad phase keeps only the teeth inside the mesh zone of the two gears at their
+// current angles (candidate_pairs.h).
 //
 // Usage:
 //   auto flank = std::make_shared<const ContactSurface>(
@@ -23,6 +26,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "mbd/spatial.h"
@@ -32,13 +36,24 @@ namespace orrery::contact {
 
 class CullingGeometry;  // candidate_pairs.cpp
 
+// A surface whose parts are the teeth of a gear (gear_contact.h fills it): where the teeth are,
+// in the gear frame G (axis z).
+struct ToothRing {
+  Transform X_BG;                    // gear frame in the body frame
+  double inner_radius_m = 0;         // the teeth lie in inner <= r <= outer (distance from G's
+  double outer_radius_m = 0;         // axis): root to tip circle (external), tip to root (ring)
+  std::vector<double> part_angles_rad;  // #parts: a reference angle of every part about G's z
+  double part_half_angle_rad = 0;    // every vertex of part j lies within this of its angle
+};
+
 class ContactSurface {
  public:
   // parts: at least one non-empty mesh, vertices in the body frame (m). Throws
   // std::invalid_argument for an empty surface, a triangle index out of range, a degenerate
-  // triangle (zero area) or margin_m <= 0.
+  // triangle (zero area), margin_m <= 0, or a tooth ring whose angles do not match the parts or
+  // whose radii are not 0 <= inner < outer.
   ContactSurface(const std::vector<gears::TriangleMesh>& parts, double margin_m,
-                 double slack_m = 0);
+                 double slack_m = 0, std::optional<ToothRing> tooth_ring = std::nullopt);
   ~ContactSurface();
   ContactSurface(const ContactSurface&) = delete;
   ContactSurface& operator=(const ContactSurface&) = delete;
@@ -65,6 +80,10 @@ class ContactSurface {
   // #parts: a sphere around each part (body frame), the broad phase's per-part bounding test.
   const std::vector<Vec3>& part_centers() const { return part_centers_; }
   const std::vector<double>& part_radii() const { return part_radii_; }
+  // #T: a sphere around each triangle (centroid, farthest vertex), the leaf pre-check.
+  const std::vector<Vec3>& triangle_centers() const { return triangle_centers_; }
+  const std::vector<double>& triangle_radii() const { return triangle_radii_; }
+  const std::optional<ToothRing>& tooth_ring() const { return tooth_ring_; }
 
   const CullingGeometry& culling() const { return *culling_; }
 
@@ -78,6 +97,9 @@ class ContactSurface {
   std::vector<int> part_triangle_start_, part_vertex_start_;
   std::vector<Vec3> part_centers_;
   std::vector<double> part_radii_;
+  std::optional<ToothRing> tooth_ring_;
+  std::vector<Vec3> triangle_centers_;
+  std::vector<double> triangle_radii_;
   double margin_m_ = 0, slack_m_ = 0, total_area_ = 0, max_vertex_radius_m_ = 0;
   std::shared_ptr<const CullingGeometry> culling_;
 };

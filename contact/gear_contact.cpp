@@ -58,19 +58,61 @@ std::shared_ptr<const ContactSurface> MakeGearContactSurface(const gears::Gear& 
                                      .involute = options.involute_intervals,
                                      .tip = options.tip_intervals};
   std::vector<gears::TriangleMesh> parts;
+  // The tooth ring of the mesh-zone test: tooth t about angle 2 pi t / z, radial band and half
+  // angle measured on the vertices (gear frame).
+  ToothRing ring;
+  ring.X_BG = X_BG;
+  ring.inner_radius_m = 1e300;
   for (int t = 0; t < gear.teeth(); ++t) {
     if (std::find(missing.begin(), missing.end(), t) != missing.end()) continue;
     gears::TriangleMesh m = gears::MakeToothSurfaceMesh(gear, t, res, options.face_intervals);
+    const double angle = 2 * kPi * t / gear.teeth();
+    for (const Vec3& v : m.vertices) {
+      const double r = std::hypot(v.x(), v.y());
+      ring.inner_radius_m = std::min(ring.inner_radius_m, r);
+      ring.outer_radius_m = std::max(ring.outer_radius_m, r);
+      double d = std::atan2(v.y(), v.x()) - angle;
+      d -= 2 * kPi * std::floor((d + kPi) / (2 * kPi));
+      ring.part_half_angle_rad = std::max(ring.part_half_angle_rad, std::abs(d));
+    }
+    ring.part_angles_rad.push_back(angle);
     for (Vec3& v : m.vertices) v = X_BG * v;
     parts.push_back(std::move(m));
   }
   if (parts.empty()) throw std::invalid_argument("MakeGearContactSurface: no tooth left");
-  return std::make_shared<const ContactSurface>(parts, options.margin_m, options.slack_m);
+  return std::make_shared<const ContactSurface>(parts, options.margin_m, options.slack_m,
+                                                std::move(ring));
 }
 
-ContactElementSpec MakeGearContactSpec(const std::string& name, const gears::GearPair& pair,
+gears::GearPair WithNormalBacklash(const gears::GearPair& pair, double normal_backlash_m,
+                                   double gear1_share) {
+  if (!(normal_backlash_m >= 0))
+    throw std::invalid_argument("WithNormalBacklash: backlash must be >= 0, got " +
+                                std::to_string(normal_backlash_m));
+  if (!(gear1_share >= 0 && gear1_share <= 1))
+    throw std::invalid_argument("WithNormalBacklash: gear1_share must be in [0, 1]");
+  if (normal_backlash_m == 0) return pair;
+  // Teeth thinned by the allowances 2 A share_1 and 2 A (1 - share_1); the backlash is linear in
+  // A, so one secant step from the guess A = -j_n / 2 hits it.
+  auto thinned = [&](double allowance) {
+    gears::GearSpec s1 = pair.gear1().spec(), s2 = pair.gear2().spec();
+    s1.thickness_allowance_m += 2 * allowance * gear1_share;
+    s2.thickness_allowance_m += 2 * allowance * (1 - gear1_share);
+    return gears::GearPair(gears::Gear(s1), gears::Gear(s2), pair.center_distance_m());
+  };
+  const double j0 = pair.normal_backlash_m();
+  const double guess = -0.5 * normal_backlash_m;
+  const double j1 = thinned(guess).normal_backlash_m();
+  if (!(std::abs(j1 - j0) > 0))
+    throw std::runtime_error("WithNormalBacklash: thinning the teeth does not change the backlash");
+  return thinned(guess * (normal_backlash_m - j0) / (j1 - j0));
+}
+
+ContactElementSpec MakeGearContactSpec(const std::string& name, const gears::GearPair& given_pair,
                                        BodyIndex body1, BodyIndex body2,
                                        const GearContactOptions& options) {
+  const gears::GearPair pair =
+      WithNormalBacklash(given_pair, options.normal_backlash_m, options.backlash_share1);
   const GearContactCalibration c = CalibrateGearContact(pair, options);
   ContactElementSpec spec;
   spec.name = name;

@@ -61,6 +61,12 @@ struct GearContactOptions {
   double margin_m = 30e-6;   // above the largest penetration (delta_ref is a few um)
   double slack_m = 100e-6;   // per surface: pairs are kept for relative motions up to this
   std::vector<int> missing_teeth1, missing_teeth2;  // teeth removed (gear frame indices)
+  // Normal backlash j_n of the pair (m, >= 0; WithNormalBacklash): MakeGearContactSpec thins
+  // both gears' teeth by the same normal thickness allowance. 0: the pair as given (a standard
+  // pair at the reference centre distance has none, and both flanks then lie within the search
+  // distance).
+  double normal_backlash_m = 0;
+  double backlash_share1 = 0.5;  // share of the thinning taken by gear 1 (0: gear 2 only)
   // Penalty calibration: c' b (N/m along the line of action) of one tooth pair, default ISO 6336
   // c' times the face width; the load at which the secant stiffness equals it, default 1000 N.
   std::optional<double> single_pair_stiffness_n_per_m;
@@ -90,7 +96,16 @@ std::shared_ptr<const ContactSurface> MakeGearContactSurface(const gears::Gear& 
                                                              const std::vector<int>& missing,
                                                              const Transform& X_BG);
 
-// The element's spec: body1 carries gear 1, body2 gear 2; law from CalibrateGearContact().
+// The pair with its teeth thinned (GearSpec::thickness_allowance_m: gear 1 takes gear1_share of
+// the thinning, gear 2 the rest; thinning a small pinion moves it towards undercut, so give the
+// share to the larger gear there) so that its normal backlash (GearPair::normal_backlash_m) is
+// the given value, at the same centre distance. Throws std::invalid_argument for a negative
+// backlash, a share outside [0, 1] or gears that reject the thinning (undercut, pointed tip).
+gears::GearPair WithNormalBacklash(const gears::GearPair& pair, double normal_backlash_m,
+                                   double gear1_share = 0.5);
+
+// The element's spec: body1 carries gear 1, body2 gear 2; law from CalibrateGearContact() of the
+// pair with options.normal_backlash_m (WithNormalBacklash).
 ContactElementSpec MakeGearContactSpec(const std::string& name, const gears::GearPair& pair,
                                        BodyIndex body1, BodyIndex body2,
                                        const GearContactOptions& options);
