@@ -13,7 +13,12 @@
 #include <new>
 #include <string>
 
+#include "contact/flexible_contact_element.h"
 #include "contact/gear_contact.h"
+#include "flex/box_mesher.h"
+#include "flex/craig_bampton.h"
+#include "flex/fe_assembly.h"
+#include "flex/flexible_body_modes.h"
 #include "mbd/data.h"
 #include "mbd/dynamics.h"
 #include "mbd/evaluate.h"
@@ -143,6 +148,57 @@ TEST(ContactNoAllocation, GearContactEvaluation) {
   // Both kinds of evaluation happened, under load.
   EXPECT_GE(ws.search.stats().searches - searches, 25);
   EXPECT_GT(ws.normal_force, 0);
+}
+
+// A reduced steel block (hex8 4 x 4 x 2, 12 modes) on a vertical prismatic joint pressed onto a
+// rigid plane through a FlexibleContactElement: after a first pass has sized the lists, a second
+// pass over heights and modal states (searches and kept pairs alike) evaluates the dynamics,
+// contact on the deformed surfaces and modal forces included, without allocating.
+TEST(ContactNoAllocation, FlexibleContactEvaluation) {
+  flex::FeMesh mesh = flex::MakeBoxMesh({.origin_m = {-0.01, -0.01, 0}, .size_m = {0.02, 0.02, 0.01},
+                                         .divisions = {4, 4, 2}, .type = flex::ElementType::kHex8});
+  mesh.AssignMaterialToAll(
+      {.name = "STEEL", .youngs_modulus_pa = 210e9, .poissons_ratio = 0.3, .density_kg_m3 = 7850});
+  const flex::FeSystem sys = flex::AssembleFeSystem(mesh);
+  const std::vector<flex::FeInterface> ifs = {flex::MakeInterface(mesh, "ZMAX", flex::InterfaceKind::kRbe2)};
+  const auto modes = std::make_shared<const FlexibleBodyModes>(flex::MakeFlexibleBodyModes(
+      mesh, sys, flex::ReduceCraigBampton(mesh, sys, ifs, {.num_modes = 12}), ifs));
+  gears::TriangleMesh plane;
+  plane.vertices = {Vec3(-0.03, -0.03, 0), Vec3(0.03, -0.03, 0), Vec3(0.03, 0.03, 0), Vec3(-0.03, 0.03, 0)};
+  plane.triangles = {{0, 1, 2}, {0, 2, 3}};
+  ModelBuilder b;
+  const BodyIndex block = b.AddFlexibleBody("block", modes, {.damping_ratios = {0.02}});
+  JointSpec j;
+  j.name = "slider", j.type = JointType::kPrismatic, j.parent = kWorldBody, j.child = block;
+  const JointIndex ji = b.AddJoint(j);
+  b.AddExternalForce(std::make_shared<FlexibleContactElement>(FlexibleContactElementSpec{
+      .name = "block_on_plane",
+      .a = {.body = block, .flexible = std::make_shared<const FlexibleContactSurface>(
+                               modes, FlexibleContactSurfaceSpec{.node_sets = {"ZMIN"}, .slack_m = 2e-6})},
+      .b = {.body = kWorldBody, .rigid = std::make_shared<const ContactSurface>(std::vector{plane}, 30e-6)},
+      .law = {.stiffness_per_area = 2e13, .hunt_crossley_s_per_m = 0.1, .friction_coefficient = 0.2}}));
+  const std::shared_ptr<const Model> model = std::move(b).Finalize();
+  const Model& m = *model;
+  Data data(m);
+  State s = State::Initial(m);
+  s.v.setConstant(1e-3);
+  const Eigen::VectorXd vdot = Eigen::VectorXd::Zero(m.nv);
+  const int iq = m.joints[ji].q_start;
+  const FlexibleBody& fb = m.flexible_bodies[0];
+  auto pass = [&] {
+    for (int k = 0; k < 40; ++k) {
+      s.q(iq) = 0.01 - 1e-6 * (1 + k % 5) - 5e-6 * (k / 10);  // 5 um jumps: a new search
+      for (int i = 0; i < fb.nf; ++i) s.q(fb.q_start + i) = 1e-9 * std::sin(0.3 * k + i);
+      EvaluateDynamics(m, 0.0, s.q, s.v, vdot, data);
+    }
+  };
+  pass();
+  const auto& ws = static_cast<const FlexibleContactWorkspace&>(*data.external[0]);
+  const long searches = ws.search.stats().searches;
+  EXPECT_EQ(AllocationsIn(pass), 0);
+  EXPECT_GE(ws.search.stats().searches - searches, 3);
+  EXPECT_GT(ws.normal_force, 0);
+  EXPECT_GT(ws.side_a.modal_force.norm(), 0);
 }
 
 }  // namespace
