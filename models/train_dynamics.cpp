@@ -583,6 +583,7 @@ TrainModel BuildTrainModel(const PlanetaryTrain& train, int range, const TrainMo
         return p < 0 ? p + cycles : p;
       };
       for (int i = 0; i < st.num_planets; ++i) {
+        if (o.meshes_without_element.count(m.name)) break;  // modelled by the before_finalize hook
         const std::vector<double>& tab = branch_tables.empty() ? table : branch_tables[i];
         GearMeshSpec spec{
             .name = m.name + "#" + std::to_string(i + 1), .gear_a = gear_frame(a, i),
@@ -660,6 +661,7 @@ TrainModel BuildTrainModel(const PlanetaryTrain& train, int range, const TrainMo
     b.AddJointLoad({.name = "load_" + train.members[train.output].name, .joint = tm.member_joints[train.output],
                     .coordinate = rot, .function = TimeFunction::Constant(tm.power_flow.port_torques_Nm(train.output))});
 
+  if (o.before_finalize) o.before_finalize(b, tm);
   tm.model = std::move(b).Finalize();
   return tm;
 }

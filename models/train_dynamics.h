@@ -117,6 +117,7 @@
 #include <optional>
 #include <string>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include "mbd/data.h"
@@ -131,6 +132,8 @@
 namespace orrery::gears {
 
 enum class TrainDofs { kTorsional, kPlanar, kSpatial };
+
+struct TrainModel;
 
 // Where a mesh's stiffness comes from (see "Mesh stiffness from geometry" above).
 enum class MeshStiffnessSource { kGiven, kIso6336, kTvms };
@@ -256,6 +259,14 @@ struct TrainModelOptions {
     std::string mesh_interface;
   };
   std::unordered_map<std::string, FlexiblePlanet> flexible_planets;
+
+  // Meshes modelled outside models/ (the `contact` mesh model, contact/train_contact.h): train
+  // mesh names ("S1.sun-planet") that get no lumped GearMeshSpec on any branch (TrainModel::meshes
+  // then lists only the lumped ones), and a hook called with the builder after every other
+  // element, before Finalize(); the TrainModel passed has its joints, parameters and kinematics
+  // (model is still null).
+  std::unordered_set<std::string> meshes_without_element;
+  std::function<void(ModelBuilder&, const TrainModel&)> before_finalize;
 };
 
 // Resolved lumped parameters of a member or planet set (filled by BuildTrainModel).
