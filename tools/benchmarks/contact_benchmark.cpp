@@ -196,7 +196,7 @@ BENCHMARK(BM_SamePoseEvaluation)->Unit(benchmark::kMicrosecond);
 // 2 face intervals, margin 30 um, slack 100 um), gear 1 ahead by 3 um on the line of action:
 // one evaluation within the slack (a step or a Jacobian column) and one with a search.
 // Measured (one core, shared machine, CPU time): with a search 17 ms before the mesh-zone test
-// (168 tooth pairs), 15.8 ms after (20 tooth pairs, 7 teeth in the zone): the part pairs were
+// (168 tooth pairs), 15.8 ms after (20 tooth pairs, 9 teeth in the zone): the part pairs were
 // cheap root tests; the cost is the ~39k leaf tests of the ~30k candidate pairs that both flanks
 // (zero backlash) within d + s = 130 um give on flanks faceted at 40 um. Backlash halves them.
 struct Seed001Contact {
