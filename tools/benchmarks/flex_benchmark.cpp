@@ -10,7 +10,7 @@
 //       modes, truncated to the first nf (the elastic Craig-Bampton coordinates are M-orthonormal
 //       and sorted by frequency, so the first nf of them are a consistent smaller body).
 //
-//   flex_benchmark                                   all (the 100k reduction takes a while)
+//   flex_benchmark                                   all (the 100k reduction: 1-2 minutes)
 //   flex_benchmark --benchmark_filter='Flex(Eval|Residual|Jacobian)'
 //
 // Peak memory is a process-wide maximum (getrusage's ru_maxrss, /proc/self/status VmHWM), so
@@ -149,8 +149,8 @@ void BM_PlanetAssembly(benchmark::State& st) {
 }
 BENCHMARK(BM_PlanetAssembly)->DenseRange(0, 2)->Unit(benchmark::kMillisecond);
 
-// ReduceCraigBampton, 30 modes. 100k: about 2 minutes and 2 GB with the reference BLAS; 300k
-// only in probe mode.
+// ReduceCraigBampton, 30 modes. 100k: 1-2 minutes and 2 GB; 300k (15 minutes, 8 GB with the
+// reference BLAS) only in probe mode.
 void BM_PlanetReduction(benchmark::State& st) {
   const flex::FeMesh mesh = PlanetMesh(SizeArg(st));
   const flex::FeSystem sys = flex::AssembleFeSystem(mesh);
