@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "flex/cholmod_factor.h"
 #include "flex/fe_modes.h"
 
 namespace orrery::flex {
@@ -45,11 +46,17 @@ CraigBamptonModel ReduceCraigBampton(const FeMesh& mesh, const FeSystem& system,
   const Eigen::SparseMatrix<double> Mii = Mq.block(nb, nb, nI, nI);
   const Eigen::MatrixXd Kib = Eigen::MatrixXd(Kq.block(nb, 0, nI, nb));
 
-  // Static constraint modes Psi = -K_ii^-1 K_ib: one factorization, nb solves
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt(Kii);
-  if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 0))
+  // Static constraint modes Psi = -K_ii^-1 K_ib: one supernodal Cholesky factorization (CHOLMOD),
+  // nb solves
+  CholmodCholesky chol;
+  if (!chol.factorize(Kii))
     throw std::runtime_error("interior stiffness K_ii is not positive definite: the interfaces do not hold the body");
-  const Eigen::MatrixXd Psi = -ldlt.solve(Kib);
+  auto solve = [&](const Eigen::MatrixXd& B) {
+    Eigen::MatrixXd X(B.rows(), B.cols());
+    for (Eigen::Index c = 0; c < B.cols(); ++c) chol.solve(B.col(c).data(), X.col(c).data());
+    return X;
+  };
+  const Eigen::MatrixXd Psi = -solve(Kib);
 
   // Fixed-interface normal modes of (K_ii, M_ii), by count and optionally by cutoff
   CraigBamptonModel r;
@@ -82,7 +89,7 @@ CraigBamptonModel ReduceCraigBampton(const FeMesh& mesh, const FeSystem& system,
       }
     }
     const Eigen::MatrixXd Fq = Tt * (system.M * G);
-    Eigen::MatrixXd X = ldlt.solve(Fq.bottomRows(nI));
+    Eigen::MatrixXd X = solve(Fq.bottomRows(nI));
     // Remove what the normal modes span (M-orthogonal projection), then an M-orthonormal basis of
     // the rest, dropping directions below 1e-8 of the largest.
     if (Phi.cols() > 0) X -= Phi * (Phi.transpose() * (Mii * X));

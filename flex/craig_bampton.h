@@ -4,7 +4,7 @@
 //
 // Method (Craig & Bampton, AIAA J. 6, 1968; coordinates q = [u_b | u_i] of MakeInterfaceTransform,
 // u_b the 6 master DOFs of every interface, K_q = T^T K T, M_q = T^T M T):
-//   1. static constraint modes  Psi = -K_ii^-1 K_ib  (one sparse LDL^T of K_ii, 6 n_if solves);
+//   1. static constraint modes  Psi = -K_ii^-1 K_ib  (one sparse Cholesky of K_ii, 6 n_if solves);
 //   2. fixed-interface normal modes  K_ii phi = w^2 M_ii phi  (SolveLowestModes, shift-invert
 //      Lanczos), kept by count and optionally by a cutoff frequency;
 //   3. basis  T_cb = [[I, 0], [Psi, Phi]],  K_cb = T_cb^T K_q T_cb,  M_cb = T_cb^T M_q T_cb;

@@ -8,6 +8,10 @@ packages=(
   libeigen3-dev libspectra-dev libfcl-dev libassimp-dev libsundials-dev libhdf5-dev hdf5-tools
   libsuitesparse-dev libyaml-cpp-dev libcli11-dev libgtest-dev libgmock-dev libbenchmark-dev
   calculix-ccx
+  # Optimized single-threaded BLAS/LAPACK: Debian's alternatives then point libblas.so.3 at it,
+  # which CHOLMOD's supernodal factorization and the Lanczos solves use (a 100k-DOF gear
+  # reduction: 49 s instead of 72 s on this project's 2-core machine).
+  libopenblas0-serial
 )
 
 missing=()
