@@ -5,7 +5,10 @@
 #include <set>
 #include <stdexcept>
 #include <string>
+#include <limits>
 #include <utility>
+
+#include "contact/triangle_geometry.h"
 
 namespace orrery::contact {
 
@@ -15,10 +18,7 @@ constexpr double kPi = 3.14159265358979323846;
 
 }  // namespace
 
-FlexibleContactSurface::FlexibleContactSurface(std::shared_ptr<const FlexibleBodyModes> modes,
-                                               const FlexibleContactSurfaceSpec& spec)
-    : modes_(std::move(modes)), spec_(spec) {
-  const std::string what = "FlexibleContactSurface: ";
+void FlexibleContactSurface::Check(const std::string& what) const {
   if (!modes_) throw std::invalid_argument(what + "no modes");
   if (!(spec_.gap_margin_m > 0))
     throw std::invalid_argument(what + "gap_margin_m must be > 0, got " +
@@ -26,10 +26,14 @@ FlexibleContactSurface::FlexibleContactSurface(std::shared_ptr<const FlexibleBod
   if (!(spec_.deformation_allowance_m >= 0))
     throw std::invalid_argument(what + "deformation_allowance_m must be >= 0, got " +
                                 std::to_string(spec_.deformation_allowance_m));
-  if (spec_.angular_parts < 1)
-    throw std::invalid_argument(what + "angular_parts must be >= 1");
+  if (spec_.angular_parts < 1) throw std::invalid_argument(what + "angular_parts must be >= 1");
+  if (modes_->surface_triangles.empty())
+    throw std::invalid_argument(what + "the modes have no surface");
+}
+
+std::vector<std::array<int, 3>> FlexibleContactSurface::SelectedTriangles(
+    const std::string& what) const {
   const FlexibleBodyModes& m = *modes_;
-  if (m.surface_triangles.empty()) throw std::invalid_argument(what + "the modes have no surface");
   // The nodes allowed (all, or the union of the node sets).
   std::vector<char> allowed(m.nodes.size(), spec_.node_sets.empty() ? 1 : 0);
   for (const std::string& name : spec_.node_sets) {
@@ -37,14 +41,34 @@ FlexibleContactSurface::FlexibleContactSurface(std::shared_ptr<const FlexibleBod
     if (it == m.node_sets.end()) throw std::invalid_argument(what + "no node set '" + name + "'");
     for (int i : it->second) allowed[i] = 1;
   }
+  std::vector<std::array<int, 3>> out;
+  for (const auto& t : m.surface_triangles)
+    if (allowed[t[0]] && allowed[t[1]] && allowed[t[2]]) out.push_back(t);
+  if (out.empty()) throw std::invalid_argument(what + "no surface triangle in the node sets");
+  return out;
+}
+
+void FlexibleContactSurface::SetModeBounds() {
+  const int nv = static_cast<int>(shapes_.rows() / 3);
+  mode_bounds_ = Eigen::VectorXd::Zero(modes_->nf);
+  for (int i = 0; i < nv; ++i)
+    for (int k = 0; k < modes_->nf; ++k)
+      mode_bounds_(k) = std::max(mode_bounds_(k), shapes_.block<3, 1>(3 * i, k).norm());
+}
+
+FlexibleContactSurface::FlexibleContactSurface(std::shared_ptr<const FlexibleBodyModes> modes,
+                                               const FlexibleContactSurfaceSpec& spec)
+    : modes_(std::move(modes)), spec_(spec) {
+  const std::string what = "FlexibleContactSurface: ";
+  Check(what);
+  const FlexibleBodyModes& m = *modes_;
   // Triangles in the sets, grouped by the angular sector of their centroid.
   const int np = spec_.angular_parts;
   std::vector<gears::TriangleMesh> parts(np);
   std::vector<std::vector<int>> part_nodes(np);
   std::vector<std::vector<int>> local(np);  // node -> vertex of the part (-1: none)
   for (int p = 0; p < np; ++p) local[p].assign(m.nodes.size(), -1);
-  for (const auto& t : m.surface_triangles) {
-    if (!(allowed[t[0]] && allowed[t[1]] && allowed[t[2]])) continue;
+  for (const auto& t : SelectedTriangles(what)) {
     int p = 0;
     if (np > 1) {
       const Vec3 c = (m.nodes[t[0]].position + m.nodes[t[1]].position + m.nodes[t[2]].position) / 3;
@@ -72,19 +96,77 @@ FlexibleContactSurface::FlexibleContactSurface(std::shared_ptr<const FlexibleBod
     vertex_node_.insert(vertex_node_.end(), part_nodes[p].begin(), part_nodes[p].end());
     kept.push_back(std::move(parts[p]));
   }
-  if (kept.empty()) throw std::invalid_argument(what + "no surface triangle in the node sets");
   surface_ = std::make_shared<const ContactSurface>(
       kept, spec_.gap_margin_m + 2 * spec_.deformation_allowance_m, spec_.slack_m);
   // Stacked shapes and the per-mode bounds.
   const int nv = static_cast<int>(vertex_node_.size());
   shapes_.resize(3 * nv, m.nf);
-  mode_bounds_ = Eigen::VectorXd::Zero(m.nf);
+  for (int i = 0; i < nv; ++i) shapes_.middleRows(3 * i, 3) = m.nodes[vertex_node_[i]].translation_shapes;
+  SetModeBounds();
+}
+
+FlexibleContactSurface::FlexibleContactSurface(std::shared_ptr<const FlexibleBodyModes> modes,
+                                               const std::vector<gears::TriangleMesh>& parts,
+                                               const FlexibleContactSurfaceSpec& spec,
+                                               double embed_tolerance_m)
+    : modes_(std::move(modes)), spec_(spec) {
+  const std::string what = "FlexibleContactSurface (embedded): ";
+  Check(what);
+  const FlexibleBodyModes& m = *modes_;
+  const std::vector<std::array<int, 3>> tris = SelectedTriangles(what);
+  surface_ = std::make_shared<const ContactSurface>(
+      parts, spec_.gap_margin_m + 2 * spec_.deformation_allowance_m, spec_.slack_m);
+  const auto& verts = surface_->vertices();
+  const int nv = static_cast<int>(verts.size());
+  vertex_node_.assign(nv, -1);
+  shapes_ = Eigen::MatrixXd::Zero(3 * nv, m.nf);
+  // Each vertex on its closest FE triangle (brute force: built once).
   for (int i = 0; i < nv; ++i) {
-    const auto& phi = m.nodes[vertex_node_[i]].translation_shapes;
-    shapes_.middleRows(3 * i, 3) = phi;
-    for (int k = 0; k < m.nf; ++k)
-      mode_bounds_(k) = std::max(mode_bounds_(k), phi.col(k).norm());
+    double best = std::numeric_limits<double>::infinity();
+    int best_t = -1;
+    Vec3 best_q = Vec3::Zero();
+    for (int t = 0; t < static_cast<int>(tris.size()); ++t) {
+      const auto& tri = tris[t];
+      const ClosestPoint c = ClosestPointOnTriangle(verts[i], m.nodes[tri[0]].position,
+                                                    m.nodes[tri[1]].position, m.nodes[tri[2]].position);
+      const double d = (c.point - verts[i]).norm();
+      if (d < best) best = d, best_t = t, best_q = c.point;
+    }
+    if (!(best <= embed_tolerance_m))
+      throw std::invalid_argument(what + "vertex " + std::to_string(i) + " lies " +
+                                  std::to_string(best) + " m from the FE surface (tolerance " +
+                                  std::to_string(embed_tolerance_m) + " m)");
+    const auto& tri = tris[best_t];
+    const Vec3 a = m.nodes[tri[0]].position, b = m.nodes[tri[1]].position,
+               c = m.nodes[tri[2]].position;
+    // Barycentric coordinates of the projection.
+    const Vec3 v0 = b - a, v1 = c - a, v2 = best_q - a;
+    const double d00 = v0.dot(v0), d01 = v0.dot(v1), d11 = v1.dot(v1);
+    const double d20 = v2.dot(v0), d21 = v2.dot(v1), den = d00 * d11 - d01 * d01;
+    const double wb = (d11 * d20 - d01 * d21) / den, wc = (d00 * d21 - d01 * d20) / den;
+    const double w[3] = {1 - wb - wc, wb, wc};
+    for (int k = 0; k < 3; ++k)
+      shapes_.middleRows(3 * i, 3) += w[k] * m.nodes[tri[k]].translation_shapes;
   }
+  SetModeBounds();
+}
+
+FlexibleContactSurface::FlexibleContactSurface(std::shared_ptr<const FlexibleBodyModes> modes,
+                                               const std::vector<gears::TriangleMesh>& parts,
+                                               Eigen::MatrixXd shapes,
+                                               const FlexibleContactSurfaceSpec& spec)
+    : modes_(std::move(modes)), spec_(spec), shapes_(std::move(shapes)) {
+  const std::string what = "FlexibleContactSurface (given shapes): ";
+  Check(what);
+  surface_ = std::make_shared<const ContactSurface>(
+      parts, spec_.gap_margin_m + 2 * spec_.deformation_allowance_m, spec_.slack_m);
+  if (shapes_.rows() != 3 * surface_->num_vertices() || shapes_.cols() != modes_->nf)
+    throw std::invalid_argument(what + "shapes are " + std::to_string(shapes_.rows()) + " x " +
+                                std::to_string(shapes_.cols()) + ", expected " +
+                                std::to_string(3 * surface_->num_vertices()) + " x " +
+                                std::to_string(modes_->nf));
+  vertex_node_.assign(surface_->num_vertices(), -1);
+  SetModeBounds();
 }
 
 double FlexibleContactSurface::DeformationBound(

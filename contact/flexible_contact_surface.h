@@ -23,9 +23,18 @@
 // B's z axis, starting at part_angle_offset_rad (for a gear: one per tooth, sectors of 2 pi / z
 // centred on the teeth).
 //
+// Embedded surfaces: a finer triangle mesh (for a gear the analytic flank mesh with many profile
+// intervals, gear_geometry.h MakeToothSurfaceMesh) can carry the contact instead of the FE
+// surface: each of its vertices v is attached to the closest FE surface triangle (of the node
+// sets) and moves with it, Phi_v = sum_k w_k Phi_k (w the barycentric coordinates of v's
+// projection). The contact then integrates the pressure on the fine mesh (a Hertzian strip is
+// far narrower than an FE face) and hands the FE nodes the barycentric shares of the vertex
+// forces. Vertices farther than embed_tolerance_m from the FE triangles are refused.
+//
 // Usage:
 //   FlexibleContactSurfaceSpec s{.gap_margin_m = 30e-6, .deformation_allowance_m = 50e-6};
 //   auto surface = std::make_shared<const FlexibleContactSurface>(modes, s);
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -34,6 +43,7 @@
 
 #include "contact/contact_surface.h"
 #include "mbd/flexible_body.h"
+#include "models/triangle_mesh.h"
 
 namespace orrery::contact {
 
@@ -52,13 +62,26 @@ class FlexibleContactSurface {
   // the sets, a non-positive gap margin or a negative allowance or slack.
   FlexibleContactSurface(std::shared_ptr<const FlexibleBodyModes> modes,
                          const FlexibleContactSurfaceSpec& spec);
+  // The embedded surface of the header: `parts` (body frame B) over the FE surface triangles of
+  // spec.node_sets (angular_parts is ignored: the parts are given). Throws
+  // std::invalid_argument as above, and for a vertex farther than embed_tolerance_m from them.
+  FlexibleContactSurface(std::shared_ptr<const FlexibleBodyModes> modes,
+                         const std::vector<gears::TriangleMesh>& parts,
+                         const FlexibleContactSurfaceSpec& spec, double embed_tolerance_m);
+
+  // An embedded surface whose vertex shapes are given (3 #V x nf, rows in the parts' vertex
+  // order), e.g. from the FE faces' own shape functions (flexible_gear_mesh.cpp: 8-node
+  // serendipity faces of hex20). spec.node_sets and angular_parts are ignored.
+  FlexibleContactSurface(std::shared_ptr<const FlexibleBodyModes> modes,
+                         const std::vector<gears::TriangleMesh>& parts, Eigen::MatrixXd shapes,
+                         const FlexibleContactSurfaceSpec& spec);
 
   const FlexibleContactSurfaceSpec& spec() const { return spec_; }
   const FlexibleBodyModes& modes() const { return *modes_; }
   int nf() const { return modes_->nf; }
   // The undeformed surface (vertices s_P in B, margin inflated as above).
   const ContactSurface& undeformed() const { return *surface_; }
-  // #V: index into modes().nodes of every surface vertex.
+  // #V: index into modes().nodes of every surface vertex (-1 for an embedded surface).
   const std::vector<int>& vertex_node() const { return vertex_node_; }
   // 3 #V x nf: the translation shapes of the vertices stacked (rows 3 i .. 3 i + 2: vertex i).
   const Eigen::MatrixXd& shapes() const { return shapes_; }
@@ -73,6 +96,10 @@ class FlexibleContactSurface {
               std::vector<Vec3>* vertices, std::vector<Vec3>* normals) const;
 
  private:
+  void Check(const std::string& what) const;
+  void SetModeBounds();
+  std::vector<std::array<int, 3>> SelectedTriangles(const std::string& what) const;
+
   std::shared_ptr<const FlexibleBodyModes> modes_;
   FlexibleContactSurfaceSpec spec_;
   std::shared_ptr<const ContactSurface> surface_;
