@@ -17,6 +17,7 @@
 #include <utility>
 #include <vector>
 
+#include "contact/train_contact.h"
 #include "flex/reduced_body_file.h"
 #include "import/reduce_input.h"
 #include "import/train_mesh_geometry.h"
@@ -487,7 +488,7 @@ gears::TrainModelOptions::FlexiblePlanet ReadFlexiblePlanet(const Context& ctx, 
   planet.options.frozen = m.Bool("frozen", false);
   planet.options.record_surface = m.Bool("record_surface", false);
   if (const auto sets = m.Find("record_node_sets")) {
-    planet.options.record_node_sets = ToStrings(ctx, *sets);
+    for (const Item& set : ListItems(ctx, sets)) planet.options.record_node_sets.push_back(ToString(ctx, set));
     for (const std::string& set : planet.options.record_node_sets)
       if (!planet.modes->node_sets.count(set))
         ctx.Fail(*sets, "no node set '" + set + "' in " + body_path +
@@ -496,9 +497,75 @@ gears::TrainModelOptions::FlexiblePlanet ReadFlexiblePlanet(const Context& ctx, 
   return planet;
 }
 
-// The dynamics map -> TrainModelOptions (mesh stiffness method returned separately).
+// `tooth_contact:` of the contact mesh model -> TrainContactOptions (contact/train_contact.h).
+// Only what a run needs: which meshes, flank resolution, penalty calibration, damping, friction
+// and broken teeth; margins and slack keep the gear-contact defaults.
+void ReadToothContact(const Context& ctx, const std::optional<Item>& item, const PlanetaryTrain& train,
+                      contact::TrainContactOptions& c) {
+  if (!item || item->node.IsNull()) return;
+  const auto margin = std::vector<std::pair<std::string, double>>{{"margin", 1.0}, {"margin_um", 1e-6}};
+  std::vector<std::string> allowed{"meshes", "involute_intervals", "single_pair_stiffness",
+                                   "calibration_load", "hunt_crossley", "friction_coefficient",
+                                   "missing_teeth"};
+  Append(allowed, Names(margin));
+  const MapReader m(ctx, *item, allowed);
+  if (const auto meshes = m.Find("meshes")) {
+    std::vector<std::string> known;
+    for (const gears::TrainMesh& x : train.meshes) known.push_back(x.name);
+    if (!meshes->node.IsSequence()) ctx.Fail(*meshes, "expected a list of mesh names, got " + Describe(meshes->node));
+    for (size_t i = 0; i < meshes->node.size(); ++i) {
+      const Item e = Element(*meshes, i);
+      const std::string name = ToString(ctx, e);
+      if (std::find(known.begin(), known.end(), name) == known.end())
+        ctx.Fail(e, "no mesh named '" + name + "'" + SuggestOrList(name, known, "meshes"));
+      c.meshes.push_back(name);
+    }
+  }
+  if (m.Has("involute_intervals")) {
+    c.gear.involute_intervals = m.Int("involute_intervals", c.gear.involute_intervals);
+    if (c.gear.involute_intervals < 4) ctx.Fail(m.Need("involute_intervals"), "must be >= 4");
+  }
+  if (m.Has("single_pair_stiffness")) c.gear.single_pair_stiffness_n_per_m = NeedScaled(m, Plain("single_pair_stiffness"));
+  c.gear.calibration_load_n = OptScaled(m, Plain("calibration_load"), c.gear.calibration_load_n, true);
+  // Contact margin: above the largest penetration of the run (a few um per 1000 N of one pair).
+  c.gear.margin_m = OptScaled(m, margin, c.gear.margin_m, true);
+  c.gear.hunt_crossley_s_per_m = OptScaled(m, Plain("hunt_crossley"), 0);
+  c.gear.friction_coefficient = OptScaled(m, Plain("friction_coefficient"), 0);
+  // Broken teeth: [{gear: S.planet, branch: 1, teeth: [0]}] (branch 1-based, planets only).
+  for (const Item& it : OneOrMany(ctx, m.Find("missing_teeth"))) {
+    const MapReader t(ctx, it, {"gear", "branch", "teeth"});
+    contact::TrainContactOptions::MissingTeeth mt;
+    mt.gear = t.String("gear");
+    const auto gear = std::find_if(train.gears.begin(), train.gears.end(),
+                                   [&](const gears::TrainGear& x) { return x.name == mt.gear; });
+    if (gear == train.gears.end()) {
+      std::vector<std::string> known;
+      for (const gears::TrainGear& x : train.gears) known.push_back(x.name);
+      ctx.Fail(t.Need("gear"), "no gear named '" + mt.gear + "'" + SuggestOrList(mt.gear, known, "gears"));
+    }
+    if (gear->planet_set >= 0) {
+      const int n = static_cast<int>(train.planet_sets[gear->planet_set].angles_rad.size());
+      const int branch = t.Int("branch", 1);
+      if (branch < 1 || branch > n)
+        ctx.Fail(t.Need("branch"), "must be in 1.." + std::to_string(n) + " (the planet of the set)");
+      mt.branch = branch - 1;
+    } else if (t.Has("branch")) {
+      ctx.Fail(t.Need("branch"), "a branch is for planets; '" + mt.gear + "' is a central gear");
+    }
+    for (double x : ToNumbers(ctx, t.Need("teeth"), -1)) {
+      if (x != std::floor(x) || x < 0 || x >= gear->teeth)
+        ctx.Fail(t.Need("teeth"), "tooth indices are integers in 0.." + std::to_string(gear->teeth - 1));
+      mt.teeth.push_back(static_cast<int>(x));
+    }
+    c.missing_teeth.push_back(mt);
+  }
+}
+
+// The dynamics map -> TrainModelOptions (mesh stiffness method returned separately); the
+// contact mesh model's options into `contact` when `mesh_model: contact`.
 std::string ReadDynamics(const Context& ctx, const std::optional<Item>& item, const PlanetaryTrain& train,
-                         TrainModelOptions& o, std::optional<Item>& stiffness_item) {
+                         TrainModelOptions& o, std::optional<Item>& stiffness_item,
+                         std::optional<contact::TrainContactOptions>& contact) {
   if (!item) return "c_gamma";
   std::vector<std::string> allowed{"dofs", "contact", "mesh_damping_ratio", "mesh_stiffness",
                                    "mesh_stiffness_per_face_width", "mesh_phasing",
@@ -507,7 +574,7 @@ std::string ReadDynamics(const Context& ctx, const std::optional<Item>& item, co
                                    "brake_stiffness", "bearing_stiffness", "axial_bearing_stiffness",
                                    "tilt_bearing_stiffness", "bearing_damping", "port_loads",
                                    "stage_phase_cycles", "members", "meshes", "backlash", "backlash_um",
-                                   "flexible_planets"};
+                                   "flexible_planets", "mesh_model", "tooth_contact"};
   Append(allowed, Names(LengthMm("stage_spacing")));
   const MapReader m(ctx, *item, allowed, {{"damping_ratio", "write 'mesh_damping_ratio'"}});
   const std::string dofs = m.Choice("dofs", {"torsional", "planar", "spatial"}, "torsional");
@@ -516,9 +583,18 @@ std::string ReadDynamics(const Context& ctx, const std::optional<Item>& item, co
                                : gears::TrainDofs::kSpatial;
   o.two_sided_contact = m.Choice("contact", {"linear", "two_sided"}, "linear") == "two_sided";
   const auto backlash = std::vector<std::pair<std::string, double>>{{"backlash", 1.0}, {"backlash_um", 1e-6}};
-  o.backlash_m = OptScaled(m, backlash, 0);
-  if (FindOneOf(m, backlash) && !o.two_sided_contact)
-    ctx.Fail(FindOneOf(m, backlash)->first, "backlash needs 'contact: two_sided'");
+  // Mesh model: lumped springs, or tooth contact on the gears' surfaces (the backlash is then
+  // the contact meshes' normal backlash).
+  if (m.Choice("mesh_model", {"lumped", "contact"}, "lumped") == "contact") {
+    contact.emplace();
+    contact->normal_backlash_m = OptScaled(m, backlash, 0);
+    ReadToothContact(ctx, m.Find("tooth_contact"), train, *contact);
+  } else {
+    if (const auto tc = m.Find("tooth_contact")) ctx.Fail(*tc, "tooth_contact needs 'mesh_model: contact'");
+    o.backlash_m = OptScaled(m, backlash, 0);
+    if (FindOneOf(m, backlash) && !o.two_sided_contact)
+      ctx.Fail(FindOneOf(m, backlash)->first, "backlash needs 'contact: two_sided' (or 'mesh_model: contact')");
+  }
   o.mesh_damping_ratio = OptScaled(m, Plain("mesh_damping_ratio"), 0);
   o.mesh_phasing = m.Bool("mesh_phasing", true);
   o.port_loads = m.Bool("port_loads", true);
@@ -801,7 +877,8 @@ void ReadGearTrain(const Context& ctx, const Item& section, Scene& scene) {
   // Dynamics options; per-stage face widths become member overrides where none is given.
   TrainModelOptions& o = g->options;
   std::optional<Item> stiffness_item;
-  g->mesh_stiffness = ReadDynamics(ctx, m.Find("dynamics"), *train, o, stiffness_item);
+  std::optional<contact::TrainContactOptions> tooth_contact;
+  g->mesh_stiffness = ReadDynamics(ctx, m.Find("dynamics"), *train, o, stiffness_item, tooth_contact);
   for (const StageRead& st : stages) {
     if (!st.face_width_m) continue;
     const gears::Stage& stage = *std::find_if(train->stages.begin(), train->stages.end(),
@@ -832,7 +909,14 @@ void ReadGearTrain(const Context& ctx, const Item& section, Scene& scene) {
   const Item where = stiffness_item.value_or(m.Find("dynamics").value_or(section));
   gears::TrainModel tm;
   try {
-    tm = gears::BuildTrainModel(*train, g->range, o);
+    if (tooth_contact) {
+      contact::TrainContactModel cm = contact::BuildTrainContactModel(*train, g->range, o, *tooth_contact);
+      tm = std::move(cm.train_model);
+      g->mesh_model = "contact";
+      for (const contact::TrainContactMesh& c : cm.contacts) g->contact_meshes.push_back(c.name);
+    } else {
+      tm = gears::BuildTrainModel(*train, g->range, o);
+    }
   } catch (const std::invalid_argument& e) {
     ctx.Fail(where, e.what());
   } catch (const std::runtime_error& e) {

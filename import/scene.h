@@ -67,6 +67,9 @@ struct GearTrainScene {
   double input_torque_Nm = 0;                      // on train->inputs[0] (from input_torque, or
                                                    // from output_torque through the power flow)
   std::string mesh_stiffness;                      // "c_gamma" (default), "value", "iso6336", "tvms"
+  std::string mesh_model = "lumped";               // dynamics.mesh_model: "lumped" or "contact"
+  std::vector<std::string> contact_meshes;         // contact elements ("S.sun-planet#1", ...),
+                                                   // outputs under /external/<name>/
   gears::TrainModelOptions options;                // as built (input speeds at t = 0)
   std::shared_ptr<const gears::TrainModel> model;  // for `range`
 };

@@ -1,12 +1,17 @@
 // The gear model sections of scene files (import/gear_scene.cpp): every scene shipped in
 // models/scenes loads, the two gear sections build the models they describe (checked against the
 // C++ factories they spell out), and errors in them name file:line: key.
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
+#include <numbers>
 #include <string>
 
 #include <gtest/gtest.h>
 
 #include "import/scene.h"
+#include "mbd/result_file.h"
+#include "mbd/simulation.h"
 #include "models/lumped_planetary.h"
 #include "models/planetary_scenes.h"
 
@@ -191,6 +196,103 @@ TEST(GearScene, GearTrainErrorsNameFileLineKey) {
   } catch (const SceneError& e) {
     EXPECT_EQ(std::string(e.what()), "t.yaml: --set gear_train.dynamics.dofs: unknown value 'plane'; did you mean 'planar'?");
   }
+}
+
+// dynamics.mesh_model: contact (contact/train_contact.h through the scene): seed 003's stage with
+// tooth contact on its six mesh branches runs its 5 ms, the contact outputs are recorded per
+// branch, and in the mean over the last half (after the load taken up at t = 0 has rung down to
+// a few percent) the meshes balance the driven members' power-flow torques: sun
+// sum_i F_si r_bs = T_c z_s / (z_s + z_r), ring sum_i F_ri r_br = T_c z_r / (z_s + z_r) with
+// T_c = 6000 N m. Tolerance: the faceted flank's normal is off the involute normal by up to half
+// a facet's roll angle, r_a dphi / 2 of moment arm against r_b (planetary_contact_test.cpp), plus
+// the mean of the ringing left over the window, bounded by its amplitude over the cycles seen.
+TEST(GearScene, ContactMeshModelRunsSeed003WithTorqueBalanceInTheMean) {
+  const Scene scene = LoadScene(ScenePath("seed003_contact_stage.yaml"));
+  ASSERT_EQ(scene.kind, SceneKind::kGearTrain);
+  EXPECT_EQ(scene.gear_train->mesh_model, "contact");
+  const std::vector<std::string> expected{"S.sun-planet#1", "S.sun-planet#2", "S.sun-planet#3",
+                                          "S.ring-planet#1", "S.ring-planet#2", "S.ring-planet#3"};
+  ASSERT_EQ(scene.gear_train->contact_meshes, expected);
+  EXPECT_TRUE(scene.gear_train->model->meshes.empty());  // no lumped mesh left
+  const fs::path file = fs::path(::testing::TempDir()) / "seed003_contact_stage.h5";
+  {
+    ResultFile out = ResultFile::Create(file.string());
+    const SimulationReport r = Simulate(*scene.model, scene.simulation, &out);
+    out.Close();
+    std::printf("%ld steps, %ld residual evaluations, %.1f s wall\n", r.stats.steps,
+                r.stats.residual_evaluations, r.wall_s);
+  }
+  const ResultReader in(file.string());
+  const int rows = static_cast<int>(in.ReadMatrix("/time").rows());
+  ASSERT_GE(rows, 40);
+  // Base radii and tip radii of the stage (module 4 mm, 22.5 deg, standard gears).
+  const double m = 4e-3, alpha = 22.5 * std::numbers::pi / 180;
+  const double rbs = 0.5 * m * 22 * std::cos(alpha), rbr = 0.5 * m * 50 * std::cos(alpha);
+  const double Tc = 6000, Ts = Tc * 22 / 72, Tr = Tc * 50 / 72;
+  Eigen::VectorXd sun = Eigen::VectorXd::Zero(rows), ring = Eigen::VectorXd::Zero(rows);
+  double max_penetration = 0;
+  for (const std::string& name : expected) {
+    const Eigen::MatrixXd f = in.ReadMatrix("/external/" + name + "/normal_force");
+    const Eigen::MatrixXd pen = in.ReadMatrix("/external/" + name + "/max_penetration");
+    ASSERT_EQ(f.rows(), rows);
+    EXPECT_TRUE(in.Exists("/external/" + name + "/contact_points"));
+    EXPECT_GT(f.col(0).tail(rows / 2).minCoeff(), 0) << name << " lost contact";
+    max_penetration = std::max(max_penetration, pen.maxCoeff());
+    (name.starts_with("S.sun") ? sun : ring) += f.col(0) * (name.starts_with("S.sun") ? rbs : rbr);
+  }
+  const Eigen::VectorXd sun_late = sun.tail(rows / 2), ring_late = ring.tail(rows / 2);
+  // Facet error: 40 involute intervals over the roll angle to the tip of the sun (ring: the
+  // planet's, the larger roll per interval), r_a dphi / 2 against r_b.
+  auto facet = [&](double z, double ra) {
+    const double rb = 0.5 * m * z * std::cos(alpha);
+    const double roll = std::sqrt(ra * ra - rb * rb) / rb;
+    return ra * (roll / 40) / 2 / rb;
+  };
+  const double facet_sun = facet(22, 0.5 * m * 22 + m), facet_ring = facet(14, 0.5 * m * 14 + m);
+  // Ringing: half the peak to peak over the window, over the number of samples (its mean over
+  // samples of an oscillation that alternates sign every sample or two).
+  auto ringing = [&](const Eigen::VectorXd& x) {
+    return 0.5 * (x.maxCoeff() - x.minCoeff()) / x.size();
+  };
+  std::printf("sun %.0f N m (%.0f), ring %.0f N m (%.0f); largest penetration %.1f um\n", sun_late.mean(),
+              Ts, ring_late.mean(), Tr, 1e6 * max_penetration);
+  EXPECT_NEAR(sun_late.mean(), Ts, facet_sun * Ts + ringing(sun_late));
+  EXPECT_NEAR(ring_late.mean(), Tr, facet_ring * Tr + ringing(ring_late));
+  // Below the scene's contact margin (100 um), where a penetration is still seen.
+  EXPECT_LT(max_penetration, 100e-6);
+}
+
+TEST(GearScene, ContactMeshModelErrors) {
+  const std::string head = R"(
+gear_train:
+  stages:
+    - {name: S, type: single_planet, planets: 3, sun: 22, planet: 14, ring: 50, module_mm: 4,
+       pressure_angle_deg: 22.5, face_width_mm: 40}
+  ranges: {steer: []}
+  inputs: [S.ring, S.sun]
+  output: S.carrier
+  input_speeds: [80.6, 10]
+  output_torque: -6000
+solver: {end_time: 0.001}
+output: {interval: 0.001}
+)";
+  auto with = [&](const std::string& dynamics) { return head.substr(0, head.find("solver")) + "  dynamics: " + dynamics + "\n" + head.substr(head.find("solver")); };
+  EXPECT_EQ(ErrorOf(with("{mesh_model: contact}")), "");
+  EXPECT_NE(ErrorOf(with("{tooth_contact: {hunt_crossley: 1}}")).find("tooth_contact needs 'mesh_model: contact'"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(with("{mesh_model: rigid}")).find("mesh_model"), std::string::npos);
+  EXPECT_NE(ErrorOf(with("{mesh_model: contact, tooth_contact: {meshes: [S.sun-planat]}}")).find("no mesh named 'S.sun-planat'"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(with("{mesh_model: contact, tooth_contact: {missing_teeth: [{gear: S.planet, branch: 4, teeth: [0]}]}}"))
+                .find("must be in 1..3"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(with("{mesh_model: contact, tooth_contact: {missing_teeth: [{gear: S.sun, teeth: [22]}]}}"))
+                .find("0..21"),
+            std::string::npos);
+  // A broken planet tooth loads (the removal itself is tests/contact/broken_tooth_test.cpp).
+  const Scene s = LoadSceneFromString(
+      with("{mesh_model: contact, tooth_contact: {missing_teeth: [{gear: S.planet, branch: 2, teeth: [0]}]}}"), "t.yaml");
+  EXPECT_EQ(s.gear_train->contact_meshes.size(), 6u);
 }
 
 }  // namespace
