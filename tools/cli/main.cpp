@@ -10,6 +10,7 @@
 //   orrery reduce MESH.inp -o BODY.h5 --interface NODESET[:rbe2|rbe3] ... [--E PA --nu NU --rho KG_M3]
 //                 [--modes N] [--cutoff-hz F] [--json]
 //   orrery mesh-stiffness SCENE --mesh NAME [--load N] [--points K] [--json] [--set key=value ...]
+//                         [--flexible [--fe-level L]]
 //   orrery --version
 //
 // Exit codes: 0 success, 1 runtime failure, 2 bad usage, 128 + signal when interrupted.
@@ -142,6 +143,11 @@ int Main(int argc, char** argv) {
   mesh_stiffness->add_option("--set", ms_args.overrides, "Scene override key.path=value (repeatable)")
       ->allow_extra_args(false);
   mesh_stiffness->add_flag("--json", ms_args.json, "Write JSON to stdout");
+  mesh_stiffness->add_flag("--flexible", ms_args.flexible,
+                           "FE-reduced (flexible) gears with Hertzian contact compliance");
+  mesh_stiffness->add_option("--fe-level", ms_args.fe_level,
+                             "With --flexible: FE mesh refinement factor (default 1, coarse)")
+      ->check(CLI::Range(1, 8));
 
   // Parse: help and version go to stdout, any other problem is one line on stderr
   try {

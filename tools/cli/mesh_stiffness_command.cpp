@@ -9,11 +9,13 @@
 #include "import/train_mesh_geometry.h"
 #include "models/mesh_stiffness.h"
 #include "tools/cli/error_message.h"
+#include "tools/cli/flexible_mesh_stiffness.h"
 #include "tools/cli/json_writer.h"
 
 namespace orrery::cli {
 
 int MeshStiffnessCommand(const MeshStiffnessArgs& args, std::ostream& out, std::ostream& err) {
+  if (args.flexible) return FlexibleMeshStiffnessCommand(args, out, err);
   try {
     const Scene scene = LoadScene(args.scene_path, args.overrides);
     if (scene.kind != SceneKind::kGearTrain)

@@ -33,6 +33,9 @@ struct MeshStiffnessArgs {
   int points = 40;
   std::vector<std::string> overrides;  // --set key.path=value
   bool json = false;
+  // --flexible: FE-reduced gears instead of rigid ones (flexible_mesh_stiffness.h); --fe-level.
+  bool flexible = false;
+  int fe_level = 1;
 };
 
 int MeshStiffnessCommand(const MeshStiffnessArgs& args, std::ostream& out, std::ostream& err);

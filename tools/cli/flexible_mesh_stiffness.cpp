@@ -1,0 +1,120 @@
+#include "tools/cli/flexible_mesh_stiffness.h"
+
+#include <cstdio>
+#include <exception>
+#include <stdexcept>
+
+#include "contact/flexible_gear_mesh.h"
+#include "import/scene.h"
+#include "import/train_mesh_geometry.h"
+#include "models/mesh_stiffness.h"
+#include "tools/cli/error_message.h"
+#include "tools/cli/json_writer.h"
+
+namespace orrery::cli {
+
+int FlexibleMeshStiffnessCommand(const MeshStiffnessArgs& args, std::ostream& out, std::ostream& err) {
+  try {
+    const int fe_level = args.fe_level;
+    if (fe_level < 1) throw std::invalid_argument("--fe-level must be >= 1");
+    const Scene scene = LoadScene(args.scene_path, args.overrides);
+    if (scene.kind != SceneKind::kGearTrain)
+      throw std::runtime_error("mesh-stiffness needs a gear_train scene, '" + args.scene_path +
+                               "' is not one");
+    const GearTrainScene& gt = *scene.gear_train;
+    const int mesh = gt.train->MeshIndex(args.mesh);
+    // The pair and the oracles of the lumped models.
+    const gears::GearPair pair = MakeTrainMeshPair(*gt.train, mesh, gt.options);
+    const gears::Iso6336Stiffness iso = gears::CalcIso6336Stiffness(pair);
+    const gears::TvmsOptions tvms_options = TrainMeshTvmsOptions(*gt.train, mesh, gt.options);
+    const gears::Tvms tvms = gears::CalcTvms(pair, tvms_options);
+    // Flexible gears on the lumped models' blanks.
+    contact::FlexibleGearMeshOptions o;
+    o.bore_radius1_m = tvms_options.bore_radius1_m;
+    o.bore_radius2_m = tvms_options.rim_radius2_m;
+    o.fe.flank_divisions *= fe_level, o.fe.tooth_divisions *= fe_level;
+    o.fe.fillet_divisions *= fe_level, o.fe.root_layer_divisions *= fe_level;
+    o.fe.rim_divisions *= fe_level, o.fe.face_divisions *= fe_level;
+    const contact::FlexibleMeshSweep sweep =
+        contact::SweepFlexibleGearMesh(pair, o, args.load_n, args.points);
+
+    if (args.json) {
+      JsonWriter w(out);
+      w.BeginObject().Key("scene").String(scene.name).Key("mesh").String(args.mesh);
+      w.Key("load_n").Number(args.load_n);
+      auto array = [&](const char* key, auto value) {
+        w.Key(key).BeginArray();
+        for (const contact::MeshSweepPoint& p : sweep.points) w.Number(value(p));
+        w.EndArray();
+      };
+      array("roll_angle_rad", [](const auto& p) { return p.roll_angle_rad; });
+      array("transmission_error_m", [](const auto& p) { return p.transmission_error_m; });
+      array("stiffness_n_per_m", [](const auto& p) { return p.stiffness_n_per_m; });
+      array("normal_force_n", [](const auto& p) { return p.normal_force_n; });
+      array("contact_points", [](const auto& p) { return double(p.contact_points); });
+      array("teeth_in_contact", [](const auto& p) { return double(p.teeth_in_contact); });
+      w.Key("predicted_pairs").BeginArray();
+      for (int n : sweep.predicted_pairs) w.Number(n);
+      w.EndArray();
+      w.Key("mean_stiffness_n_per_m").Number(sweep.mean_stiffness_n_per_m);
+      w.Key("single_zone_stiffness_n_per_m").Number(sweep.single_zone_stiffness_n_per_m);
+      w.Key("double_zone_stiffness_n_per_m").Number(sweep.double_zone_stiffness_n_per_m);
+      w.Key("te_peak_to_peak_m").Number(sweep.te_peak_to_peak_m);
+      w.Key("iso6336_single_pair_n_per_m").Number(iso.c_single_n_per_m);
+      w.Key("iso6336_c_gamma_alpha_n_per_m").Number(iso.c_gamma_alpha_n_per_m);
+      w.Key("tvms_mean_n_per_m").Number(tvms.mean_n_per_m);
+      w.Key("tvms_min_n_per_m").Number(tvms.min_n_per_m);
+      w.Key("tvms_max_n_per_m").Number(tvms.max_n_per_m);
+      w.Key("hertz_stiffness_n_per_m").Number(sweep.hertz_stiffness_n_per_m);
+      w.Key("penalty_stiffness_per_area").Number(sweep.stiffness_per_area);
+      w.Key("modes_gear1").Number(sweep.nf1).Key("modes_gear2").Number(sweep.nf2);
+      w.Key("fe_nodes_gear1").Number(sweep.fe_nodes1).Key("fe_nodes_gear2").Number(sweep.fe_nodes2);
+      w.Key("reduce_seconds").Number(sweep.reduce_seconds);
+      w.Key("sweep_seconds").Number(sweep.sweep_seconds);
+      w.EndObject();
+      return kExitSuccess;
+    }
+    char line[768];
+    std::snprintf(line, sizeof line,
+                  "scene %s, mesh %s, load %.6g N along the line of action, flexible gears "
+                  "(hex20, %d + %d FE nodes, %d + %d modes)\n",
+                  scene.name.c_str(), args.mesh.c_str(), args.load_n, sweep.fe_nodes1,
+                  sweep.fe_nodes2, sweep.nf1, sweep.nf2);
+    out << line;
+    out << "roll rad     TE um   k N/um  points teeth (path)  contact on gear 1 (roll distance, mm)\n";
+    for (size_t i = 0; i < sweep.points.size(); ++i) {
+      const contact::MeshSweepPoint& p = sweep.points[i];
+      std::snprintf(line, sizeof line, "%8.5f %9.4f %8.1f %7d %5d (%d)  ", p.roll_angle_rad,
+                    p.transmission_error_m * 1e6, p.stiffness_n_per_m * 1e-6, p.contact_points,
+                    p.teeth_in_contact, sweep.predicted_pairs[i]);
+      out << line;
+      for (int k = 0; k < p.teeth_in_contact && k < 3; ++k) {
+        std::snprintf(line, sizeof line, " [%.3f, %.3f]", p.pattern_min_m[k] * 1e3,
+                      p.pattern_max_m[k] * 1e3);
+        out << line;
+      }
+      out << "\n";
+    }
+    std::snprintf(line, sizeof line,
+                  "path of contact %.3f..%.3f mm (eps_alpha %.3f)\n"
+                  "mean stiffness %.1f N/um (single-pair zone %.1f, double-pair zone %.1f), TE peak "
+                  "to peak %.4f um\n"
+                  "ISO 6336 c' b %.1f N/um, c_gamma_alpha b %.1f N/um; TVMS mean %.1f N/um "
+                  "(min %.1f, max %.1f)\n"
+                  "penalty: Hertz line contact %.1f N/um; reduction %.1f s, sweep %.1f s\n",
+                  pair.contact_start_m() * 1e3, pair.contact_end_m() * 1e3,
+                  pair.transverse_contact_ratio(), sweep.mean_stiffness_n_per_m * 1e-6,
+                  sweep.single_zone_stiffness_n_per_m * 1e-6,
+                  sweep.double_zone_stiffness_n_per_m * 1e-6, sweep.te_peak_to_peak_m * 1e6,
+                  iso.c_single_n_per_m * 1e-6, iso.c_gamma_alpha_n_per_m * 1e-6,
+                  tvms.mean_n_per_m * 1e-6, tvms.min_n_per_m * 1e-6, tvms.max_n_per_m * 1e-6,
+                  sweep.hertz_stiffness_n_per_m * 1e-6, sweep.reduce_seconds, sweep.sweep_seconds);
+    out << line;
+    return kExitSuccess;
+  } catch (const std::exception& e) {
+    ReportError(err, e.what());
+    return kExitFailure;
+  }
+}
+
+}  // namespace orrery::cli
