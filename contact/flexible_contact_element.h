@@ -29,7 +29,7 @@
 // modal coordinates too (checked by finite differences in tests/contact/
 // flexible_contact_element_test.cpp).
 // For flexible gears the penalty stands for the local contact compliance only (bending, shear
-// and foundation are in the modes): see flexible_mesh_stiffness (tools/cli) for its calibration.
+// and foundation are in the modes): see contact/flexible_gear_mesh.h for its calibration.
 // Evaluate() and Apply() allocate nothing once the workspace's lists have reached the scene's
 // size (tests/contact/no_allocation_test.cpp).
 //
