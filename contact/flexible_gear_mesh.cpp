@@ -486,22 +486,8 @@ FlexibleMeshSweep SweepFlexibleGearMesh(const gears::GearPair& pair,
     // Teeth of gear 1 in contact and their contact extent along the line of action.
     const Transform X_1W =
         Transform(AxisAngle(Vec3::UnitZ(), pt.roll_angle_rad + x(0) / rb1), Vec3::Zero()).Inverse();
-    int teeth[3] = {-1, -1, -1};
-    auto add = [&](int tooth, const Vec3& p_W) {
-      const Vec3 p = X_1W * p_W;
-      const double rr = std::hypot(p.x(), p.y());
-      const double s = rr > rb1 ? std::sqrt(rr * rr - rb1 * rb1) : 0.0;
-      int k = 0;
-      while (k < 3 && teeth[k] != tooth && teeth[k] >= 0) ++k;
-      if (k == 3) return;
-      if (teeth[k] < 0) {
-        teeth[k] = tooth;
-        pt.pattern_min_m[k] = pt.pattern_max_m[k] = s;
-        ++pt.teeth_in_contact;
-      }
-      pt.pattern_min_m[k] = std::min(pt.pattern_min_m[k], s);
-      pt.pattern_max_m[k] = std::max(pt.pattern_max_m[k], s);
-    };
+    ContactPattern pattern(pt, X_1W, rb1);
+    auto add = [&](int tooth, const Vec3& p_W) { pattern.Add(tooth, p_W); };
     const auto& v1 = s1.undeformed().vertices();
     for (const NodeGap& gp : ws.gaps_a)
       if (gp.gap < 0 && gp.on_surface) add(ToothOf(v1[gp.node], z1), gp.p_W);

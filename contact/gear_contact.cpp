@@ -141,7 +141,6 @@ MeshSweep SweepGearMesh(const gears::GearPair& pair, const GearContactOptions& o
   const ContactElement element(MakeGearContactSpec("sweep", pair, 1, 2, o));
   ContactWorkspace ws(*element.spec().surface_a, *element.spec().surface_b);
   const ContactSurface& sa = *element.spec().surface_a;
-  const ContactSurface& sb = *element.spec().surface_b;
 
   const double z1 = pair.gear1().teeth(), z2 = pair.gear2().teeth();
   const double rb1 = pair.gear1().base_radius_m();
@@ -204,27 +203,12 @@ MeshSweep SweepGearMesh(const gears::GearPair& pair, const GearContactOptions& o
     // Contact pattern on gear 1: roll distance of every contact, per tooth (part) of gear 1.
     const Transform X_W1(AxisAngle(Vec3::UnitZ(), pt.roll_angle_rad + te / rb1), Vec3::Zero());
     const Transform X_1W = X_W1.Inverse();
-    int teeth[3] = {-1, -1, -1};
-    auto add = [&](int tooth, const Vec3& p_W) {
-      const Vec3 p = X_1W * p_W;
-      const double r = std::hypot(p.x(), p.y());
-      const double s = r > rb1 ? std::sqrt(r * r - rb1 * rb1) : 0.0;
-      int k = 0;
-      while (k < 3 && teeth[k] != tooth && teeth[k] >= 0) ++k;
-      if (k == 3) return;
-      if (teeth[k] < 0) {
-        teeth[k] = tooth;
-        pt.pattern_min_m[k] = pt.pattern_max_m[k] = s;
-        ++pt.teeth_in_contact;
-      }
-      pt.pattern_min_m[k] = std::min(pt.pattern_min_m[k], s);
-      pt.pattern_max_m[k] = std::max(pt.pattern_max_m[k], s);
-    };
+    ContactPattern pattern(pt, X_1W, rb1);
+    auto add = [&](int tooth, const Vec3& p_W) { pattern.Add(tooth, p_W); };
     for (const NodeGap& g : ws.gaps_a)
       if (g.gap < 0 && g.on_surface) add(PartOf(sa.part_vertex_start(), g.node), g.p_W);
     for (const NodeGap& g : ws.gaps_b)
       if (g.gap < 0 && g.on_surface) add(PartOf(sa.part_triangle_start(), g.face), g.q_W);
-    (void)sb;
     sweep.points.push_back(pt);
   }
   // Mean stiffness and TE peak to peak.
@@ -238,6 +222,22 @@ MeshSweep SweepGearMesh(const gears::GearPair& pair, const GearContactOptions& o
   sweep.te_peak_to_peak_m = te_max - te_min;
   sweep.searches = ws.search.stats().searches;
   return sweep;
+}
+
+void ContactPattern::Add(int tooth, const Vec3& p_W) {
+  const Vec3 p = X_1W_ * p_W;
+  const double r = std::hypot(p.x(), p.y());
+  const double s = r > rb1_ ? std::sqrt(r * r - rb1_ * rb1_) : 0.0;
+  int k = 0;
+  while (k < 3 && teeth_[k] != tooth && teeth_[k] >= 0) ++k;
+  if (k == 3) return;
+  if (teeth_[k] < 0) {
+    teeth_[k] = tooth;
+    point_.pattern_min_m[k] = point_.pattern_max_m[k] = s;
+    ++point_.teeth_in_contact;
+  }
+  point_.pattern_min_m[k] = std::min(point_.pattern_min_m[k], s);
+  point_.pattern_max_m[k] = std::max(point_.pattern_max_m[k], s);
 }
 
 }  // namespace orrery::contact

@@ -125,6 +125,22 @@ struct MeshSweepPoint {
   int evaluations = 0;             // contact evaluations of the equilibrium search
 };
 
+// Records the contact pattern of a sweep point: each contact (world point p_W on tooth `tooth`
+// of gear 1) widens that tooth's extent along the line of action, for up to 3 teeth; later teeth
+// are ignored. X_1W maps world points into gear 1's frame (axis z), rb1 its base radius.
+class ContactPattern {
+ public:
+  ContactPattern(MeshSweepPoint& point, const Transform& X_1W, double rb1)
+      : point_(point), X_1W_(X_1W), rb1_(rb1) {}
+  void Add(int tooth, const Vec3& p_W);
+
+ private:
+  MeshSweepPoint& point_;
+  Transform X_1W_;
+  double rb1_;
+  int teeth_[3] = {-1, -1, -1};
+};
+
 struct MeshSweep {
   std::vector<MeshSweepPoint> points;
   double load_n = 0;

@@ -114,7 +114,8 @@ ResultRecorder::ResultRecorder(const Model& model, ResultFile& out)
       max_surface = std::max(max_surface, 3 * n);
     }
     for (const std::string& set : fb.options.record_node_sets) {
-      const int n = static_cast<int>(m.node_sets.at(set).size());
+      fs.node_set_nodes.push_back(&m.node_sets.at(set));
+      const int n = static_cast<int>(fs.node_set_nodes.back()->size());
       fs.node_sets.push_back(out.AddSeries(g + "node_sets/" + set + "/displacement", 3 * n, "m"));
       max_surface = std::max(max_surface, 3 * n);
     }
@@ -257,7 +258,7 @@ void ResultRecorder::Record(const State& s, const Eigen::VectorXd& vdot,
       out_.Append(fs.surface, surface_row_.data());
     }
     for (size_t k = 0; k < fs.node_sets.size(); ++k) {
-      const std::vector<int>& nodes = m.node_sets.at(fb.options.record_node_sets[k]);
+      const std::vector<int>& nodes = *fs.node_set_nodes[k];
       for (size_t j = 0; j < nodes.size(); ++j)
         surface_row_.segment<3>(3 * j) = m.nodes[nodes[j]].translation_shapes.leftCols(fb.nf) * qf;
       out_.Append(fs.node_sets[k], surface_row_.data());

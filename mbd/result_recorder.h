@@ -70,6 +70,7 @@ class ResultRecorder {
     ResultFile::SeriesId q = -1, v = -1, von_mises = -1, surface = -1;
     std::vector<int> surface_nodes;  // indices into the modes' nodes
     std::vector<ResultFile::SeriesId> node_sets;  // per FlexibleBodyOptions::record_node_sets
+    std::vector<const std::vector<int>*> node_set_nodes;  // their nodes (in the model's modes)
   };
   std::vector<FlexSeries> flex_;
   std::vector<std::vector<ResultFile::SeriesId>> external_;

@@ -1,5 +1,5 @@
 // Contact evaluation allocates nothing once the workspace is sized (STYLE.md, "no allocation in
-// a step"): the counting allocator of tests/mbd/no_allocation_test.cpp (operator new and the
+// a step"): the counting allocator of tests/common/counting_allocator.h (operator new and the
 // malloc family), off unless a test turns it on.
 #include <gtest/gtest.h>
 
@@ -25,72 +25,16 @@
 #include "mbd/model.h"
 #include "mbd/state.h"
 
-namespace {
-std::atomic<long> g_allocations{0};
-std::atomic<bool> g_counting{false};
-inline void Count() {
-  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
-}
-}  // namespace
+#include "tests/common/counting_allocator.h"
 
-extern "C" {
-void* __libc_malloc(std::size_t);
-void* __libc_calloc(std::size_t, std::size_t);
-void* __libc_realloc(void*, std::size_t);
-void* malloc(std::size_t n) {
-  Count();
-  return __libc_malloc(n);
-}
-void* calloc(std::size_t n, std::size_t s) {
-  Count();
-  return __libc_calloc(n, s);
-}
-void* realloc(void* p, std::size_t n) {
-  Count();
-  return __libc_realloc(p, n);
-}
-}
-
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-void* operator new(std::size_t n) {
-  Count();
-  if (void* p = __libc_malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t n) { return operator new(n); }
-void* operator new(std::size_t n, const std::nothrow_t&) noexcept {
-  Count();
-  return __libc_malloc(n ? n : 1);
-}
-void* operator new[](std::size_t n, const std::nothrow_t&) noexcept { return operator new(n, std::nothrow); }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
-void* operator new(std::size_t n, std::align_val_t a) {
-  Count();
-  void* p = nullptr;
-  if (posix_memalign(&p, std::max(sizeof(void*), static_cast<std::size_t>(a)), n ? n : 1) != 0) throw std::bad_alloc();
-  return p;
-}
-void* operator new[](std::size_t n, std::align_val_t a) { return operator new(n, a); }
-void operator delete(void* p, std::align_val_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::align_val_t) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
-#pragma GCC diagnostic pop
 
 namespace orrery::contact {
 namespace {
 
+// Allocations of one call, with no warm-up call (the tests size their workspaces first).
 template <class F>
 long AllocationsIn(F&& f) {
-  g_allocations = 0;
-  g_counting = true;
-  f();
-  g_counting = false;
-  return g_allocations.load();
+  return test_support::AllocationsIn(f, 0);
 }
 
 TEST(ContactNoAllocation, CounterCountsVectorGrowth) {

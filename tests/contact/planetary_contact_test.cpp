@@ -173,7 +173,6 @@ void CheckBalance(const Stage& s, double T, int intervals, bool expect_equal_sha
   o.face_width_m = 0.04;
   double sun_sum = 0, tol = 0;
   std::vector<double> sun_force(3), ring_force(3);
-  double rbs = 0;
   for (size_t k = 0; k < s.model.contacts.size(); ++k) {
     const TrainContactMesh& c = s.model.contacts[k];
     const bool internal = s.train->meshes[c.train_mesh].kind == gears::MeshKind::kInternal;
@@ -182,7 +181,6 @@ void CheckBalance(const Stage& s, double T, int intervals, bool expect_equal_sha
       ring_force[c.branch] = e.mesh_normal_force[k];
     } else {
       sun_force[c.branch] = e.mesh_normal_force[k];
-      rbs = c.base_radius1_m;
       sun_sum += e.mesh_normal_force[k] * c.base_radius1_m;  // spur: cos(beta_b) = 1
     }
   }
@@ -191,10 +189,10 @@ void CheckBalance(const Stage& s, double T, int intervals, bool expect_equal_sha
               sun_force[2], ring_force[0], ring_force[1], ring_force[2], sun_sum / T - 1, tol);
   // Sun meshes: sum F_N r_bs = T; each planet passes its sun-mesh force to the ring mesh.
   EXPECT_NEAR(sun_sum, T, tol * T);
-  if (check_ring_mesh)
+  if (check_ring_mesh) {
     for (int i = 0; i < 3; ++i) EXPECT_NEAR(ring_force[i], sun_force[i], 2 * tol * sun_force[i]);
+  }
   // Load sharing: T / (3 r_bs) per planet.
-  (void)rbs;
   const double mean = (sun_force[0] + sun_force[1] + sun_force[2]) / 3;
   double spread = 0;
   for (int i = 0; i < 3; ++i) spread = std::max(spread, std::abs(sun_force[i] - mean) / mean);

@@ -4,6 +4,8 @@
 // program has not been built.
 #include <gtest/gtest.h>
 
+#include "tests/common/cli_support.h"
+
 #include <algorithm>
 #include <array>
 #include <cstdlib>
@@ -21,15 +23,8 @@
 namespace orrery::flex {
 namespace {
 
-// Output (stdout and stderr) and exit status of a shell command.
-std::pair<std::string, int> RunCommand(const std::string& command) {
-  std::string out;
-  FILE* p = popen((command + " 2>&1").c_str(), "r");
-  std::array<char, 4096> buf;
-  while (std::fgets(buf.data(), buf.size(), p)) out += buf.data();
-  const int status = pclose(p);
-  return {out, WEXITSTATUS(status)};
-}
+using test_support::RunCommand;
+
 
 // `orrery fe-modes <mesh> <args>` (built by appending: GCC 12 warns falsely (-Wrestrict) about
 // chains of string operator+).

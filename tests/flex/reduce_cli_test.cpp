@@ -15,6 +15,8 @@
 //   eigenvalues reduced_i <= fixed_i <= full_(i+6).
 #include <gtest/gtest.h>
 
+#include "tests/common/cli_support.h"
+
 #include <algorithm>
 #include <array>
 #include <cstdio>
@@ -33,34 +35,9 @@
 namespace orrery::flex {
 namespace {
 
-// Output (stdout and stderr) and exit status of a shell command.
-std::pair<std::string, int> RunCommand(const std::string& command) {
-  std::string out;
-  FILE* p = popen((command + " 2>&1").c_str(), "r");
-  std::array<char, 4096> buf;
-  while (std::fgets(buf.data(), buf.size(), p)) out += buf.data();
-  const int status = pclose(p);
-  return {out, WEXITSTATUS(status)};
-}
+using test_support::JsonArray;
+using test_support::RunCommand;
 
-// The numbers of the JSON array at "key": [ ... ] (empty if the key is missing).
-std::vector<double> JsonArray(const std::string& json, const std::string& key) {
-  std::string pattern = "\"";
-  pattern += key;
-  pattern += "\": [";
-  const std::size_t at = json.find(pattern);
-  std::vector<double> v;
-  if (at == std::string::npos) return v;
-  const char* p = json.c_str() + at + pattern.size();
-  for (;;) {
-    while (*p == ' ' || *p == '\n' || *p == ',') ++p;
-    if (*p == ']' || *p == '\0') return v;
-    char* end = nullptr;
-    v.push_back(std::strtod(p, &end));
-    if (end == p) return v;
-    p = end;
-  }
-}
 
 // A coarse hex8 gear (23 teeth, m_n 2 mm, bore 20 mm) with the given interfaces and material.
 std::string GearInput(const std::string& interfaces, const std::string& material = "{name: steel, E: 210e9, nu: 0.3, rho: 7850}") {

@@ -17,6 +17,7 @@
 #include <gtest/gtest.h>
 
 #include "mbd/hdf5_reader.h"
+#include "tests/common/cli_support.h"
 
 namespace orrery {
 namespace {
@@ -25,13 +26,12 @@ namespace fs = std::filesystem;
 
 // Runs `orrery ARGS` and returns (exit code, stdout + stderr).
 std::pair<int, std::string> Orrery(const std::string& args) {
-  const std::string command = std::string("\"") + ORRERY_BINARY_DIR + "/bin/orrery\" " + args + " 2>&1";
-  FILE* p = popen(command.c_str(), "r");
-  std::string out;
-  char buf[4096];
-  while (p && fgets(buf, sizeof buf, p)) out += buf;
-  const int status = p ? pclose(p) : -1;
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+  std::string command = "\"";
+  command += ORRERY_BINARY_DIR;
+  command += "/bin/orrery\" ";
+  command += args;
+  auto [out, code] = test_support::RunCommand(command);
+  return {code, out};
 }
 
 std::string Slurp(const fs::path& p) {

@@ -16,28 +16,16 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/common/cli_support.h"
+
 #include "tools/cli/error_message.h"
 
 namespace orrery::cli {
 namespace {
 
-std::vector<double> Array(const std::string& json, const std::string& key) {
-  std::vector<double> out;
-  size_t i = json.find("\"" + key + "\"");
-  if (i == std::string::npos) return out;
-  i = json.find('[', i);
-  const size_t end = json.find(']', i);
-  std::istringstream in(json.substr(i + 1, end - i - 1));
-  std::string item;
-  while (std::getline(in, item, ',')) out.push_back(std::stod(item));
-  return out;
-}
+constexpr auto Array = test_support::JsonArray;
+constexpr auto Number = test_support::JsonNumber;
 
-double Number(const std::string& json, const std::string& key) {
-  const size_t i = json.find("\"" + key + "\"");
-  if (i == std::string::npos) return -1;
-  return std::stod(json.substr(json.find(':', i) + 1));
-}
 
 TEST(MeshStiffnessCli, Seed001SunPlanetAgainstIso6336) {
   MeshStiffnessArgs args;

@@ -42,17 +42,7 @@ int FlexibleMeshStiffnessCommand(const MeshStiffnessArgs& args, std::ostream& ou
       JsonWriter w(out);
       w.BeginObject().Key("scene").String(scene.name).Key("mesh").String(args.mesh);
       w.Key("load_n").Number(args.load_n);
-      auto array = [&](const char* key, auto value) {
-        w.Key(key).BeginArray();
-        for (const contact::MeshSweepPoint& p : sweep.points) w.Number(value(p));
-        w.EndArray();
-      };
-      array("roll_angle_rad", [](const auto& p) { return p.roll_angle_rad; });
-      array("transmission_error_m", [](const auto& p) { return p.transmission_error_m; });
-      array("stiffness_n_per_m", [](const auto& p) { return p.stiffness_n_per_m; });
-      array("normal_force_n", [](const auto& p) { return p.normal_force_n; });
-      array("contact_points", [](const auto& p) { return double(p.contact_points); });
-      array("teeth_in_contact", [](const auto& p) { return double(p.teeth_in_contact); });
+      WriteSweepPoints(w, sweep.points);
       w.Key("predicted_pairs").BeginArray();
       for (int n : sweep.predicted_pairs) w.Number(n);
       w.EndArray();

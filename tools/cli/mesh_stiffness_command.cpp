@@ -14,6 +14,20 @@
 
 namespace orrery::cli {
 
+void WriteSweepPoints(JsonWriter& w, const std::vector<contact::MeshSweepPoint>& points) {
+  auto array = [&](const char* key, auto value) {
+    w.Key(key).BeginArray();
+    for (const contact::MeshSweepPoint& p : points) w.Number(value(p));
+    w.EndArray();
+  };
+  array("roll_angle_rad", [](const auto& p) { return p.roll_angle_rad; });
+  array("transmission_error_m", [](const auto& p) { return p.transmission_error_m; });
+  array("stiffness_n_per_m", [](const auto& p) { return p.stiffness_n_per_m; });
+  array("normal_force_n", [](const auto& p) { return p.normal_force_n; });
+  array("contact_points", [](const auto& p) { return double(p.contact_points); });
+  array("teeth_in_contact", [](const auto& p) { return double(p.teeth_in_contact); });
+}
+
 int MeshStiffnessCommand(const MeshStiffnessArgs& args, std::ostream& out, std::ostream& err) {
   if (args.flexible) return FlexibleMeshStiffnessCommand(args, out, err);
   try {
@@ -37,17 +51,7 @@ int MeshStiffnessCommand(const MeshStiffnessArgs& args, std::ostream& out, std::
       JsonWriter w(out);
       w.BeginObject().Key("scene").String(scene.name).Key("mesh").String(args.mesh);
       w.Key("load_n").Number(args.load_n);
-      auto array = [&](const char* key, auto value) {
-        w.Key(key).BeginArray();
-        for (const contact::MeshSweepPoint& p : sweep.points) w.Number(value(p));
-        w.EndArray();
-      };
-      array("roll_angle_rad", [](const auto& p) { return p.roll_angle_rad; });
-      array("transmission_error_m", [](const auto& p) { return p.transmission_error_m; });
-      array("stiffness_n_per_m", [](const auto& p) { return p.stiffness_n_per_m; });
-      array("normal_force_n", [](const auto& p) { return p.normal_force_n; });
-      array("contact_points", [](const auto& p) { return double(p.contact_points); });
-      array("teeth_in_contact", [](const auto& p) { return double(p.teeth_in_contact); });
+      WriteSweepPoints(w, sweep.points);
       w.Key("mean_stiffness_n_per_m").Number(sweep.mean_stiffness_n_per_m);
       w.Key("te_peak_to_peak_m").Number(sweep.te_peak_to_peak_m);
       w.Key("iso6336_single_pair_n_per_m").Number(iso.c_single_n_per_m);

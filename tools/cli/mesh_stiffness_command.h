@@ -24,6 +24,9 @@
 #include <string>
 #include <vector>
 
+#include "contact/gear_contact.h"
+#include "tools/cli/json_writer.h"
+
 namespace orrery::cli {
 
 struct MeshStiffnessArgs {
@@ -39,5 +42,10 @@ struct MeshStiffnessArgs {
 };
 
 int MeshStiffnessCommand(const MeshStiffnessArgs& args, std::ostream& out, std::ostream& err);
+
+// The per-point arrays of a sweep's JSON (roll_angle_rad, transmission_error_m,
+// stiffness_n_per_m, normal_force_n, contact_points, teeth_in_contact); shared by the rigid and
+// the flexible sweep.
+void WriteSweepPoints(JsonWriter& w, const std::vector<contact::MeshSweepPoint>& points);
 
 }  // namespace orrery::cli
