@@ -307,6 +307,66 @@ bool CandidateSearch::Find(const Transform& X_WA, const Transform& X_WB,
   return true;
 }
 
+const std::vector<std::pair<int, int>>& CandidateSearch::part_pairs() const {
+  return impl_->part_pairs;
+}
+
+void FindClosestFaceInPart(const ContactSurface& surface, int part, const Vec3& p,
+                           ClosestFace* best) {
+  const Bvh& bvh = *surface.culling().parts[part];
+  const int t0 = surface.part_triangle_start()[part];
+  const auto& tris = surface.triangles();
+  const auto& v = surface.vertices();
+  // Squared distance from p to a node's oriented box as built (0 inside): the boxes were
+  // inflated by `inflate` for the pair search, which would loosen the bound here.
+  const double inflate = surface.culling().inflate;
+  auto box_d2 = [&](int node) {
+    const fcl::OBBd& obb = bvh.getBV(node).bv.obb;
+    const Vec3 local = obb.axis.transpose() * (p - obb.To);
+    return (local.cwiseAbs().array() - (obb.extent.array() - inflate))
+        .cwiseMax(0.0)
+        .matrix()
+        .squaredNorm();
+  };
+  // Depth-first, nearer child first; a node is skipped when its box is farther than the best.
+  // FCL's hierarchies are binary and balanced (depth about log2 #triangles), so 128 entries
+  // hold any stack this descent builds.
+  constexpr int kStack = 128;
+  int stack_node[kStack];
+  double stack_d2[kStack];
+  int top = 0;
+  stack_node[top] = 0;
+  stack_d2[top++] = box_d2(0);
+  while (top > 0) {
+    --top;
+    const int node = stack_node[top];
+    if (stack_d2[top] > best->d2) continue;
+    const auto& bv = bvh.getBV(node);
+    if (bv.isLeaf()) {
+      const int face = t0 + bv.primitiveId();
+      const auto& t = tris[face];
+      const ClosestPoint c = ClosestPointOnTriangle(p, v[t[0]], v[t[1]], v[t[2]]);
+      const double d2 = (p - c.point).squaredNorm();
+      if (d2 < best->d2 || (d2 == best->d2 && face < best->face)) {
+        best->face = face;
+        best->d2 = d2;
+        best->point = c;
+      }
+      continue;
+    }
+    if (top + 2 > kStack)
+      throw std::logic_error("FindClosestFaceInPart: hierarchy deeper than the stack");
+    const int l = bv.leftChild(), r = bv.rightChild();
+    const double dl = box_d2(l), dr = box_d2(r);
+    // Push the farther first so that the nearer is taken next.
+    const bool left_first = dl <= dr;
+    stack_node[top] = left_first ? r : l;
+    stack_d2[top++] = left_first ? dr : dl;
+    stack_node[top] = left_first ? l : r;
+    stack_d2[top++] = left_first ? dl : dr;
+  }
+}
+
 void CandidateSearch::Invalidate() { impl_->have_pairs = false; }
 
 }  // namespace orrery::contact

@@ -45,10 +45,13 @@
 //   CandidateSearch search(surface_a, surface_b);
 //   std::vector<TrianglePair> pairs;  pairs.reserve(search.suggested_capacity());
 //   search.Find(X_WA, X_WB, &pairs);   // true if it searched (pairs replaced)
+#include <limits>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "contact/contact_surface.h"
+#include "contact/triangle_geometry.h"
 
 namespace orrery::contact {
 
@@ -75,6 +78,22 @@ struct CandidateStats {
   double max_motion_between_calls_m = 0;  // largest delta between consecutive Find() poses
 };
 
+// The closest triangle of a surface to a point, as a search goes.
+struct ClosestFace {
+  int face = -1;                                      // triangle of the surface
+  double d2 = std::numeric_limits<double>::infinity();  // squared distance
+  ClosestPoint point;                                 // on that triangle, body frame
+};
+
+// Closest triangle of one part to the point p (the surface's body frame): a best-first
+// branch-and-bound descent of the part's FCL hierarchy, the point's distance to each (inflated)
+// oriented box being a lower bound on its distance to the triangles inside. *best is replaced
+// by any triangle of the part strictly closer than best->d2, or as close with a lower index, so
+// that several parts (or a first guess from a walk) can be searched in turn and the result is
+// the closest over all with ties to the lowest index. No allocation.
+void FindClosestFaceInPart(const ContactSurface& surface, int part, const Vec3& p,
+                           ClosestFace* best);
+
 class CandidateSearch {
  public:
   // Keeps references to both surfaces, which must outlive the search.
@@ -94,6 +113,8 @@ class CandidateSearch {
   // Stage 1: poses of the bodies of A and B in the world; lists the part pairs whose spheres
   // are within d + s.
   void UpdateBroadPhase(const Transform& X_WA, const Transform& X_WB);
+  // The part pairs (part of A, part of B) of the last UpdateBroadPhase().
+  const std::vector<std::pair<int, int>>& part_pairs() const;
   // Stage 2: triangle pairs of the part pairs of the last UpdateBroadPhase(); clears *pairs.
   void FindPairs(std::vector<TrianglePair>* pairs);
   // Both stages, skipped (returning false, *pairs untouched) while the motion bound since the

@@ -15,7 +15,7 @@ bool SamePose(const Transform& X, const Transform& Y) { return X.R == Y.R && X.p
 }  // namespace
 
 ContactWorkspace::ContactWorkspace(const ContactSurface& a, const ContactSurface& b)
-    : search(a, b), scratch_a(a), scratch_b(b) {
+    : tracked(a, b), search(a, b), scratch_a(a), scratch_b(b) {
   pairs.reserve(search.suggested_capacity());
   node_faces_a.reserve(3 * pairs.capacity());
   node_faces_b.reserve(3 * pairs.capacity());
@@ -51,6 +51,14 @@ void ContactElement::UpdateGaps(const Transform& X_WA, const Transform& X_WB,
   if (ws.have_gaps && SamePose(X_WA, ws.X_WA) && SamePose(X_WB, ws.X_WB)) return;
   const ContactSurface& a = *spec_.surface_a;
   const ContactSurface& b = *spec_.surface_b;
+  if (spec_.gap_method == ContactGapMethod::kTracked) {
+    ws.tracked.Update(X_WA, X_WB, &ws.gaps_a, &ws.gaps_b);
+    ws.X_WA = X_WA;
+    ws.X_WB = X_WB;
+    ws.have_gaps = true;
+    ws.gaps_recomputed = true;
+    return;
+  }
   // Candidate pairs (kept while the motion since the search is within the slack) and their
   // node-face combinations.
   ws.searched = ws.search.Find(X_WA, X_WB, &ws.pairs);

@@ -2,7 +2,13 @@
 // Tooth (or any surface) contact between two rigid bodies as an engine force element
 // (mbd/external_force.h): the `contact` mesh model of DESIGN.md.
 //
-// One Apply() (MuJoCo-style table of contents):
+// One Apply() (MuJoCo-style table of contents), with ContactGapMethod::kTracked (the default):
+//   1-2. signed gaps both ways by tracking each node's closest face (tracked_gaps.h): the broad
+//      phase of the candidate search picks the part pairs, nodes that cannot have reached the
+//      other surface since their last evaluation are skipped, the others walk from their face or
+//      are searched in the parts' FCL hierarchies; skipped when neither body moved;
+// with ContactGapMethod::kCandidatePairs (the oracle of the tracked gaps, and what the flexible
+// element uses):
 //   1. candidate triangle pairs (candidate_pairs.h): part spheres (the mesh zone), then the
 //      inflated-BVH traversal; skipped while the relative motion since the last search is within
 //      the surfaces' slack; after a search, the distinct node-face candidates of each pass;
@@ -39,16 +45,21 @@
 #include "contact/contact_law.h"
 #include "contact/contact_surface.h"
 #include "contact/signed_gap.h"
+#include "contact/tracked_gaps.h"
 #include "mbd/external_force.h"
 #include "mbd/model.h"
 
 namespace orrery::contact {
+
+// How the element finds its gaps (the header); both give the gaps of signed_gap.h.
+enum class ContactGapMethod { kTracked, kCandidatePairs };
 
 struct ContactElementSpec {
   std::string name;
   BodyIndex body_a = -1, body_b = -1;  // rigid bodies (kWorldBody for a fixed surface)
   std::shared_ptr<const ContactSurface> surface_a, surface_b;  // in the frames of body_a, body_b
   ContactLaw law;
+  ContactGapMethod gap_method = ContactGapMethod::kTracked;
 };
 
 // Mutable state of one element in one Data: the search caches and the last evaluation.
@@ -56,7 +67,8 @@ class ContactWorkspace final : public ExternalForceWorkspace {
  public:
   ContactWorkspace(const ContactSurface& a, const ContactSurface& b);
 
-  CandidateSearch search;
+  TrackedGaps tracked;                   // kTracked
+  CandidateSearch search;                // kCandidatePairs
   std::vector<TrianglePair> pairs;       // candidate pairs of the last search
   std::vector<NodeFaceCandidate> node_faces_a, node_faces_b;  // of the pairs, per pass
   GapScratch scratch_a, scratch_b;       // per-node scratch of the passes (nodes of A, of B)
@@ -67,7 +79,7 @@ class ContactWorkspace final : public ExternalForceWorkspace {
   double normal_force = 0, friction_force = 0, max_penetration = 0;
   int contact_points = 0;
   // What the last Apply() recomputed (tests and benchmarks).
-  bool searched = false, gaps_recomputed = false;
+  bool searched = false, gaps_recomputed = false;  // searched: kCandidatePairs only
 };
 
 class ContactElement final : public ExternalForceElement {

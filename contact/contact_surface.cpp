@@ -1,6 +1,7 @@
 #include "contact/contact_surface.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <map>
 #include <stdexcept>
@@ -8,6 +9,7 @@
 #include <utility>
 
 #include "contact/candidate_pairs.h"
+#include "contact/triangle_geometry.h"
 
 namespace orrery::contact {
 
@@ -64,16 +66,37 @@ ContactSurface::ContactSurface(const std::vector<gears::TriangleMesh>& parts, do
   for (Vec3& n : vertex_normals_)
     if (n.squaredNorm() > 0) n.normalize();
 
-  // Boundary edges: undirected edges used by one triangle only.
-  std::map<std::pair<int, int>, int> edge_uses;
-  for (const auto& tri : triangles_)
-    for (int k = 0; k < 3; ++k)
-      ++edge_uses[std::minmax(tri[k], tri[(k + 1) % 3])];
-  boundary_edges_.assign(triangles_.size(), 0);
+  // Boundary edges: undirected edges used by one triangle only. Neighbours: the other triangle
+  // of an edge used by exactly two.
+  std::map<std::pair<int, int>, std::vector<int>> edge_faces;
   for (size_t t = 0; t < triangles_.size(); ++t)
     for (int k = 0; k < 3; ++k)
-      if (edge_uses[std::minmax(triangles_[t][k], triangles_[t][(k + 1) % 3])] == 1)
-        boundary_edges_[t] |= static_cast<std::uint8_t>(1u << k);
+      edge_faces[std::minmax(triangles_[t][k], triangles_[t][(k + 1) % 3])].push_back(
+          static_cast<int>(t));
+  boundary_edges_.assign(triangles_.size(), 0);
+  face_neighbors_.assign(triangles_.size(), {-1, -1, -1});
+  for (size_t t = 0; t < triangles_.size(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const auto& faces = edge_faces[std::minmax(triangles_[t][k], triangles_[t][(k + 1) % 3])];
+      if (faces.size() == 1) boundary_edges_[t] |= static_cast<std::uint8_t>(1u << k);
+      if (faces.size() == 2)
+        face_neighbors_[t][k] = faces[0] == static_cast<int>(t) ? faces[1] : faces[0];
+    }
+  // Triangles around each vertex (compressed rows, increasing triangle order).
+  vertex_face_start_.assign(vertices_.size() + 1, 0);
+  for (const auto& tri : triangles_)
+    for (int k = 0; k < 3; ++k) ++vertex_face_start_[tri[k] + 1];
+  for (size_t v = 0; v < vertices_.size(); ++v) vertex_face_start_[v + 1] += vertex_face_start_[v];
+  vertex_faces_.resize(vertex_face_start_.back());
+  {
+    std::vector<int> next(vertex_face_start_.begin(), vertex_face_start_.end() - 1);
+    for (size_t t = 0; t < triangles_.size(); ++t)
+      for (int k = 0; k < 3; ++k) vertex_faces_[next[triangles_[t][k]]++] = static_cast<int>(t);
+  }
+  vertex_parts_.resize(vertices_.size());
+  for (int j = 0; j < num_parts(); ++j)
+    std::fill(vertex_parts_.begin() + part_vertex_start_[j],
+              vertex_parts_.begin() + part_vertex_start_[j + 1], j);
 
   // Bounding sphere of every part (centre of its box, farthest vertex) and the largest radius.
   for (int j = 0; j < num_parts(); ++j) {
@@ -88,6 +111,7 @@ ContactSurface::ContactSurface(const std::vector<gears::TriangleMesh>& parts, do
       r = std::max(r, (vertices_[v] - c).norm());
     part_centers_.push_back(c);
     part_radii_.push_back(r);
+    part_half_extents_.push_back(0.5 * (hi - lo));
   }
   for (const Vec3& v : vertices_) max_vertex_radius_m_ = std::max(max_vertex_radius_m_, v.norm());
 
@@ -102,6 +126,37 @@ ContactSurface::ContactSurface(const std::vector<gears::TriangleMesh>& parts, do
     triangle_radii_.push_back(r);
   }
 
+  // Inner reach of every face (header): sharp interior edges per part, then the distance of
+  // each face (centroid less its sphere radius) from the nearest, capped by half the radius of
+  // curvature L / angle across each edge (L: distance between the two centroids).
+  {
+    const double sharp = std::cos(20.0 * 3.14159265358979323846 / 180.0);
+    face_inner_reach_.assign(triangles_.size(), std::numeric_limits<double>::infinity());
+    for (int j = 0; j < num_parts(); ++j) {
+      std::vector<std::pair<Vec3, Vec3>> sharp_edges;
+      for (int t = part_triangle_start_[j]; t < part_triangle_start_[j + 1]; ++t)
+        for (int k = 0; k < 3; ++k) {
+          const int n = face_neighbors_[t][k];
+          if (n < 0) continue;
+          const double c = std::clamp(face_normals_[t].dot(face_normals_[n]), -1.0, 1.0);
+          if (c < sharp && t < n)
+            sharp_edges.emplace_back(vertices_[triangles_[t][k]],
+                                     vertices_[triangles_[t][(k + 1) % 3]]);
+          const double angle = std::acos(c);
+          if (angle > 0) {
+            const double L = (triangle_centers_[t] - triangle_centers_[n]).norm();
+            face_inner_reach_[t] = std::min(face_inner_reach_[t], 0.5 * L / angle);
+          }
+        }
+      for (int t = part_triangle_start_[j]; t < part_triangle_start_[j + 1]; ++t)
+        for (const auto& [e0, e1] : sharp_edges) {
+          const Vec3& c = triangle_centers_[t];
+          const double d = std::sqrt(SegmentDistanceSquared(c, c, e0, e1)) - triangle_radii_[t];
+          face_inner_reach_[t] = std::min(face_inner_reach_[t], std::max(0.0, d));
+        }
+    }
+  }
+
   if (tooth_ring_) {
     if (static_cast<int>(tooth_ring_->part_angles_rad.size()) != num_parts())
       throw std::invalid_argument("ContactSurface: the tooth ring has " +
@@ -113,6 +168,27 @@ ContactSurface::ContactSurface(const std::vector<gears::TriangleMesh>& parts, do
   }
 
   culling_ = BuildCullingGeometry(*this);
+
+  // Rim edges next to another part: the edge's midpoint within 2 (margin + slack) of a part
+  // whose sphere reaches it.
+  shared_rim_edges_.assign(triangles_.size(), 0);
+  const double near = 2 * (margin_m_ + slack_m_);
+  for (int j = 0; j < num_parts(); ++j)
+    for (int t = part_triangle_start_[j]; t < part_triangle_start_[j + 1]; ++t)
+      for (int k = 0; k < 3; ++k) {
+        if (!(boundary_edges_[t] & (1u << k))) continue;
+        const Vec3 mid = 0.5 * (vertices_[triangles_[t][k]] + vertices_[triangles_[t][(k + 1) % 3]]);
+        for (int other = 0; other < num_parts(); ++other) {
+          if (other == j || (mid - part_centers_[other]).norm() > part_radii_[other] + near)
+            continue;
+          ClosestFace c;
+          FindClosestFaceInPart(*this, other, mid, &c);
+          if (c.d2 <= near * near) {
+            shared_rim_edges_[t] |= static_cast<std::uint8_t>(1u << k);
+            break;
+          }
+        }
+      }
 }
 
 ContactSurface::~ContactSurface() = default;

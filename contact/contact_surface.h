@@ -7,6 +7,14 @@
 //     weights of the contact pressure integral, seed 000 eq. 20: sum_i A_i = surface area),
 //   - area-weighted vertex normals,
 //   - boundary-edge flags (an edge used by one triangle only: the rim of an open surface),
+//   - adjacency: the triangle across each edge and the triangles around each vertex (the walk
+//     of tracked_gaps.h),
+//   - a box per part (centre and half-extents in B): the motion bound of tracked_gaps.h,
+//   - an inner reach per face: how deep a node below the face may lie with the face still
+//     closest to it among its neighbours' local minima (tracked_gaps.h): the distance from the
+//     face to the nearest sharp interior edge (normals turning by more than 20 degrees, such as
+//     a tooth's tip corners), and at most half the radius of curvature that the turning of the
+//     normals across its edges implies,
 //   - the culling geometry (FCL bounding-volume hierarchies per part, inflated by the margin;
 //     built by candidate_pairs.cpp, opaque here).
 //
@@ -73,6 +81,20 @@ class ContactSurface {
   const std::vector<Vec3>& vertex_normals() const { return vertex_normals_; }         // #V, B
   // #T: bit k set if edge k (vertex k to vertex k+1 mod 3) of the triangle is a boundary edge.
   const std::vector<std::uint8_t>& boundary_edges() const { return boundary_edges_; }
+  // #T: the boundary edges (bits as above) that lie within 2 (margin + slack) of another part:
+  // where a node's closest face may pass from one part to the next (a tooth's root line; not
+  // its face ends).
+  const std::vector<std::uint8_t>& shared_rim_edges() const { return shared_rim_edges_; }
+  // #T: the triangle across edge k of each triangle (-1 on the rim; an edge shared by more than
+  // two triangles is treated as rim for the walk).
+  const std::vector<std::array<int, 3>>& face_neighbors() const { return face_neighbors_; }
+  // Triangles around vertex v: vertex_faces()[vertex_face_start()[v] .. [v + 1]), increasing.
+  const std::vector<int>& vertex_face_start() const { return vertex_face_start_; }
+  const std::vector<int>& vertex_faces() const { return vertex_faces_; }
+  // #T: the inner reach of each face (m; infinite on a smooth open surface).
+  const std::vector<double>& face_inner_reach() const { return face_inner_reach_; }
+  // #V: the part of each vertex.
+  const std::vector<int>& vertex_parts() const { return vertex_parts_; }
   // Triangles of part j are [part_triangle_start()[j], part_triangle_start()[j + 1]); #parts + 1.
   const std::vector<int>& part_triangle_start() const { return part_triangle_start_; }
   const std::vector<int>& part_vertex_start() const { return part_vertex_start_; }
@@ -80,6 +102,8 @@ class ContactSurface {
   // #parts: a sphere around each part (body frame), the broad phase's per-part bounding test.
   const std::vector<Vec3>& part_centers() const { return part_centers_; }
   const std::vector<double>& part_radii() const { return part_radii_; }
+  // #parts: half-extents of each part's axis-aligned box in B (its centre is part_centers()).
+  const std::vector<Vec3>& part_half_extents() const { return part_half_extents_; }
   // #T: a sphere around each triangle (centroid, farthest vertex), the leaf pre-check.
   const std::vector<Vec3>& triangle_centers() const { return triangle_centers_; }
   const std::vector<double>& triangle_radii() const { return triangle_radii_; }
@@ -93,10 +117,14 @@ class ContactSurface {
   std::vector<Vec3> face_normals_;
   std::vector<double> vertex_areas_;
   std::vector<Vec3> vertex_normals_;
-  std::vector<std::uint8_t> boundary_edges_;
+  std::vector<std::uint8_t> boundary_edges_, shared_rim_edges_;
+  std::vector<std::array<int, 3>> face_neighbors_;
+  std::vector<int> vertex_face_start_, vertex_faces_, vertex_parts_;
+  std::vector<double> face_inner_reach_;
   std::vector<int> part_triangle_start_, part_vertex_start_;
   std::vector<Vec3> part_centers_;
   std::vector<double> part_radii_;
+  std::vector<Vec3> part_half_extents_;
   std::optional<ToothRing> tooth_ring_;
   std::vector<Vec3> triangle_centers_;
   std::vector<double> triangle_radii_;

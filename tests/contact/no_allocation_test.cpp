@@ -43,9 +43,10 @@ TEST(ContactNoAllocation, CounterCountsVectorGrowth) {
 }
 
 // A 18/34 spur pair (seed 001's sun and planet) on revolute joints with gear contact: after one
-// pass over the roll angles has sized the workspace's lists, a second pass (searches and kept
-// pairs alike, poses 0.1 nrad to 0.3 mrad apart) evaluates the dynamics without allocating.
-TEST(ContactNoAllocation, GearContactEvaluation) {
+// pass over the roll angles has sized the workspace's lists, a second pass (poses 0.1 nrad to
+// 0.3 mrad apart: nodes walked and searched with tracked gaps, searches and kept pairs with
+// candidate pairs) evaluates the dynamics without allocating.
+void CheckGearContactEvaluation(ContactGapMethod method) {
   const double deg = 3.14159265358979323846 / 180;
   gears::GearSpec s1{.teeth = 18, .normal_module_m = 1.5e-3,
                      .normal_pressure_angle_rad = 21.3 * deg, .face_width_m = 0.03};
@@ -67,7 +68,9 @@ TEST(ContactNoAllocation, GearContactEvaluation) {
   GearContactOptions o;
   o.involute_intervals = 16;
   o.face_intervals = 2;
-  b.AddExternalForce(std::make_shared<ContactElement>(MakeGearContactSpec("mesh", pair, g1, g2, o)));
+  ContactElementSpec spec = MakeGearContactSpec("mesh", pair, g1, g2, o);
+  spec.gap_method = method;
+  b.AddExternalForce(std::make_shared<ContactElement>(spec));
   const std::shared_ptr<const Model> model = std::move(b).Finalize();
   const Model& m = *model;
   Data data(m);
@@ -87,11 +90,26 @@ TEST(ContactNoAllocation, GearContactEvaluation) {
   };
   pass();
   const auto& ws = static_cast<const ContactWorkspace&>(*data.external[0]);
+  const long seeds = ws.tracked.stats().seeds, walks = ws.tracked.stats().walk_steps;
   const long searches = ws.search.stats().searches;
   EXPECT_EQ(AllocationsIn(pass), 0);
-  // Both kinds of evaluation happened, under load.
-  EXPECT_GE(ws.search.stats().searches - searches, 25);
+  if (method == ContactGapMethod::kTracked) {
+    // Nodes were searched in the hierarchies and walked, under load.
+    EXPECT_GT(ws.tracked.stats().seeds - seeds, 25);
+    EXPECT_GT(ws.tracked.stats().walk_steps - walks, 25);
+  } else {
+    // Both kinds of evaluation happened.
+    EXPECT_GE(ws.search.stats().searches - searches, 25);
+  }
   EXPECT_GT(ws.normal_force, 0);
+}
+
+TEST(ContactNoAllocation, GearContactEvaluationTracked) {
+  CheckGearContactEvaluation(ContactGapMethod::kTracked);
+}
+
+TEST(ContactNoAllocation, GearContactEvaluationCandidatePairs) {
+  CheckGearContactEvaluation(ContactGapMethod::kCandidatePairs);
 }
 
 // A reduced steel block (hex8 4 x 4 x 2, 12 modes) on a vertical prismatic joint pressed onto a

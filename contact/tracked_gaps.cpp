@@ -1,0 +1,220 @@
+#include "contact/tracked_gaps.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+namespace orrery::contact {
+
+namespace {
+
+// Face changes a walk may take before the node is searched exactly instead.
+constexpr int kMaxWalkSteps = 32;
+
+ClosestFace OnFace(const ContactSurface& s, int face, const Vec3& p) {
+  const auto& t = s.triangles()[face];
+  const auto& v = s.vertices();
+  ClosestFace c;
+  c.face = face;
+  c.point = ClosestPointOnTriangle(p, v[t[0]], v[t[1]], v[t[2]]);
+  c.d2 = (p - c.point.point).squaredNorm();
+  return c;
+}
+
+// Whether the closest point's feature lies on a rim edge next to another part.
+bool OnSharedRim(const ContactSurface& s, const ClosestFace& c) {
+  const std::uint8_t edges = s.shared_rim_edges()[c.face];
+  switch (c.point.feature) {
+    case TriangleFeature::kFace: return false;
+    case TriangleFeature::kEdge0: return edges & 1u;
+    case TriangleFeature::kEdge1: return edges & 2u;
+    case TriangleFeature::kEdge2: return edges & 4u;
+    case TriangleFeature::kVertex0: return edges & (1u | 4u);
+    case TriangleFeature::kVertex1: return edges & (1u | 2u);
+    case TriangleFeature::kVertex2: return edges & (2u | 4u);
+  }
+  return false;
+}
+
+// Local descent over the faces (header): at each step the faces across the current face's
+// three edges, and around its vertex when the closest point is one, are tried, and the walk
+// moves to the closest (ties to the lower index). False if it did not settle within
+// kMaxWalkSteps.
+bool Walk(const ContactSurface& s, const Vec3& p, ClosestFace* current, long* steps) {
+  const auto& tris = s.triangles();
+  for (int step = 0; step < kMaxWalkSteps; ++step) {
+    ClosestFace best = *current;
+    auto consider = [&](int face) {
+      if (face < 0 || face == current->face) return;
+      const ClosestFace c = OnFace(s, face, p);
+      if (c.d2 < best.d2 || (c.d2 == best.d2 && face < best.face)) best = c;
+    };
+    for (const int neighbor : s.face_neighbors()[current->face]) consider(neighbor);
+    const TriangleFeature feature = current->point.feature;
+    if (feature == TriangleFeature::kVertex0 || feature == TriangleFeature::kVertex1 ||
+        feature == TriangleFeature::kVertex2) {
+      const int k = feature == TriangleFeature::kVertex0   ? 0
+                    : feature == TriangleFeature::kVertex1 ? 1
+                                                           : 2;
+      const int vertex = tris[current->face][k];
+      for (int i = s.vertex_face_start()[vertex]; i < s.vertex_face_start()[vertex + 1]; ++i)
+        consider(s.vertex_faces()[i]);
+    }
+    if (best.face == current->face) return true;
+    *current = best;
+    ++*steps;
+  }
+  return false;
+}
+
+}  // namespace
+
+TrackedGaps::Pass::Pass(const ContactSurface& node_surface)
+    : face(node_surface.num_vertices(), -1),
+      reach(node_surface.num_vertices(), 0.0),
+      distance(node_surface.num_vertices(), 0.0),
+      stamp(node_surface.num_vertices(), 0.0) {}
+
+TrackedGaps::TrackedGaps(const ContactSurface& surface_a, const ContactSurface& surface_b)
+    : a_(surface_a), b_(surface_b), search_(surface_a, surface_b), pass_a_(surface_a),
+      pass_b_(surface_b) {
+  const size_t all_pairs = static_cast<size_t>(a_.num_parts()) * b_.num_parts();
+  tracked_.reserve(all_pairs);
+  next_.reserve(all_pairs);
+  partners_.reserve(std::max(a_.num_parts(), b_.num_parts()));
+  active_b_.assign(b_.num_parts(), 0);
+}
+
+void TrackedGaps::Reset() {
+  for (Pass* pass : {&pass_a_, &pass_b_}) {
+    std::fill(pass->face.begin(), pass->face.end(), -1);
+    std::fill(pass->reach.begin(), pass->reach.end(), 0.0);
+  }
+}
+
+void TrackedGaps::ResetPart(Pass& pass, const ContactSurface& node_surface, int part) {
+  for (int v = node_surface.part_vertex_start()[part];
+       v < node_surface.part_vertex_start()[part + 1]; ++v) {
+    pass.face[v] = -1;
+    pass.reach[v] = 0;
+  }
+}
+
+double TrackedGaps::PartMotion(int part_b, const Transform& X_AB0,
+                               const Transform& X_AB1) const {
+  const Mat3 dR = X_AB1.R - X_AB0.R;
+  const Vec3& h = b_.part_half_extents()[part_b];
+  return dR.col(0).norm() * h.x() + dR.col(1).norm() * h.y() + dR.col(2).norm() * h.z() +
+         (dR * b_.part_centers()[part_b] + X_AB1.p - X_AB0.p).norm();
+}
+
+void TrackedGaps::Update(const Transform& X_WA, const Transform& X_WB,
+                         std::vector<NodeGap>* gaps_a, std::vector<NodeGap>* gaps_b) {
+  const Transform X_AB = X_WA.Inverse() * X_WB;
+  const double d = search_.search_distance_m(), s = search_.slack_m();
+
+  // Tracked pairs: the broad phase's, plus tracked pairs still within d + 2 s.
+  search_.UpdateBroadPhase(X_WA, X_WB);
+  const auto& broad = search_.part_pairs();  // sorted: A's part, then B's
+  next_.assign(broad.begin(), broad.end());
+  for (const auto& pair : tracked_) {
+    if (std::binary_search(broad.begin(), broad.end(), pair)) continue;
+    const double r = a_.part_radii()[pair.first] + b_.part_radii()[pair.second] + d + 2 * s;
+    if ((X_AB * b_.part_centers()[pair.second] - a_.part_centers()[pair.first]).squaredNorm() <=
+        r * r)
+      next_.push_back(pair);
+  }
+  std::sort(next_.begin(), next_.end());
+  // Pairs that joined or left: their parts' nodes start again.
+  auto changed = [&](const std::pair<int, int>& pair) {
+    ResetPart(pass_a_, a_, pair.first);
+    ResetPart(pass_b_, b_, pair.second);
+    ++stats_.pair_changes;
+  };
+  for (const auto& pair : next_)
+    if (!std::binary_search(tracked_.begin(), tracked_.end(), pair)) changed(pair);
+  for (const auto& pair : tracked_)
+    if (!std::binary_search(next_.begin(), next_.end(), pair)) changed(pair);
+  tracked_.swap(next_);
+  std::fill(active_b_.begin(), active_b_.end(), 0);
+  for (const auto& pair : tracked_) active_b_[pair.second] = 1;
+
+  // Odometer: the largest motion of a tracked part of B since the last call.
+  if (have_previous_) {
+    double motion = 0;
+    for (int j = 0; j < b_.num_parts(); ++j)
+      if (active_b_[j]) motion = std::max(motion, PartMotion(j, X_AB_previous_, X_AB));
+    odometer_ += motion;
+    stats_.max_motion_between_calls_m = std::max(stats_.max_motion_between_calls_m, motion);
+  }
+  X_AB_previous_ = X_AB;
+  have_previous_ = true;
+
+  stats_.evaluated_nodes = stats_.seeded_nodes = 0;
+  RunPass(a_, b_, X_WB.Inverse() * X_WA, X_WB, /*nodes_are_a=*/true, pass_a_, gaps_a);
+  RunPass(b_, a_, X_AB, X_WA, /*nodes_are_a=*/false, pass_b_, gaps_b);
+  stats_.tracked_pairs = static_cast<int>(tracked_.size());
+  stats_.odometer_m = odometer_;
+  ++stats_.updates;
+}
+
+void TrackedGaps::RunPass(const ContactSurface& node_surface, const ContactSurface& face_surface,
+                          const Transform& X_FN, const Transform& X_WF, bool nodes_are_a,
+                          Pass& pass, std::vector<NodeGap>* gaps) {
+  gaps->clear();
+  const double d = search_.search_distance_m();
+  const double walk_reach = d + search_.slack_m();
+  const auto& nodes = node_surface.vertices();
+  const int num_parts = node_surface.num_parts();
+  for (int part = 0; part < num_parts; ++part) {
+    // The face surface's parts paired with this part (none: the part is not tracked).
+    partners_.clear();
+    for (const auto& [pa, pb] : tracked_)
+      if ((nodes_are_a ? pa : pb) == part) partners_.push_back(nodes_are_a ? pb : pa);
+    if (partners_.empty()) continue;
+    const int v_end = node_surface.part_vertex_start()[part + 1];
+    for (int v = node_surface.part_vertex_start()[part]; v < v_end; ++v) {
+      // Asleep: the surfaces have not moved far enough for this node to touch.
+      if (pass.reach[v] > odometer_ - pass.stamp[v]) continue;
+      const Vec3 p = X_FN * nodes[v];
+      ClosestFace best;
+      bool search = pass.face[v] < 0 || pass.distance[v] > walk_reach;
+      if (pass.face[v] >= 0) {
+        best = OnFace(face_surface, pass.face[v], p);
+        // A walk that ends on its part's rim next to another part may belong in that part.
+        if (!search)
+          search = !Walk(face_surface, p, &best, &stats_.walk_steps) ||
+                   OnSharedRim(face_surface, best);
+        // Inside the other body the distance has a local minimum on every face the node lies
+        // under (a tip corner: flank and tip): deeper than the face's inner reach, the closest
+        // needs the search, bounded by the walk's distance.
+        if (!search && (p - best.point.point).dot(face_surface.face_normals()[best.face]) <
+                           -face_surface.face_inner_reach()[best.face])
+          search = true;
+      }
+      if (search) {
+        for (const int part_f : partners_) FindClosestFaceInPart(face_surface, part_f, p, &best);
+        ++stats_.seeded_nodes;
+        ++stats_.seeds;
+      }
+      ++stats_.evaluated_nodes;
+      ++stats_.node_evaluations;
+      NodeGap g = NodeGapFromClosest(face_surface, best.face, p, best.point.point,
+                                     best.point.feature);
+      pass.face[v] = best.face;
+      pass.stamp[v] = odometer_;
+      pass.reach[v] = !g.on_surface ? std::max(0.0, std::sqrt(best.d2) - d)
+                      : g.gap > 0     ? g.gap
+                                      : 0.0;
+      pass.distance[v] = std::sqrt(best.d2);
+      if (best.d2 > d * d) continue;
+      g.node = v;
+      g.p_W = X_WF * p;
+      g.q_W = X_WF * best.point.point;
+      g.n_W = X_WF.R * face_surface.face_normals()[g.face];
+      gaps->push_back(g);
+    }
+  }
+}
+
+}  // namespace orrery::contact

@@ -1,0 +1,119 @@
+#pragma once
+// Signed gaps of two rigid surfaces by tracking each node's closest face from one evaluation to
+// the next: the step's path of ContactElement (contact_element.h). It gives the gaps of
+// signed_gap.h (seed 000 eqs. 6-9: closest face, signed distance, rim rule) at a cost that grows
+// with the nodes near contact, not with the surfaces' resolution or with how far they roll.
+//
+// Why: a list of candidate triangle pairs (candidate_pairs.h) is valid while the surfaces move
+// less than its slack. Gears roll through a tooth's length every mesh period, so at seed 003's
+// speeds (tooth-local motion 2-10 um per 5 us step) a 100 um slack forces a search every 10 to 50
+// steps, and each search (FCL traversal, exact triangle distances, node-face lists) costs
+// milliseconds; the lists then hold ~20 faces per node, all tested at every evaluation.
+//
+// What is kept (per pass: the nodes of one surface against the faces of the other):
+//   - the tracked part pairs: the broad phase of CandidateSearch (mesh zone and part spheres
+//     within d + s), plus pairs already tracked whose spheres stay within d + 2 s (so a pair at
+//     the edge of the zone does not come and go between Newton iterations). A node is tracked
+//     while its part is in a tracked pair; its faces are searched in the paired parts only;
+//   - per node: its closest face at its last evaluation, its distance to it then, the reach D
+//     (that distance; 0 when it penetrated; the distance less d when it lay beyond the rim),
+//     and the odometer reading then;
+//   - the odometer: the sum over evaluations of the largest motion of a tracked part of B in A's
+//     frame since the previous evaluation. For a part with box centre c and half-extents h (B's
+//     frame), from relative pose (R0, p0) to (R1, p1):
+//        delta = sum_k |(R1 - R0) e_k| h_k + |(R1 - R0) c + p1 - p0|,
+//     a bound on the motion of every point of the part (the axial extent of a gear tooth drops
+//     out for rotations about the gear axis, and the bound is about the tooth, not the gear).
+// At an evaluation a node is skipped while the odometer has advanced by less than its D: a
+// node outside the other surface at distance D cannot reach it by a relative motion shorter
+// than D (the distance is 1-Lipschitz in the motion). Beyond the rim a node may pass round it
+// and come to lie under a face, at a depth no less than its distance D less the motion: after a
+// motion below D - d it can only lie deeper than d, where neither path sees nodes. Otherwise:
+//   - walk: from the node's face, move to the closest of the faces across its edges (and around
+//     its vertex when the closest point is one) while one is closer (ties to the lower index);
+//     for a node within d + s of the surface the walk ends at the closest face of the part
+//     when the node lies outside it (checked against the candidate-pair gaps,
+//     tests/contact/tracked_gaps_test.cpp), and another part can be closer only near the
+//     part's rim (teeth are millimetres apart elsewhere),
+//   - search: a node without a face, or that was farther than d + s from its face, or whose walk runs long or
+//     ends on a rim edge next to another part (contact_surface.h), or that lies below its face deeper than the face's inner reach
+//     (contact_surface.h; inside the other body the distance has a local minimum on every face
+//     the node lies under, such as flank and tip at a tip corner), is searched exactly in the paired parts' FCL hierarchies
+//     (FindClosestFaceInPart), the face it had giving the first bound.
+// The gap then follows signed_gap.h (NodeGapFromClosest), and the node is listed when its
+// distance is within d (as the candidate-pair path lists it).
+//
+// A pair that joins or leaves the tracked set resets the nodes of both its parts (they are
+// seeded at their next evaluation). Update() allocates nothing.
+//
+// Usage:
+//   TrackedGaps tracked(surface_a, surface_b);
+//   tracked.Update(X_WA, X_WB, &gaps_a, &gaps_b);   // gaps lists reserved to #V of each surface
+#include <utility>
+#include <vector>
+
+#include "contact/candidate_pairs.h"
+#include "contact/contact_surface.h"
+#include "contact/signed_gap.h"
+
+namespace orrery::contact {
+
+struct TrackedGapStats {
+  int tracked_pairs = 0;        // part pairs tracked at the last Update()
+  int evaluated_nodes = 0;      // nodes whose gap was computed at the last Update()
+  int seeded_nodes = 0;         // of which by a search of the hierarchies
+  long updates = 0;             // Update() calls
+  long node_evaluations = 0;    // since construction
+  long seeds = 0;               // since construction
+  long walk_steps = 0;          // face changes by walking, since construction
+  long pair_changes = 0;        // pairs that joined or left, since construction
+  double odometer_m = 0;        // sum of the per-call motion bounds
+  double max_motion_between_calls_m = 0;  // largest per-call motion bound (tracked parts of B)
+};
+
+class TrackedGaps {
+ public:
+  // Keeps references to both surfaces, which must outlive it.
+  TrackedGaps(const ContactSurface& surface_a, const ContactSurface& surface_b);
+
+  // The gaps at these poses: *gaps_a the nodes of A on B's faces, *gaps_b the nodes of B on A's
+  // faces, each in increasing node order, every evaluated node within the search distance d.
+  // Nodes that cannot touch are left out (their gaps are positive).
+  void Update(const Transform& X_WA, const Transform& X_WB, std::vector<NodeGap>* gaps_a,
+              std::vector<NodeGap>* gaps_b);
+  // Forget every node's face and distance (the next Update() seeds them all).
+  void Reset();
+
+  double search_distance_m() const { return search_.search_distance_m(); }
+  const TrackedGapStats& stats() const { return stats_; }
+
+ private:
+  // Nodes of one surface against the faces of the other; arrays over the node surface's
+  // vertices.
+  struct Pass {
+    explicit Pass(const ContactSurface& node_surface);
+    std::vector<int> face;        // tracked closest face (-1: none)
+    std::vector<double> reach;    // D of the header (m)
+    std::vector<double> distance; // to the closest face at the last evaluation (m)
+    std::vector<double> stamp;    // odometer at the last evaluation (m)
+  };
+  void ResetPart(Pass& pass, const ContactSurface& node_surface, int part);
+  void RunPass(const ContactSurface& node_surface, const ContactSurface& face_surface,
+               const Transform& X_FN, const Transform& X_WF, bool nodes_are_a, Pass& pass,
+               std::vector<NodeGap>* gaps);
+  double PartMotion(int part_b, const Transform& X_AB0, const Transform& X_AB1) const;
+
+  const ContactSurface& a_;
+  const ContactSurface& b_;
+  CandidateSearch search_;                 // its broad phase
+  std::vector<std::pair<int, int>> tracked_, next_;  // sorted (part of A, part of B)
+  std::vector<int> partners_;              // scratch: parts paired with one part
+  std::vector<char> active_b_;             // #parts of B: in a tracked pair
+  Pass pass_a_, pass_b_;
+  Transform X_AB_previous_;
+  bool have_previous_ = false;
+  double odometer_ = 0;
+  TrackedGapStats stats_;
+};
+
+}  // namespace orrery::contact
