@@ -127,10 +127,10 @@ ContactSurface::ContactSurface(const std::vector<gears::TriangleMesh>& parts, do
   }
 
   // Inner reach of every face (header): sharp interior edges per part, then the distance of
-  // each face (centroid less its sphere radius) from the nearest, capped by half the radius of
-  // curvature L / angle across each edge (L: distance between the two centroids).
+  // each face from the nearest, capped by a quarter of the radius of curvature L / angle across
+  // each edge (L: distance between the two centroids).
   {
-    const double sharp = std::cos(20.0 * 3.14159265358979323846 / 180.0);
+    const double sharp = std::cos(10.0 * 3.14159265358979323846 / 180.0);
     face_inner_reach_.assign(triangles_.size(), std::numeric_limits<double>::infinity());
     for (int j = 0; j < num_parts(); ++j) {
       std::vector<std::pair<Vec3, Vec3>> sharp_edges;
@@ -145,15 +145,24 @@ ContactSurface::ContactSurface(const std::vector<gears::TriangleMesh>& parts, do
           const double angle = std::acos(c);
           if (angle > 0) {
             const double L = (triangle_centers_[t] - triangle_centers_[n]).norm();
-            face_inner_reach_[t] = std::min(face_inner_reach_[t], 0.5 * L / angle);
+            face_inner_reach_[t] = std::min(face_inner_reach_[t], 0.25 * L / angle);
           }
         }
-      for (int t = part_triangle_start_[j]; t < part_triangle_start_[j + 1]; ++t)
+      // Distance of a triangle from an edge of its own surface (which cannot pierce it): the
+      // least of the edge against the triangle's three edges and its ends against the triangle.
+      for (int t = part_triangle_start_[j]; t < part_triangle_start_[j + 1]; ++t) {
+        const Vec3& a = vertices_[triangles_[t][0]];
+        const Vec3& b = vertices_[triangles_[t][1]];
+        const Vec3& c = vertices_[triangles_[t][2]];
         for (const auto& [e0, e1] : sharp_edges) {
-          const Vec3& c = triangle_centers_[t];
-          const double d = std::sqrt(SegmentDistanceSquared(c, c, e0, e1)) - triangle_radii_[t];
-          face_inner_reach_[t] = std::min(face_inner_reach_[t], std::max(0.0, d));
+          double d2 = std::min({SegmentDistanceSquared(e0, e1, a, b),
+                                SegmentDistanceSquared(e0, e1, b, c),
+                                SegmentDistanceSquared(e0, e1, c, a)});
+          for (const Vec3* e : {&e0, &e1})
+            d2 = std::min(d2, (*e - ClosestPointOnTriangle(*e, a, b, c).point).squaredNorm());
+          face_inner_reach_[t] = std::min(face_inner_reach_[t], std::sqrt(d2));
         }
+      }
     }
   }
 

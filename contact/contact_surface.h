@@ -12,9 +12,9 @@
 //   - a box per part (centre and half-extents in B): the motion bound of tracked_gaps.h,
 //   - an inner reach per face: how deep a node below the face may lie with the face still
 //     closest to it among its neighbours' local minima (tracked_gaps.h): the distance from the
-//     face to the nearest sharp interior edge (normals turning by more than 20 degrees, such as
-//     a tooth's tip corners), and at most half the radius of curvature that the turning of the
-//     normals across its edges implies,
+//     face to the nearest sharp interior edge of its part (normals turning by more than 10
+//     degrees, such as a tooth's tip corners), and at most a quarter of the radius of
+//     curvature that the turning of the normals across its edges implies,
 //   - the culling geometry (FCL bounding-volume hierarchies per part, inflated by the margin;
 //     built by candidate_pairs.cpp, opaque here).
 //

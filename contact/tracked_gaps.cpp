@@ -38,8 +38,8 @@ bool OnSharedRim(const ContactSurface& s, const ClosestFace& c) {
 
 // Local descent over the faces (header): at each step the faces across the current face's
 // three edges, and around its vertex when the closest point is one, are tried, and the walk
-// moves to the closest (ties to the lower index). False if it did not settle within
-// kMaxWalkSteps.
+// moves to the closest (ties to the lower index); a node below its face also tries the faces
+// two edges away before it settles. False if it did not settle within kMaxWalkSteps.
 bool Walk(const ContactSurface& s, const Vec3& p, ClosestFace* current, long* steps) {
   const auto& tris = s.triangles();
   for (int step = 0; step < kMaxWalkSteps; ++step) {
@@ -60,6 +60,13 @@ bool Walk(const ContactSurface& s, const Vec3& p, ClosestFace* current, long* st
       for (int i = s.vertex_face_start()[vertex]; i < s.vertex_face_start()[vertex + 1]; ++i)
         consider(s.vertex_faces()[i]);
     }
+    // Settled: a node below its face also tries the faces two edges away (where facets of
+    // different length meet, such as at the start of the involute, the distance along the
+    // profile can dip again one face further on).
+    if (best.face == current->face && (p - current->point.point).dot(s.face_normals()[current->face]) < 0)
+      for (const int neighbor : s.face_neighbors()[current->face])
+        if (neighbor >= 0)
+          for (const int second : s.face_neighbors()[neighbor]) consider(second);
     if (best.face == current->face) return true;
     *current = best;
     ++*steps;

@@ -82,7 +82,7 @@ class GeneralizedAlpha final : public Integrator {
     // Fixed steps; the last one is shortened to land on t_out.
     while (state_.t < t_out - 1e-12 * std::max(1.0, std::abs(t_out))) {
       const double h = std::min(options_.step, t_out - state_.t);
-      Step(h);
+      StepOrHalve(h, 0);
     }
     RecordDrift();
   }
@@ -155,8 +155,19 @@ class GeneralizedAlpha final : public Integrator {
     matrix_h_ = h;
   }
 
+  // Step() leaves the state alone when Newton fails: retry as two halves (options' halvings).
+  void StepOrHalve(double h, int halvings) {
+    try {
+      Step(h);
+    } catch (const std::runtime_error&) {
+      if (halvings >= options_.max_step_halvings) throw;
+      StepOrHalve(0.5 * h, halvings + 1);
+      StepOrHalve(0.5 * h, halvings + 1);
+    }
+  }
+
   // Modified Newton: the iteration matrix is kept from step to step and refreshed when the step
-  // size changes or the iteration converges slowly (rate above 1/2) or not at all. Converged when
+  // size changes or the iteration converges slowly (rate above 1/10: contact stiffness changes as teeth come and go, and a refresh costs less than the iterations a stale matrix takes) or not at all. Converged when
   // the scaled residual is below newton_tolerance times the force scale, or the acceleration
   // increment below newton_tolerance relative to the accelerations (kinks of tabulated mesh
   // stiffness can hold the residual above its floor while the iterates no longer move).
@@ -191,7 +202,7 @@ class GeneralizedAlpha final : public Integrator {
       }
       delta_.noalias() = lu_.solve(rhs_);
       double increment = delta_.head(nv).lpNorm<Eigen::Infinity>();
-      if (!fresh && (increment > 0.5 * previous || !std::isfinite(increment))) {
+      if (!fresh && (increment > 0.1 * previous || !std::isfinite(increment))) {
         // Slow with an old matrix: refresh it at the current iterate and take this step again.
         RefreshIterationMatrix(t, h);
         fresh = true;

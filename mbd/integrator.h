@@ -58,6 +58,10 @@ struct IntegratorOptions {
   // method's O(h^2) error and above the rounding floor of stiff drivetrains (1e-10 stalled on
   // seed 001's 1e10 N m/rad brakes, whose accelerations reach 1e5 rad/s^2).
   double newton_tolerance = 1e-8;
+  // A step whose Newton iteration fails is taken again as two halves, and so on down to
+  // step / 2^max_step_halvings (contact coming on within a step); 0: fail at once. The halves
+  // count as steps, their failures as newton_failures.
+  int max_step_halvings = 4;
 };
 
 struct IntegratorStats {
