@@ -6,6 +6,8 @@
 // 1 nrad apart (what a step or a position column of a finite-difference Jacobian costs: no
 // search), BM_EvaluationWithSearch forces a search every time, BM_SamePoseEvaluation repeats one
 // pose (a velocity column).
+// These use ContactGapMethod::kCandidatePairs; BM_Seed001Rolling* compare both gap methods on a
+// rolling pair (tracked gaps are the elements' default).
 #include <memory>
 #include <vector>
 
@@ -41,7 +43,8 @@ GearPairContact& Setup() {
     s->element = std::make_unique<ContactElement>(ContactElementSpec{
         .name = "mesh", .body_a = 1, .body_b = 2, .surface_a = s1, .surface_b = s2,
         .law = {.stiffness_per_area = 1e14, .hunt_crossley_s_per_m = 1,
-                .friction_coefficient = 0.05}});
+                .friction_coefficient = 0.05},
+        .gap_method = ContactGapMethod::kCandidatePairs});
     s->ws = std::make_unique<ContactWorkspace>(*s1, *s2);
     // Gear 1 turned into the zero-backlash mesh by ~10 um along the line of action.
     const double theta = 10e-6 / g1.base_radius_m();
@@ -214,7 +217,9 @@ Seed001Contact& SetupSeed001() {
     gears::GearSpec g2 = g1;
     g2.teeth = 34;
     const gears::GearPair pair{gears::Gear(g1), gears::Gear(g2)};
-    s->element = std::make_unique<ContactElement>(MakeGearContactSpec("mesh", pair, 1, 2, {}));
+    ContactElementSpec spec = MakeGearContactSpec("mesh", pair, 1, 2, {});
+    spec.gap_method = ContactGapMethod::kCandidatePairs;
+    s->element = std::make_unique<ContactElement>(spec);
     s->ws = std::make_unique<ContactWorkspace>(*s->element->spec().surface_a,
                                                *s->element->spec().surface_b);
     const double theta = 3e-6 / pair.gear1().base_radius_m();
@@ -264,6 +269,55 @@ void BM_Seed001EvaluationWithSearch(benchmark::State& state) {
   state.counters["pairs"] = c.ws->search.stats().candidate_pairs;
 }
 BENCHMARK(BM_Seed001EvaluationWithSearch)->Unit(benchmark::kMicrosecond);
+
+// Seed 001's pair rolling: each evaluation turns gear 1 by 0.3 mrad (30 rad/s at a 10 us step)
+// with gear 2 at its kinematic angle, 3 um ahead on the line of action, over many mesh periods:
+// what a run pays per mesh evaluation, searches included, with each gap method.
+void RollingSeed001(benchmark::State& state, ContactGapMethod method) {
+  const double deg = 3.14159265358979323846 / 180, pi = 3.14159265358979323846;
+  gears::GearSpec g1{.teeth = 18, .normal_module_m = 1.5e-3,
+                     .normal_pressure_angle_rad = 21.3 * deg, .face_width_m = 0.03};
+  gears::GearSpec g2 = g1;
+  g2.teeth = 34;
+  const gears::GearPair pair{gears::Gear(g1), gears::Gear(g2)};
+  ContactElementSpec spec = MakeGearContactSpec("mesh", pair, 1, 2, {});
+  spec.gap_method = method;
+  ContactElement element(spec);
+  ContactWorkspace ws(*spec.surface_a, *spec.surface_b);
+  const double ahead = 3e-6 / pair.gear1().base_radius_m();
+  const Vec6 zero = Vec6::Zero();
+  Vec6 fa, fb;
+  double e, p, theta = 0, force = 0;
+  long evaluations = 0;
+  for (auto _ : state) {
+    theta += 3e-4;
+    const Transform X_W1(AxisAngle(Vec3::UnitZ(), theta + ahead), Vec3::Zero());
+    const Transform X_W2(AxisAngle(Vec3::UnitZ(), pi * (1 + 1.0 / 34) - theta * 18 / 34),
+                         Vec3(pair.center_distance_m(), 0, 0));
+    element.UpdateGaps(X_W1, X_W2, ws);
+    element.CalcForces(zero, zero, ws, &fa, &fb, &e, &p);
+    force += ws.normal_force;
+    ++evaluations;
+  }
+  state.counters["mean_normal_force_N"] = force / std::max(1L, evaluations);
+  state.counters["mesh_periods"] = theta / (2 * pi / 18);
+  if (method == ContactGapMethod::kTracked) {
+    const TrackedGapStats& t = ws.tracked.stats();
+    state.counters["nodes_per_eval"] = static_cast<double>(t.node_evaluations) / t.updates;
+    state.counters["searched_per_eval"] = static_cast<double>(t.seeds) / t.updates;
+  } else {
+    state.counters["searches_per_eval"] =
+        static_cast<double>(ws.search.stats().searches) / std::max(1L, evaluations);
+  }
+}
+void BM_Seed001RollingTracked(benchmark::State& state) {
+  RollingSeed001(state, ContactGapMethod::kTracked);
+}
+void BM_Seed001RollingCandidatePairs(benchmark::State& state) {
+  RollingSeed001(state, ContactGapMethod::kCandidatePairs);
+}
+BENCHMARK(BM_Seed001RollingTracked)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_Seed001RollingCandidatePairs)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 
