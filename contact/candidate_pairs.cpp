@@ -174,6 +174,13 @@ struct CandidateSearch::Impl {
   std::vector<char> zone_a, zone_b;
   Transform X_WA, X_WB, X_AB_search, X_AB_previous;
   bool have_pairs = false, have_previous = false;
+  // Mesh-zone windows of the last two (centre distance, reach) seen.
+  struct Window {
+    double a = -1, reach = -1, a_min = 0, a_max = 0, b_min = 0, b_max = 0;
+    bool meet = false;
+  };
+  Window windows[2];
+  int next_window = 0;
   fcl::CollisionRequestd request;
   fcl::CollisionResultd result;
 };
@@ -198,13 +205,14 @@ double CandidateSearch::MotionBound(const Transform& X_AB0, const Transform& X_A
   return (X_AB1.R - X_AB0.R).norm() * b_.max_vertex_radius_m() + (X_AB1.p - X_AB0.p).norm();
 }
 
-void CandidateSearch::UpdateBroadPhase(const Transform& X_WA, const Transform& X_WB) {
+void CandidateSearch::UpdateBroadPhase(const Transform& X_WA, const Transform& X_WB,
+                                       double extra_reach_m) {
   Impl& m = *impl_;
   m.X_WA = X_WA;
   m.X_WB = X_WB;
   const Transform X_AB = X_WA.Inverse() * X_WB;
   // Part spheres of B in A's frame, grown by d + s, against A's spheres.
-  const double reach = search_distance_ + slack_;
+  const double reach = search_distance_ + slack_ + extra_reach_m;
   const int na = a_.num_parts(), nb = b_.num_parts();
   for (int j = 0; j < nb; ++j) m.centers_b_A[j] = X_AB * b_.part_centers()[j];
   // Mesh zone of two gears on (nearly) parallel axes: only teeth whose angular span meets the
@@ -221,12 +229,27 @@ void CandidateSearch::UpdateBroadPhase(const Transform& X_WA, const Transform& X
     const Vec3 o_a = X_GaGb.Inverse().p;             // A's axis origin in Gb
     const double a = std::hypot(o_b.x(), o_b.y());
     const bool parallel = X_GaGb.R(2, 2) > 1 - 1e-6;  // both axes +z (tilt below ~1.4 mrad)
-    double a_min = 0, a_max = 0, b_min = 0, b_max = 0;
-    if (parallel && a > 0 &&
-        ZoneWindow(a, ra.inner_radius_m, ra.outer_radius_m, rb.inner_radius_m,
-                   rb.outer_radius_m, reach, &a_min, &a_max) &&
-        ZoneWindow(a, rb.inner_radius_m, rb.outer_radius_m, ra.inner_radius_m,
-                   ra.outer_radius_m, reach, &b_min, &b_max)) {
+    // The windows depend on a and the reach only: kept (two reaches) while a stays within
+    // kWindowTolerance of the a they were computed at, with the reach grown by as much (the
+    // distances |P - O'| change by at most the change of a).
+    constexpr double kWindowTolerance = 1e-6;
+    Impl::Window* w = nullptr;
+    for (Impl::Window& c : m.windows)
+      if (c.reach == reach && std::abs(c.a - a) <= kWindowTolerance) w = &c;
+    if (!w && parallel && a > 0) {
+      w = &m.windows[m.next_window];
+      m.next_window = (m.next_window + 1) % 2;
+      w->a = a;
+      w->reach = reach;
+      const double r = reach + kWindowTolerance;
+      w->meet = ZoneWindow(a, ra.inner_radius_m, ra.outer_radius_m, rb.inner_radius_m,
+                           rb.outer_radius_m, r, &w->a_min, &w->a_max) &&
+                ZoneWindow(a, rb.inner_radius_m, rb.outer_radius_m, ra.inner_radius_m,
+                           ra.outer_radius_m, r, &w->b_min, &w->b_max);
+    }
+    const double a_min = w ? w->a_min : 0, a_max = w ? w->a_max : 0;
+    const double b_min = w ? w->b_min : 0, b_max = w ? w->b_max : 0;
+    if (parallel && a > 0 && w->meet) {
       stats_.zone_parts_a =
           FlagZoneParts(ra, std::atan2(o_b.y(), o_b.x()), a_min, a_max,
                         reach / std::max(ra.inner_radius_m, 1e-12), &m.zone_a);

@@ -111,8 +111,8 @@ class CandidateSearch {
   int suggested_capacity() const;
 
   // Stage 1: poses of the bodies of A and B in the world; lists the part pairs whose spheres
-  // are within d + s.
-  void UpdateBroadPhase(const Transform& X_WA, const Transform& X_WB);
+  // are within d + s (+ extra_reach_m, and the mesh zone grown by as much).
+  void UpdateBroadPhase(const Transform& X_WA, const Transform& X_WB, double extra_reach_m = 0);
   // The part pairs (part of A, part of B) of the last UpdateBroadPhase().
   const std::vector<std::pair<int, int>>& part_pairs() const;
   // Stage 2: triangle pairs of the part pairs of the last UpdateBroadPhase(); clears *pairs.

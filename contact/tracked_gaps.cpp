@@ -80,7 +80,9 @@ TrackedGaps::Pass::Pass(const ContactSurface& node_surface)
     : face(node_surface.num_vertices(), -1),
       reach(node_surface.num_vertices(), 0.0),
       distance(node_surface.num_vertices(), 0.0),
-      stamp(node_surface.num_vertices(), 0.0) {}
+      odometer_reach(node_surface.num_vertices(), 0.0),
+      stamp(node_surface.num_vertices(), 0.0),
+      stamp_position(node_surface.num_vertices(), Vec3::Zero()) {}
 
 TrackedGaps::TrackedGaps(const ContactSurface& surface_a, const ContactSurface& surface_b)
     : a_(surface_a), b_(surface_b), search_(surface_a, surface_b), pass_a_(surface_a),
@@ -88,14 +90,21 @@ TrackedGaps::TrackedGaps(const ContactSurface& surface_a, const ContactSurface& 
   const size_t all_pairs = static_cast<size_t>(a_.num_parts()) * b_.num_parts();
   tracked_.reserve(all_pairs);
   next_.reserve(all_pairs);
+  keep_.reserve(all_pairs);
+  by_part_.reserve(all_pairs);
   partners_.reserve(std::max(a_.num_parts(), b_.num_parts()));
   active_b_.assign(b_.num_parts(), 0);
+  odometer_a_.assign(a_.num_parts(), 0.0);
+  odometer_b_.assign(b_.num_parts(), 0.0);
+  motion_a_.assign(a_.num_parts(), 0.0);
+  motion_b_.assign(b_.num_parts(), 0.0);
 }
 
 void TrackedGaps::Reset() {
   for (Pass* pass : {&pass_a_, &pass_b_}) {
     std::fill(pass->face.begin(), pass->face.end(), -1);
     std::fill(pass->reach.begin(), pass->reach.end(), 0.0);
+    std::fill(pass->odometer_reach.begin(), pass->odometer_reach.end(), 0.0);
   }
 }
 
@@ -104,6 +113,7 @@ void TrackedGaps::ResetPart(Pass& pass, const ContactSurface& node_surface, int 
        v < node_surface.part_vertex_start()[part + 1]; ++v) {
     pass.face[v] = -1;
     pass.reach[v] = 0;
+    pass.odometer_reach[v] = 0;
   }
 }
 
@@ -118,19 +128,18 @@ double TrackedGaps::PartMotion(int part_b, const Transform& X_AB0,
 void TrackedGaps::Update(const Transform& X_WA, const Transform& X_WB,
                          std::vector<NodeGap>* gaps_a, std::vector<NodeGap>* gaps_b) {
   const Transform X_AB = X_WA.Inverse() * X_WB;
-  const double d = search_.search_distance_m(), s = search_.slack_m();
+  const double s = search_.slack_m();
 
-  // Tracked pairs: the broad phase's, plus tracked pairs still within d + 2 s.
+  // Tracked pairs: the broad phase's, plus tracked pairs still in the broad phase grown by s.
+  search_.UpdateBroadPhase(X_WA, X_WB, s);
+  keep_.assign(search_.part_pairs().begin(), search_.part_pairs().end());
   search_.UpdateBroadPhase(X_WA, X_WB);
   const auto& broad = search_.part_pairs();  // sorted: A's part, then B's
   next_.assign(broad.begin(), broad.end());
-  for (const auto& pair : tracked_) {
-    if (std::binary_search(broad.begin(), broad.end(), pair)) continue;
-    const double r = a_.part_radii()[pair.first] + b_.part_radii()[pair.second] + d + 2 * s;
-    if ((X_AB * b_.part_centers()[pair.second] - a_.part_centers()[pair.first]).squaredNorm() <=
-        r * r)
+  for (const auto& pair : tracked_)
+    if (!std::binary_search(broad.begin(), broad.end(), pair) &&
+        std::binary_search(keep_.begin(), keep_.end(), pair))
       next_.push_back(pair);
-  }
   std::sort(next_.begin(), next_.end());
   // Pairs that joined or left: their parts' nodes start again.
   auto changed = [&](const std::pair<int, int>& pair) {
@@ -146,20 +155,28 @@ void TrackedGaps::Update(const Transform& X_WA, const Transform& X_WB,
   std::fill(active_b_.begin(), active_b_.end(), 0);
   for (const auto& pair : tracked_) active_b_[pair.second] = 1;
 
-  // Odometer: the largest motion of a tracked part of B since the last call.
+  // Odometers: each tracked part of B adds its motion since the last call, each part of A the
+  // largest motion of its partners.
   if (have_previous_) {
-    double motion = 0;
-    for (int j = 0; j < b_.num_parts(); ++j)
-      if (active_b_[j]) motion = std::max(motion, PartMotion(j, X_AB_previous_, X_AB));
-    odometer_ += motion;
-    stats_.max_motion_between_calls_m = std::max(stats_.max_motion_between_calls_m, motion);
+    double largest = 0;
+    for (int j = 0; j < b_.num_parts(); ++j) {
+      motion_b_[j] = active_b_[j] ? PartMotion(j, X_AB_previous_, X_AB) : 0.0;
+      odometer_b_[j] += motion_b_[j];
+      largest = std::max(largest, motion_b_[j]);
+    }
+    std::fill(motion_a_.begin(), motion_a_.end(), 0.0);
+    for (const auto& [pa, pb] : tracked_) motion_a_[pa] = std::max(motion_a_[pa], motion_b_[pb]);
+    for (int i = 0; i < a_.num_parts(); ++i) odometer_a_[i] += motion_a_[i];
+    odometer_ += largest;
+    stats_.max_motion_between_calls_m = std::max(stats_.max_motion_between_calls_m, largest);
   }
   X_AB_previous_ = X_AB;
   have_previous_ = true;
 
   stats_.evaluated_nodes = stats_.seeded_nodes = 0;
-  RunPass(a_, b_, X_WB.Inverse() * X_WA, X_WB, /*nodes_are_a=*/true, pass_a_, gaps_a);
-  RunPass(b_, a_, X_AB, X_WA, /*nodes_are_a=*/false, pass_b_, gaps_b);
+  RunPass(a_, b_, X_WB.Inverse() * X_WA, X_WB, /*nodes_are_a=*/true, odometer_a_, pass_a_,
+          gaps_a);
+  RunPass(b_, a_, X_AB, X_WA, /*nodes_are_a=*/false, odometer_b_, pass_b_, gaps_b);
   stats_.tracked_pairs = static_cast<int>(tracked_.size());
   stats_.odometer_m = odometer_;
   ++stats_.updates;
@@ -167,23 +184,39 @@ void TrackedGaps::Update(const Transform& X_WA, const Transform& X_WB,
 
 void TrackedGaps::RunPass(const ContactSurface& node_surface, const ContactSurface& face_surface,
                           const Transform& X_FN, const Transform& X_WF, bool nodes_are_a,
-                          Pass& pass, std::vector<NodeGap>* gaps) {
+                          const std::vector<double>& odometers, Pass& pass,
+                          std::vector<NodeGap>* gaps) {
   gaps->clear();
   const double d = search_.search_distance_m();
   const double walk_reach = d + search_.slack_m();
   const auto& nodes = node_surface.vertices();
-  const int num_parts = node_surface.num_parts();
-  for (int part = 0; part < num_parts; ++part) {
-    // The face surface's parts paired with this part (none: the part is not tracked).
+  // The tracked parts of the node surface in increasing order, each with its partners (the face
+  // surface's parts paired with it): tracked_ is sorted by A's part; B's parts are gathered.
+  by_part_.clear();
+  for (const auto& [pa, pb] : tracked_)
+    by_part_.emplace_back(nodes_are_a ? pa : pb, nodes_are_a ? pb : pa);
+  if (!nodes_are_a) std::sort(by_part_.begin(), by_part_.end());
+  for (size_t k = 0; k < by_part_.size();) {
+    const int part = by_part_[k].first;
     partners_.clear();
-    for (const auto& [pa, pb] : tracked_)
-      if ((nodes_are_a ? pa : pb) == part) partners_.push_back(nodes_are_a ? pb : pa);
-    if (partners_.empty()) continue;
+    for (; k < by_part_.size() && by_part_[k].first == part; ++k)
+      partners_.push_back(by_part_[k].second);
+    const double odometer = odometers[part];
     const int v_end = node_surface.part_vertex_start()[part + 1];
     for (int v = node_surface.part_vertex_start()[part]; v < v_end; ++v) {
-      // Asleep: the surfaces have not moved far enough for this node to touch.
-      if (pass.reach[v] > odometer_ - pass.stamp[v]) continue;
+      // Asleep: the surfaces have not moved far enough for this node to touch, by the part's
+      // odometer, or else by the node's own displacement in the face frame since its stamp.
+      if (pass.odometer_reach[v] > odometer - pass.stamp[v]) continue;
       const Vec3 p = X_FN * nodes[v];
+      if (pass.reach[v] > 0) {
+        const double moved = (p - pass.stamp_position[v]).norm();
+        if (moved < pass.reach[v]) {
+          // Still out of reach: the odometer may now advance by what is left before a look.
+          pass.odometer_reach[v] = pass.reach[v] - moved;
+          pass.stamp[v] = odometer;
+          continue;
+        }
+      }
       ClosestFace best;
       bool search = pass.face[v] < 0 || pass.distance[v] > walk_reach;
       if (pass.face[v] >= 0) {
@@ -209,10 +242,12 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const ContactSurfa
       NodeGap g = NodeGapFromClosest(face_surface, best.face, p, best.point.point,
                                      best.point.feature);
       pass.face[v] = best.face;
-      pass.stamp[v] = odometer_;
+      pass.stamp[v] = odometer;
+      pass.stamp_position[v] = p;
       pass.reach[v] = !g.on_surface ? std::max(0.0, std::sqrt(best.d2) - d)
                       : g.gap > 0     ? g.gap
                                       : 0.0;
+      pass.odometer_reach[v] = pass.reach[v];
       pass.distance[v] = std::sqrt(best.d2);
       if (best.d2 > d * d) continue;
       g.node = v;

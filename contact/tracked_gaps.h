@@ -12,21 +12,25 @@
 //
 // What is kept (per pass: the nodes of one surface against the faces of the other):
 //   - the tracked part pairs: the broad phase of CandidateSearch (mesh zone and part spheres
-//     within d + s), plus pairs already tracked whose spheres stay within d + 2 s (so a pair at
-//     the edge of the zone does not come and go between Newton iterations). A node is tracked
+//     within d + s), plus pairs already tracked that stay in the broad phase grown by s (so a
+//     pair at the edge of the zone does not come and go between Newton iterations). A node is tracked
 //     while its part is in a tracked pair; its faces are searched in the paired parts only;
 //   - per node: its closest face at its last evaluation, its distance to it then, the reach D
 //     (that distance; 0 when it penetrated; the distance less d when it lay beyond the rim),
 //     and the odometer reading then;
-//   - the odometer: the sum over evaluations of the largest motion of a tracked part of B in A's
-//     frame since the previous evaluation. For a part with box centre c and half-extents h (B's
-//     frame), from relative pose (R0, p0) to (R1, p1):
+//   - an odometer per part: a part of B adds up its own motion in A's frame from one evaluation
+//     to the next (what moves its nodes against A's faces), a part of A the largest motion of
+//     the parts of B it is paired with (what moves their faces against its nodes). For a part
+//     with box centre c and half-extents h (B's frame), from relative pose (R0, p0) to (R1, p1):
 //        delta = sum_k |(R1 - R0) e_k| h_k + |(R1 - R0) c + p1 - p0|,
 //     a bound on the motion of every point of the part (the axial extent of a gear tooth drops
 //     out for rotations about the gear axis, and the bound is about the tooth, not the gear).
-// At an evaluation a node is skipped while the odometer has advanced by less than its D: a
-// node outside the other surface at distance D cannot reach it by a relative motion shorter
-// than D (the distance is 1-Lipschitz in the motion). Beyond the rim a node may pass round it
+// At an evaluation a node is skipped while its part's odometer has advanced by less than its D,
+// or else while its own displacement in the face surface's frame since its last evaluation is
+// below D (one transform; the odometer sums bounds along the way, the displacement is the
+// chord; after such a look the odometer may advance by D less the displacement before the
+// next): a node outside the other surface at distance D cannot reach it by a relative motion
+// shorter than D (the distance is 1-Lipschitz in the node's position). Beyond the rim a node may pass round it
 // and come to lie under a face, at a depth no less than its distance D less the motion: after a
 // motion below D - d it can only lie deeper than d, where neither path sees nodes. Otherwise:
 //   - walk: from the node's face, move to the closest of the faces across its edges (and around
@@ -67,7 +71,7 @@ struct TrackedGapStats {
   long seeds = 0;               // since construction
   long walk_steps = 0;          // face changes by walking, since construction
   long pair_changes = 0;        // pairs that joined or left, since construction
-  double odometer_m = 0;        // sum of the per-call motion bounds
+  double odometer_m = 0;        // sum of the per-call largest part motion bounds
   double max_motion_between_calls_m = 0;  // largest per-call motion bound (tracked parts of B)
 };
 
@@ -95,24 +99,29 @@ class TrackedGaps {
     std::vector<int> face;        // tracked closest face (-1: none)
     std::vector<double> reach;    // D of the header (m)
     std::vector<double> distance; // to the closest face at the last evaluation (m)
-    std::vector<double> stamp;    // odometer at the last evaluation (m)
+    std::vector<double> odometer_reach;  // what the odometer may advance from stamp unseen (m)
+    std::vector<double> stamp;    // odometer at the last evaluation or look (m)
+    std::vector<Vec3> stamp_position;  // the node in the face frame at the last evaluation
   };
   void ResetPart(Pass& pass, const ContactSurface& node_surface, int part);
   void RunPass(const ContactSurface& node_surface, const ContactSurface& face_surface,
-               const Transform& X_FN, const Transform& X_WF, bool nodes_are_a, Pass& pass,
-               std::vector<NodeGap>* gaps);
+               const Transform& X_FN, const Transform& X_WF, bool nodes_are_a,
+               const std::vector<double>& odometers, Pass& pass, std::vector<NodeGap>* gaps);
   double PartMotion(int part_b, const Transform& X_AB0, const Transform& X_AB1) const;
 
   const ContactSurface& a_;
   const ContactSurface& b_;
   CandidateSearch search_;                 // its broad phase
-  std::vector<std::pair<int, int>> tracked_, next_;  // sorted (part of A, part of B)
+  std::vector<std::pair<int, int>> tracked_, next_, keep_;  // sorted (part of A, part of B)
   std::vector<int> partners_;              // scratch: parts paired with one part
+  std::vector<std::pair<int, int>> by_part_;  // scratch: (node part, face part), sorted
   std::vector<char> active_b_;             // #parts of B: in a tracked pair
   Pass pass_a_, pass_b_;
   Transform X_AB_previous_;
   bool have_previous_ = false;
-  double odometer_ = 0;
+  double odometer_ = 0;                    // largest part motion per call, summed (stats)
+  // Per part (tracked_gaps.h): B's parts their own motion, A's parts their partners' largest.
+  std::vector<double> odometer_a_, odometer_b_, motion_a_, motion_b_;
   TrackedGapStats stats_;
 };
 
