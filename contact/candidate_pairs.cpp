@@ -336,20 +336,27 @@ const std::vector<std::pair<int, int>>& CandidateSearch::part_pairs() const {
 
 void FindClosestFaceInPart(const ContactSurface& surface, int part, const Vec3& p,
                            ClosestFace* best) {
+  FindClosestFaceInPart(surface, part, p, best, surface.vertices(), 0.0);
+}
+
+void FindClosestFaceInPart(const ContactSurface& surface, int part, const Vec3& p,
+                           ClosestFace* best, const std::vector<Vec3>& v, double deformation_m) {
   const Bvh& bvh = *surface.culling().parts[part];
   const int t0 = surface.part_triangle_start()[part];
   const auto& tris = surface.triangles();
-  const auto& v = surface.vertices();
   // Squared distance from p to a node's oriented box as built (0 inside): the boxes were
   // inflated by `inflate` for the pair search, which would loosen the bound here.
   const double inflate = surface.culling().inflate;
   auto box_d2 = [&](int node) {
     const fcl::OBBd& obb = bvh.getBV(node).bv.obb;
     const Vec3 local = obb.axis.transpose() * (p - obb.To);
-    return (local.cwiseAbs().array() - (obb.extent.array() - inflate))
-        .cwiseMax(0.0)
-        .matrix()
-        .squaredNorm();
+    const double d2 = (local.cwiseAbs().array() - (obb.extent.array() - inflate))
+                          .cwiseMax(0.0)
+                          .matrix()
+                          .squaredNorm();
+    if (deformation_m == 0) return d2;
+    const double d = std::max(0.0, std::sqrt(d2) - deformation_m);
+    return d * d;
   };
   // Depth-first, nearer child first; a node is skipped when its box is farther than the best.
   // FCL's hierarchies are binary and balanced (depth about log2 #triangles), so 128 entries

@@ -93,6 +93,11 @@ struct ClosestFace {
 // the closest over all with ties to the lowest index. No allocation.
 void FindClosestFaceInPart(const ContactSurface& surface, int part, const Vec3& p,
                            ClosestFace* best);
+// The same over deformed vertices (#V, body frame) that lie within `deformation_m` of the
+// surface's own (the boxes' bounds are lowered by it).
+void FindClosestFaceInPart(const ContactSurface& surface, int part, const Vec3& p,
+                           ClosestFace* best, const std::vector<Vec3>& vertices,
+                           double deformation_m);
 
 class CandidateSearch {
  public:

@@ -32,10 +32,13 @@ ContactSideBuffers::ContactSideBuffers(const ContactSide& side)
   displacement = Eigen::VectorXd::Zero(3 * nv);
   velocity = Eigen::VectorXd::Zero(side.flexible ? 3 * nv : 0);
   modal_force = Eigen::VectorXd::Zero(nf);
+  q_previous = Eigen::VectorXd::Zero(nf);
+  dq = Eigen::VectorXd::Zero(nf);
 }
 
 FlexibleContactWorkspace::FlexibleContactWorkspace(const ContactSide& a, const ContactSide& b)
-    : search(a.surface(), b.surface()),
+    : tracked(a.surface(), b.surface()),
+      search(a.surface(), b.surface()),
       scratch_a(a.surface()),
       scratch_b(b.surface()),
       side_a(a),
@@ -88,9 +91,18 @@ void FlexibleContactElement::Evaluate(const ContactSideState& a, const ContactSi
   // Deformation bounds, deformed vertices and normals of the flexible sides.
   auto deform = [&](const ContactSide& side, const ContactSideState& st, ContactSideBuffers& buf) {
     buf.deformation_bound = 0;
+    buf.deformation_change = 0;
     if (!side.flexible || !st.q_f || st.q_f->size() == 0) return;
     const FlexibleContactSurface& fs = *side.flexible;
     buf.deformation_bound = fs.DeformationBound(*st.q_f);
+    // How far any vertex moved by deformation since the last evaluation (tracked gaps).
+    if (buf.have_previous) {
+      buf.dq = *st.q_f;
+      buf.dq -= buf.q_previous;
+      buf.deformation_change = fs.DeformationBound(buf.dq);
+    }
+    buf.q_previous = *st.q_f;
+    buf.have_previous = true;
     if (buf.deformation_bound > fs.spec().deformation_allowance_m) ++ws.inflation_exceeded;
     fs.Deform(*st.q_f, &buf.displacement, &buf.vertices, &buf.normals);
     if (st.q_f_dot)
@@ -102,18 +114,33 @@ void FlexibleContactElement::Evaluate(const ContactSideState& a, const ContactSi
   deform(spec_.b, b, ws.side_b);
   const ContactSurface& sa = spec_.a.surface();
   const ContactSurface& sb = spec_.b.surface();
-  // Candidates of the undeformed surfaces.
-  ws.searched = ws.search.Find(a.X_WB, b.X_WB, &ws.pairs);
-  if (ws.searched) {
-    ListNodeFaceCandidates(sa, ws.pairs, /*nodes_are_a=*/true, &ws.scratch_a, &ws.node_faces_a);
-    ListNodeFaceCandidates(sb, ws.pairs, /*nodes_are_a=*/false, &ws.scratch_b, &ws.node_faces_b);
-  }
-  // Deformed gaps both ways.
   const double d = 0.5 * (spec_.a.gap_margin_m() + spec_.b.gap_margin_m());
-  ComputeNodeGapsFromCandidates(sa, ws.side_a.vertices, a.X_WB, sb, ws.side_b.vertices,
-                                ws.side_b.normals, b.X_WB, ws.node_faces_a, d, &ws.gaps_a);
-  ComputeNodeGapsFromCandidates(sb, ws.side_b.vertices, b.X_WB, sa, ws.side_a.vertices,
-                                ws.side_a.normals, a.X_WB, ws.node_faces_b, d, &ws.gaps_b);
+  ws.searched = false;
+  if (spec_.gap_method == ContactGapMethod::kTracked) {
+    // Deformed gaps both ways, tracked node by node (tracked_gaps.h).
+    auto side = [](const ContactSideBuffers& buf) {
+      return TrackedGaps::TrackedSide{.vertices = &buf.vertices,
+                                      .normals = &buf.normals,
+                                      .deformation_m = buf.deformation_bound,
+                                      .deformation_change_m = buf.deformation_change};
+    };
+    ws.tracked.Update(a.X_WB, b.X_WB, side(ws.side_a), side(ws.side_b), d, &ws.gaps_a,
+                      &ws.gaps_b);
+  } else {
+    // Candidates of the undeformed surfaces.
+    ws.searched = ws.search.Find(a.X_WB, b.X_WB, &ws.pairs);
+    if (ws.searched) {
+      ListNodeFaceCandidates(sa, ws.pairs, /*nodes_are_a=*/true, &ws.scratch_a,
+                             &ws.node_faces_a);
+      ListNodeFaceCandidates(sb, ws.pairs, /*nodes_are_a=*/false, &ws.scratch_b,
+                             &ws.node_faces_b);
+    }
+    // Deformed gaps both ways.
+    ComputeNodeGapsFromCandidates(sa, ws.side_a.vertices, a.X_WB, sb, ws.side_b.vertices,
+                                  ws.side_b.normals, b.X_WB, ws.node_faces_a, d, &ws.gaps_a);
+    ComputeNodeGapsFromCandidates(sb, ws.side_b.vertices, b.X_WB, sa, ws.side_a.vertices,
+                                  ws.side_a.normals, a.X_WB, ws.node_faces_b, d, &ws.gaps_b);
+  }
 
   // Forces.
   for (ContactSideBuffers* buf : {&ws.side_a, &ws.side_b}) {

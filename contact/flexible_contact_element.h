@@ -10,8 +10,10 @@
 //      inflation_exceeded and reported as an output (the surfaces must then be rebuilt with a
 //      larger deformation_allowance_m; the step goes on with the pairs it has);
 //   2. deformed vertices s_P + Phi_P q_f and deformed face normals of each flexible side;
-//   3. candidate pairs of the UNDEFORMED surfaces (candidate_pairs.h; kept while the rigid
-//      relative motion is within the slack), their node-face lists per pass;
+//   3. (gap_method kCandidatePairs) candidate pairs of the UNDEFORMED surfaces
+//      (candidate_pairs.h; kept while the rigid relative motion is within the slack), their
+//      node-face lists per pass; with kTracked (the default) stages 3-4 are tracked_gaps.h over
+//      the deformed vertices and normals;
 //   4. signed gaps both ways with the deformed positions on both sides (signed_gap.h, explicit
 //      vertices), listed within d = (g_A + g_B) / 2, g the gap margin of a flexible side and the
 //      margin of a rigid one;
@@ -49,6 +51,7 @@
 #include <Eigen/Core>
 
 #include "contact/candidate_pairs.h"
+#include "contact/contact_element.h"
 #include "contact/contact_law.h"
 #include "contact/contact_surface.h"
 #include "contact/flexible_contact_surface.h"
@@ -73,6 +76,10 @@ struct FlexibleContactElementSpec {
   std::string name;
   ContactSide a, b;
   ContactLaw law;
+  // Stages 3-4 (header): kTracked tracks each node's closest deformed face (tracked_gaps.h; the
+  // hierarchies' boxes lowered by the deformation bound, every motion bound raised by the
+  // change of the deformation since the last evaluation); kCandidatePairs as described.
+  ContactGapMethod gap_method = ContactGapMethod::kTracked;
 };
 
 // The state of one side for Evaluate(): pose and spatial velocity (world origin) of the body
@@ -95,13 +102,17 @@ struct ContactSideBuffers {
   Vec6 f_W = Vec6::Zero();      // spatial force on the body, world origin
   Eigen::VectorXd modal_force;  // nf: sum_P Phi_P^T node_force_P
   double deformation_bound = 0; // m
+  double deformation_change = 0;  // m: bound on the vertices' deformation since the last call
+  Eigen::VectorXd q_previous, dq;  // nf: modal coordinates of the last call, scratch
+  bool have_previous = false;
 };
 
 class FlexibleContactWorkspace final : public ExternalForceWorkspace {
  public:
   FlexibleContactWorkspace(const ContactSide& a, const ContactSide& b);
 
-  CandidateSearch search;
+  TrackedGaps tracked;                   // kTracked
+  CandidateSearch search;                // kCandidatePairs
   std::vector<TrianglePair> pairs;
   std::vector<NodeFaceCandidate> node_faces_a, node_faces_b;
   GapScratch scratch_a, scratch_b;

@@ -11,9 +11,11 @@ namespace {
 // Face changes a walk may take before the node is searched exactly instead.
 constexpr int kMaxWalkSteps = 32;
 
-ClosestFace OnFace(const ContactSurface& s, int face, const Vec3& p) {
-  const auto& t = s.triangles()[face];
-  const auto& v = s.vertices();
+using Geometry = TrackedGaps::Geometry;
+
+ClosestFace OnFace(const Geometry& g, int face, const Vec3& p) {
+  const auto& t = g.s.triangles()[face];
+  const auto& v = g.v;
   ClosestFace c;
   c.face = face;
   c.point = ClosestPointOnTriangle(p, v[t[0]], v[t[1]], v[t[2]]);
@@ -40,13 +42,14 @@ bool OnSharedRim(const ContactSurface& s, const ClosestFace& c) {
 // three edges, and around its vertex when the closest point is one, are tried, and the walk
 // moves to the closest (ties to the lower index); a node below its face also tries the faces
 // two edges away before it settles. False if it did not settle within kMaxWalkSteps.
-bool Walk(const ContactSurface& s, const Vec3& p, ClosestFace* current, long* steps) {
+bool Walk(const Geometry& g, const Vec3& p, ClosestFace* current, long* steps) {
+  const ContactSurface& s = g.s;
   const auto& tris = s.triangles();
   for (int step = 0; step < kMaxWalkSteps; ++step) {
     ClosestFace best = *current;
     auto consider = [&](int face) {
       if (face < 0 || face == current->face) return;
-      const ClosestFace c = OnFace(s, face, p);
+      const ClosestFace c = OnFace(g, face, p);
       if (c.d2 < best.d2 || (c.d2 == best.d2 && face < best.face)) best = c;
     };
     for (const int neighbor : s.face_neighbors()[current->face]) consider(neighbor);
@@ -63,7 +66,7 @@ bool Walk(const ContactSurface& s, const Vec3& p, ClosestFace* current, long* st
     // Settled: a node below its face also tries the faces two edges away (where facets of
     // different length meet, such as at the start of the involute, the distance along the
     // profile can dip again one face further on).
-    if (best.face == current->face && (p - current->point.point).dot(s.face_normals()[current->face]) < 0)
+    if (best.face == current->face && (p - current->point.point).dot(g.n[current->face]) < 0)
       for (const int neighbor : s.face_neighbors()[current->face])
         if (neighbor >= 0)
           for (const int second : s.face_neighbors()[neighbor]) consider(second);
@@ -82,7 +85,8 @@ TrackedGaps::Pass::Pass(const ContactSurface& node_surface)
       distance(node_surface.num_vertices(), 0.0),
       odometer_reach(node_surface.num_vertices(), 0.0),
       stamp(node_surface.num_vertices(), 0.0),
-      stamp_position(node_surface.num_vertices(), Vec3::Zero()) {}
+      stamp_position(node_surface.num_vertices(), Vec3::Zero()),
+      stamp_face_deformation(node_surface.num_vertices(), 0.0) {}
 
 TrackedGaps::TrackedGaps(const ContactSurface& surface_a, const ContactSurface& surface_b)
     : a_(surface_a), b_(surface_b), search_(surface_a, surface_b), pass_a_(surface_a),
@@ -127,6 +131,14 @@ double TrackedGaps::PartMotion(int part_b, const Transform& X_AB0,
 
 void TrackedGaps::Update(const Transform& X_WA, const Transform& X_WB,
                          std::vector<NodeGap>* gaps_a, std::vector<NodeGap>* gaps_b) {
+  Update(X_WA, X_WB, {.vertices = &a_.vertices(), .normals = &a_.face_normals()},
+         {.vertices = &b_.vertices(), .normals = &b_.face_normals()},
+         search_.search_distance_m(), gaps_a, gaps_b);
+}
+
+void TrackedGaps::Update(const Transform& X_WA, const Transform& X_WB, const TrackedSide& side_a,
+                         const TrackedSide& side_b, double gap_distance_m,
+                         std::vector<NodeGap>* gaps_a, std::vector<NodeGap>* gaps_b) {
   const Transform X_AB = X_WA.Inverse() * X_WB;
   const double s = search_.slack_m();
 
@@ -157,10 +169,12 @@ void TrackedGaps::Update(const Transform& X_WA, const Transform& X_WB,
 
   // Odometers: each tracked part of B adds its motion since the last call, each part of A the
   // largest motion of its partners.
+  // Deformation (flexible sides) moves vertices by at most each side's change, on top.
+  const double deformation = side_a.deformation_change_m + side_b.deformation_change_m;
   if (have_previous_) {
     double largest = 0;
     for (int j = 0; j < b_.num_parts(); ++j) {
-      motion_b_[j] = active_b_[j] ? PartMotion(j, X_AB_previous_, X_AB) : 0.0;
+      motion_b_[j] = active_b_[j] ? PartMotion(j, X_AB_previous_, X_AB) + deformation : 0.0;
       odometer_b_[j] += motion_b_[j];
       largest = std::max(largest, motion_b_[j]);
     }
@@ -170,26 +184,34 @@ void TrackedGaps::Update(const Transform& X_WA, const Transform& X_WB,
     odometer_ += largest;
     stats_.max_motion_between_calls_m = std::max(stats_.max_motion_between_calls_m, largest);
   }
+  // The faces' own deformation per pass (the look of RunPass measures the node's displacement
+  // in the face frame; the faces move by at most this since a node's stamp).
+  face_deformation_a_ += side_b.deformation_change_m;  // pass A: faces of B
+  face_deformation_b_ += side_a.deformation_change_m;
   X_AB_previous_ = X_AB;
   have_previous_ = true;
 
   stats_.evaluated_nodes = stats_.seeded_nodes = 0;
-  RunPass(a_, b_, X_WB.Inverse() * X_WA, X_WB, /*nodes_are_a=*/true, odometer_a_, pass_a_,
-          gaps_a);
-  RunPass(b_, a_, X_AB, X_WA, /*nodes_are_a=*/false, odometer_b_, pass_b_, gaps_b);
+  RunPass(a_, *side_a.vertices, {b_, *side_b.vertices, *side_b.normals}, side_b.deformation_m,
+          face_deformation_a_, gap_distance_m, X_WB.Inverse() * X_WA, X_WB,
+          /*nodes_are_a=*/true, odometer_a_, pass_a_, gaps_a);
+  RunPass(b_, *side_b.vertices, {a_, *side_a.vertices, *side_a.normals}, side_a.deformation_m,
+          face_deformation_b_, gap_distance_m, X_AB, X_WA, /*nodes_are_a=*/false, odometer_b_,
+          pass_b_, gaps_b);
   stats_.tracked_pairs = static_cast<int>(tracked_.size());
   stats_.odometer_m = odometer_;
   ++stats_.updates;
 }
 
-void TrackedGaps::RunPass(const ContactSurface& node_surface, const ContactSurface& face_surface,
-                          const Transform& X_FN, const Transform& X_WF, bool nodes_are_a,
+void TrackedGaps::RunPass(const ContactSurface& node_surface, const std::vector<Vec3>& nodes,
+                          const Geometry& faces, double face_deformation_m,
+                          double face_deformation_odometer_m, double d, const Transform& X_FN,
+                          const Transform& X_WF, bool nodes_are_a,
                           const std::vector<double>& odometers, Pass& pass,
                           std::vector<NodeGap>* gaps) {
   gaps->clear();
-  const double d = search_.search_distance_m();
+  const ContactSurface& face_surface = faces.s;
   const double walk_reach = d + search_.slack_m();
-  const auto& nodes = node_surface.vertices();
   // The tracked parts of the node surface in increasing order, each with its partners (the face
   // surface's parts paired with it): tracked_ is sorted by A's part; B's parts are gathered.
   by_part_.clear();
@@ -209,7 +231,8 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const ContactSurfa
       if (pass.odometer_reach[v] > odometer - pass.stamp[v]) continue;
       const Vec3 p = X_FN * nodes[v];
       if (pass.reach[v] > 0) {
-        const double moved = (p - pass.stamp_position[v]).norm();
+        const double moved = (p - pass.stamp_position[v]).norm() + face_deformation_odometer_m -
+                             pass.stamp_face_deformation[v];
         if (moved < pass.reach[v]) {
           // Still out of reach: the odometer may now advance by what is left before a look.
           pass.odometer_reach[v] = pass.reach[v] - moved;
@@ -220,30 +243,32 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const ContactSurfa
       ClosestFace best;
       bool search = pass.face[v] < 0 || pass.distance[v] > walk_reach;
       if (pass.face[v] >= 0) {
-        best = OnFace(face_surface, pass.face[v], p);
+        best = OnFace(faces, pass.face[v], p);
         // A walk that ends on its part's rim next to another part may belong in that part.
         if (!search)
-          search = !Walk(face_surface, p, &best, &stats_.walk_steps) ||
+          search = !Walk(faces, p, &best, &stats_.walk_steps) ||
                    OnSharedRim(face_surface, best);
         // Inside the other body the distance has a local minimum on every face the node lies
         // under (a tip corner: flank and tip): deeper than the face's inner reach, the closest
         // needs the search, bounded by the walk's distance.
-        if (!search && (p - best.point.point).dot(face_surface.face_normals()[best.face]) <
+        if (!search && (p - best.point.point).dot(faces.n[best.face]) <
                            -face_surface.face_inner_reach()[best.face])
           search = true;
       }
       if (search) {
-        for (const int part_f : partners_) FindClosestFaceInPart(face_surface, part_f, p, &best);
+        for (const int part_f : partners_)
+          FindClosestFaceInPart(face_surface, part_f, p, &best, faces.v, face_deformation_m);
         ++stats_.seeded_nodes;
         ++stats_.seeds;
       }
       ++stats_.evaluated_nodes;
       ++stats_.node_evaluations;
-      NodeGap g = NodeGapFromClosest(face_surface, best.face, p, best.point.point,
-                                     best.point.feature);
+      NodeGap g = NodeGapFromClosest(face_surface, best.face, faces.n[best.face], p,
+                                     best.point.point, best.point.feature);
       pass.face[v] = best.face;
       pass.stamp[v] = odometer;
       pass.stamp_position[v] = p;
+      pass.stamp_face_deformation[v] = face_deformation_odometer_m;
       pass.reach[v] = !g.on_surface ? std::max(0.0, std::sqrt(best.d2) - d)
                       : g.gap > 0     ? g.gap
                                       : 0.0;
@@ -253,7 +278,7 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const ContactSurfa
       g.node = v;
       g.p_W = X_WF * p;
       g.q_W = X_WF * best.point.point;
-      g.n_W = X_WF.R * face_surface.face_normals()[g.face];
+      g.n_W = X_WF.R * faces.n[g.face];
       gaps->push_back(g);
     }
   }

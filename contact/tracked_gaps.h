@@ -85,8 +85,29 @@ class TrackedGaps {
   // Nodes that cannot touch are left out (their gaps are positive).
   void Update(const Transform& X_WA, const Transform& X_WB, std::vector<NodeGap>* gaps_a,
               std::vector<NodeGap>* gaps_b);
+  // The same with deformed surfaces (flexible_contact_element.h): each side's vertices and
+  // face normals in its body frame (#V and #T of its surface), the largest displacement of a
+  // vertex from the surface's own (the hierarchies' boxes are grown by it), and the largest
+  // change of a vertex since the previous call (added to every motion bound); d the gap
+  // distance.
+  struct TrackedSide {
+    const std::vector<Vec3>* vertices = nullptr;
+    const std::vector<Vec3>* normals = nullptr;
+    double deformation_m = 0;
+    double deformation_change_m = 0;
+  };
+  void Update(const Transform& X_WA, const Transform& X_WB, const TrackedSide& a,
+              const TrackedSide& b, double gap_distance_m, std::vector<NodeGap>* gaps_a,
+              std::vector<NodeGap>* gaps_b);
   // Forget every node's face and distance (the next Update() seeds them all).
   void Reset();
+
+  // A surface as the passes use it: its topology, and its vertices and normals (own or deformed).
+  struct Geometry {
+    const ContactSurface& s;
+    const std::vector<Vec3>& v;  // #V
+    const std::vector<Vec3>& n;  // #T
+  };
 
   double search_distance_m() const { return search_.search_distance_m(); }
   const TrackedGapStats& stats() const { return stats_; }
@@ -102,11 +123,14 @@ class TrackedGaps {
     std::vector<double> odometer_reach;  // what the odometer may advance from stamp unseen (m)
     std::vector<double> stamp;    // odometer at the last evaluation or look (m)
     std::vector<Vec3> stamp_position;  // the node in the face frame at the last evaluation
+    std::vector<double> stamp_face_deformation;  // the pass's face deformation odometer then
   };
   void ResetPart(Pass& pass, const ContactSurface& node_surface, int part);
-  void RunPass(const ContactSurface& node_surface, const ContactSurface& face_surface,
-               const Transform& X_FN, const Transform& X_WF, bool nodes_are_a,
-               const std::vector<double>& odometers, Pass& pass, std::vector<NodeGap>* gaps);
+  void RunPass(const ContactSurface& node_surface, const std::vector<Vec3>& nodes,
+               const Geometry& faces, double face_deformation_m,
+               double face_deformation_odometer_m, double d, const Transform& X_FN,
+               const Transform& X_WF, bool nodes_are_a, const std::vector<double>& odometers,
+               Pass& pass, std::vector<NodeGap>* gaps);
   double PartMotion(int part_b, const Transform& X_AB0, const Transform& X_AB1) const;
 
   const ContactSurface& a_;
@@ -120,6 +144,7 @@ class TrackedGaps {
   Transform X_AB_previous_;
   bool have_previous_ = false;
   double odometer_ = 0;                    // largest part motion per call, summed (stats)
+  double face_deformation_a_ = 0, face_deformation_b_ = 0;  // per pass: faces' deformation, summed
   // Per part (tracked_gaps.h): B's parts their own motion, A's parts their partners' largest.
   std::vector<double> odometer_a_, odometer_b_, motion_a_, motion_b_;
   TrackedGapStats stats_;
