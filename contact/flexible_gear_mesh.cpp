@@ -309,6 +309,32 @@ FlexibleGearBody ReduceGearForContact(const gears::Gear& gear, bool second,
   return body;
 }
 
+GearContactCalibration CalibrateFlexibleGearContact(const gears::GearPair& pair,
+                                                    const gears::GearMaterial& material,
+                                                    double calibration_load_n,
+                                                    const FlexiblePairPenalty& penalty) {
+  if (!(calibration_load_n > 0))
+    throw std::invalid_argument("CalibrateFlexibleGearContact: calibration load must be > 0, got " +
+                                std::to_string(calibration_load_n));
+  if (!(material.youngs_modulus_pa > 0) || !(material.poisson_ratio > -1 && material.poisson_ratio < 0.5))
+    throw std::invalid_argument("CalibrateFlexibleGearContact: invalid material (E " +
+                                std::to_string(material.youngs_modulus_pa) + " Pa, nu " +
+                                std::to_string(material.poisson_ratio) + ")");
+  const double b = pair.face_width_m();
+  // Hertz, then the tooth compliance of each rigid gear at its reference circle.
+  double compliance = 1 / gears::HertzStiffness(b, material, material);
+  auto add_tooth = [&](const gears::Gear& gear, double rim_radius_m) {
+    compliance += gears::CalcToothCompliance(gear, gear.reference_radius_m(), b, material,
+                                             rim_radius_m).total();
+  };
+  if (penalty.rigid1) add_tooth(pair.gear1(), penalty.rim_radius1_m);
+  if (penalty.rigid2) add_tooth(pair.gear2(), penalty.rim_radius2_m);
+  GearContactOptions go;
+  go.single_pair_stiffness_n_per_m = 1 / compliance;
+  go.calibration_load_n = calibration_load_n;
+  return CalibrateGearContact(pair, go);
+}
+
 FlexibleMeshSweep SweepFlexibleGearMesh(const gears::GearPair& pair,
                                         const FlexibleGearMeshOptions& options, double load_n,
                                         int points) {
@@ -322,10 +348,8 @@ FlexibleMeshSweep SweepFlexibleGearMesh(const gears::GearPair& pair,
   const gears::GearMaterial mat{.youngs_modulus_pa = options.fe.material.youngs_modulus_pa,
                                 .poisson_ratio = options.fe.material.poissons_ratio};
   sweep.hertz_stiffness_n_per_m = gears::HertzStiffness(pair.face_width_m(), mat, mat);
-  GearContactOptions go;
-  go.single_pair_stiffness_n_per_m = sweep.hertz_stiffness_n_per_m;
-  go.calibration_load_n = options.calibration_load_n > 0 ? options.calibration_load_n : load_n;
-  const GearContactCalibration cal = CalibrateGearContact(pair, go);
+  const GearContactCalibration cal = CalibrateFlexibleGearContact(
+      pair, mat, options.calibration_load_n > 0 ? options.calibration_load_n : load_n);
   sweep.stiffness_per_area = cal.stiffness_per_area;
   // Reduced gears and their contact surfaces (one part per tooth).
   const FlexibleGearBody g1 = ReduceGearForContact(pair.gear1(), false, options, options.bore_radius1_m);

@@ -62,6 +62,7 @@
 #include "contact/gear_contact.h"
 #include "mbd/flexible_body.h"
 #include "models/gear_fe_mesh.h"
+#include "models/mesh_stiffness.h"
 
 namespace orrery::contact {
 
@@ -131,6 +132,25 @@ struct FlexibleMeshSweep {
   int unconverged_points = 0;
   double max_moment_residual = 0;
 };
+
+// The penalty of a pair with one or two flexible gears (header, "Penalty"): k_A of
+// gear_contact.h (CalibrateGearContact, rho at the pitch point, secant at calibration_load_n)
+// for the single-pair stiffness that the FE models do not hold: the Hertzian line contact k_h
+// (HertzStiffness, equal materials) in series with the whole tooth compliance (bending, shear,
+// axial and fillet foundation, CalcToothCompliance at the reference circle) of each RIGID gear of
+// the pair, whose teeth have no FE model:
+//   1 / k = 1 / k_h + sum over rigid gears (1/k_b + 1/k_s + 1/k_a + 1/k_f).
+// rim_radius_m per gear: the bore (external) or the outer rim radius (internal) of the fillet
+// foundation; <= 0 leaves the foundation out. Both gears flexible: k = k_h (the sweep below).
+// Throws std::invalid_argument for a non-positive load or an invalid material.
+struct FlexiblePairPenalty {
+  bool rigid1 = false, rigid2 = false;   // gears of the pair without an FE model
+  double rim_radius1_m = 0, rim_radius2_m = 0;
+};
+GearContactCalibration CalibrateFlexibleGearContact(const gears::GearPair& pair,
+                                                    const gears::GearMaterial& material,
+                                                    double calibration_load_n,
+                                                    const FlexiblePairPenalty& penalty = {});
 
 // Throws std::invalid_argument for an internal pair, a helical pair, a non-positive load or
 // points < 1; std::runtime_error if Newton fails at a roll angle.

@@ -18,6 +18,34 @@
 // (equal spacing); each ring-planet element carries its own ring surface, so unequal spacing is
 // placed per planet.
 //
+// Flexible planets (TrainModelOptions::flexible_planets, Craig-Bampton-reduced FE gears from the
+// gear mesher, models/gear_fe_mesh.h): their sun-planet and ring-planet branches are
+// FlexibleContactElements (contact/flexible_contact_element.h), the planet side flexible, the
+// sun / ring side the rigid surface of the rigid builder (thinned for backlash as there).
+//   Phasing: the FE teeth are fixed in the body frame B (tooth k on polar angle 2 pi k / z_p), so
+//   the planet's joint starts at the angle delta = planet_rot - (2 pi / z_p) m (m the nearest whole
+//   number of pitches, |delta| <= pi / z_p) instead of 0, and its analytic surface is turned by
+//   the whole pitches 2 pi m / z_p in B: the teeth stand in the world where the rigid planet's
+//   stand at q = 0 (tooth indices of missing_teeth are the rigid builder's gear frame indices).
+//   Axial position: B's origin is the bore master, mid-face (z0 = -b/2 to +b/2 in B); the gear
+//   surfaces of the rigid builder span z in [0, b] of their frames, so every gear frame of a
+//   flexible branch is shifted by z0 (the lowest z of the FE tooth nodes) along the axis: no
+//   change in torsional and planar models; in spatial models that branch's contact acts b/2
+//   lower on the sun and ring than a rigid branch's.
+//   Surface: the planet's analytic tooth outlines (MakeToothSurfaceMesh with the contact's
+//   resolution and flexible.face_intervals across the face) embedded in the FE surface triangles
+//   of the node sets TOOTHk_FLANK_PLUS / _MINUS, TOOTHk_FILLET_PLUS / _MINUS, TOOTHk_TIP and ROOT
+//   (FlexibleContactSurface's embedded form; every one must be in the reduced body, which
+//   `orrery reduce` keeps by default: every surface node and its node sets). Triangles with a
+//   vertex farther than flexible.embed_tolerance_m from those FE triangles are left out (the
+//   chordal error of the FE faces, largest at the fillets); an involute or tip vertex that far
+//   is an error (the reduce input's gear differs from the train's).
+//   Penalty: the local contact compliance only, CalibrateFlexibleGearContact
+//   (contact/flexible_gear_mesh.h): Hertz in series with the rigid gear's own tooth compliance
+//   (its bore bore_to_pitch_ratio r, a ring's rim ring_rim_modules m_n), material
+//   TrainModelOptions::gear_material, secant at the contact's calibration load; the planet's tooth
+//   bending, shear and foundation are in its modes (as far as they hold them).
+//
 // Gear geometry: the train's tooth forms (module, pressure and helix angle; sun right hand,
 // planet left, ring left), face widths and profile shifts from the TrainModelOptions overrides
 // as MakeTrainGearPair, at the pin-circle radius; rings with `ring_addendum_coefficient` and
@@ -53,6 +81,13 @@ struct TrainContactOptions {
     std::vector<int> teeth;
   };
   std::vector<MissingTeeth> missing_teeth;
+  // Flexible planets (header).
+  struct Flexible {
+    int face_intervals = 4;               // across the face width of the planet's surface
+    double embed_tolerance_m = 50e-6;     // analytic vertex to FE triangle
+    double deformation_allowance_m = 50e-6;  // FlexibleContactSurfaceSpec
+  };
+  Flexible flexible;
 };
 
 // One contact element of the model.
@@ -65,6 +100,9 @@ struct TrainContactMesh {
   double transverse_pressure_angle_rad = 0;
   double rotation1_rad = 0, rotation2_rad = 0;  // gear frame in the body frame (about z)
   GearContactCalibration calibration;
+  int flexible_side = 0;              // 0: rigid gears (ContactElement); 1 or 2: that gear is a
+                                      // flexible planet (FlexibleContactElement)
+  double planet_initial_angle_rad = 0;  // flexible: delta of the header
 };
 
 struct TrainContactModel {
@@ -73,8 +111,9 @@ struct TrainContactModel {
 };
 
 // Throws std::invalid_argument for a mesh name that is not in the train, a planet-planet mesh, a
-// flexible planet on a contact mesh, a gear without tooth form, or geometry the gear classes
-// reject (with their reason).
+// gear without tooth form, geometry the gear classes reject (with their reason), a flexible
+// planet whose reduced body lacks a tooth node set or whose FE teeth do not carry the planet's
+// involutes (naming the planet, the set or the distance).
 TrainContactModel BuildTrainContactModel(const gears::PlanetaryTrain& train, int range,
                                          gears::TrainModelOptions options,
                                          const TrainContactOptions& contact);

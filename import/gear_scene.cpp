@@ -506,7 +506,7 @@ void ReadToothContact(const Context& ctx, const std::optional<Item>& item, const
   const auto margin = std::vector<std::pair<std::string, double>>{{"margin", 1.0}, {"margin_um", 1e-6}};
   std::vector<std::string> allowed{"meshes", "involute_intervals", "single_pair_stiffness",
                                    "calibration_load", "hunt_crossley", "friction_coefficient",
-                                   "missing_teeth"};
+                                   "missing_teeth", "flexible"};
   Append(allowed, Names(margin));
   const MapReader m(ctx, *item, allowed);
   if (const auto meshes = m.Find("meshes")) {
@@ -531,6 +531,24 @@ void ReadToothContact(const Context& ctx, const std::optional<Item>& item, const
   c.gear.margin_m = OptScaled(m, margin, c.gear.margin_m, true);
   c.gear.hunt_crossley_s_per_m = OptScaled(m, Plain("hunt_crossley"), 0);
   c.gear.friction_coefficient = OptScaled(m, Plain("friction_coefficient"), 0);
+  // Flexible planets' surfaces (contact/train_contact.h): {face_intervals, embed_tolerance_um,
+  // deformation_allowance_um}.
+  if (const auto f = m.Find("flexible")) {
+    const auto embed = std::vector<std::pair<std::string, double>>{{"embed_tolerance", 1.0},
+                                                                   {"embed_tolerance_um", 1e-6}};
+    const auto allowance = std::vector<std::pair<std::string, double>>{
+        {"deformation_allowance", 1.0}, {"deformation_allowance_um", 1e-6}};
+    std::vector<std::string> keys{"face_intervals"};
+    Append(keys, Names(embed));
+    Append(keys, Names(allowance));
+    const MapReader fm(ctx, *f, keys);
+    if (fm.Has("face_intervals")) {
+      c.flexible.face_intervals = fm.Int("face_intervals", c.flexible.face_intervals);
+      if (c.flexible.face_intervals < 1) ctx.Fail(fm.Need("face_intervals"), "must be >= 1");
+    }
+    c.flexible.embed_tolerance_m = OptScaled(fm, embed, c.flexible.embed_tolerance_m, true);
+    c.flexible.deformation_allowance_m = OptScaled(fm, allowance, c.flexible.deformation_allowance_m);
+  }
   // Broken teeth: [{gear: S.planet, branch: 1, teeth: [0]}] (branch 1-based, planets only).
   for (const Item& it : OneOrMany(ctx, m.Find("missing_teeth"))) {
     const MapReader t(ctx, it, {"gear", "branch", "teeth"});

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <numbers>
 #include <string>
 
@@ -293,6 +294,64 @@ output: {interval: 0.001}
   const Scene s = LoadSceneFromString(
       with("{mesh_model: contact, tooth_contact: {missing_teeth: [{gear: S.planet, branch: 2, teeth: [0]}]}}"), "t.yaml");
   EXPECT_EQ(s.gear_train->contact_meshes.size(), 6u);
+  // The flexible planets' surface options.
+  EXPECT_NE(ErrorOf(with("{mesh_model: contact, tooth_contact: {flexible: {face_intervals: 0}}}"))
+                .find("face_intervals: must be >= 1"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(with("{mesh_model: contact, tooth_contact: {flexible: {embed_tolerance_um: -1}}}"))
+                .find("embed_tolerance_um"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(with("{mesh_model: contact, tooth_contact: {flexible: {face_interval: 2}}}"))
+                .find("face_intervals"),
+            std::string::npos);
+}
+
+// A flexible planet in tooth contact whose reduced body is not the train's planet (15 teeth for
+// the stage's 14) is refused, naming the planet.
+TEST(GearScene, ContactMeshModelRefusesAFlexiblePlanetOfAnotherGear) {
+  const fs::path dir = fs::path(::testing::TempDir()) / "flexible_contact_planet";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  {
+    std::ofstream in(dir / "planet15.yaml");
+    in << "gear: {teeth: 15, module_mm: 4, pressure_angle_deg: 22.5, face_width_mm: 40, bore_diameter_mm: 20}\n"
+          "mesh: {element: hex8, flank_divisions: 2, fillet_divisions: 1, tooth_divisions: 2,\n"
+          "       root_layer_divisions: 1, rim_divisions: 1, face_divisions: 1}\n"
+          "material: {E: 206e9, nu: 0.3, rho: 7850}\n"
+          "interfaces: [{name: bore, node_set: BORE}]\n"
+          "reduction: {modes: 4}\n"
+          "outputs: {stress_modes: false, geometric_stiffness: false}\n";
+  }
+  const std::string text = R"(
+gear_train:
+  stages:
+    - {name: S, type: single_planet, planets: 3, sun: 22, planet: 14, ring: 50, module_mm: 4,
+       pressure_angle_deg: 22.5, face_width_mm: 40}
+  ranges: {steer: []}
+  inputs: [S.ring, S.sun]
+  output: S.carrier
+  input_speeds: [80.6, 10]
+  output_torque: -6000
+  dynamics:
+    mesh_model: contact
+    flexible_planets:
+      S.planet1: {reduced_body: planet15.h5, reduce_input: planet15.yaml}
+solver: {end_time: 0.001}
+output: {interval: 0.001}
+)";
+  {
+    std::ofstream scene(dir / "scene.yaml");
+    scene << text;
+  }
+  std::string error;
+  try {
+    LoadScene((dir / "scene.yaml").string());
+  } catch (const SceneError& e) {
+    error = e.what();
+  }
+  EXPECT_NE(error.find("flexible planet 'S.planet1'"), std::string::npos) << error;
+  EXPECT_NE(error.find("more teeth than the train's planet (14)"), std::string::npos) << error;
+  EXPECT_NE(error.find("scene.yaml"), std::string::npos) << error;
 }
 
 }  // namespace
