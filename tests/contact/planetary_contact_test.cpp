@@ -36,7 +36,8 @@ struct Stage {
   TrainContactModel model;
 };
 
-Stage MakeStage(int zs, int zp, int zr, int involute_intervals) {
+Stage MakeStage(int zs, int zp, int zr, int involute_intervals,
+                double ring_addendum_coefficient = TrainContactOptions{}.ring_addendum_coefficient) {
   gears::PlanetaryTrainBuilder b;
   b.AddSinglePlanetStage({.name = "S", .sun = {zs}, .planet = {zp}, .ring = {zr}, .num_planets = 3,
                           .tooth_form = gears::ToothForm{.normal_module_m = 4e-3,
@@ -56,6 +57,7 @@ Stage MakeStage(int zs, int zp, int zr, int involute_intervals) {
   // Backlash, so that each planet is not squeezed between both ring flanks (zero backlash loads
   // the coast flank too, and the ring-mesh force no longer equals the sun-mesh force).
   c.normal_backlash_m = 20e-6;
+  c.ring_addendum_coefficient = ring_addendum_coefficient;
   c.gear.margin_m = 100e-6;  // the brackets below press up to ~60 um
   s.model = BuildTrainContactModel(*s.train, s.train->RangeIndex("r"), o, c);
   return s;
@@ -160,12 +162,16 @@ double FacetTolerance(const gears::GearPair& pair, int intervals) {
   return tol;
 }
 
-// check_ring_mesh: F_ri = F_si. OPEN: on the 21/15/51 stage the ring-mesh force is 24 % above
-// the sun-mesh force (10741 vs 8628 N at 1000 N m, beyond the facet tolerance), i.e. the ring
-// contact acts off the line of action there (suspected tip or fillet contact of the 0.85 m_n
-// ring addendum with the 15-tooth planet); not yet explained, so it is not asserted there.
-void CheckBalance(const Stage& s, double T, int intervals, bool expect_equal_sharing,
-                  bool check_ring_mesh = true) {
+// F_ri = F_si holds only while every ring contact lies on the line of action. With the builder's
+// default ring addendum 0.85 m_n the 21/15/51 stage meets its equilibrium with the sharp tip
+// corner of an entering ring tooth on the planet's flank at r = 27.44 mm, below the planet's
+// form circle (27.73 mm) and base circle (27.72 mm): contact ahead of the path of contact, which
+// the teeth's deflection under load brings on (real gears have tip relief for it). The unloaded
+// geometry clears (ring tip radius 98.60 mm against 98.43 mm for contact at the form circle),
+// but only by 0.17 mm. That corner's force acts off the line of action and the ring-mesh force
+// came out 24 % above the sun-mesh force (10741 vs 8628 N at 1000 N m). The stage therefore
+// takes a ring addendum of 0.80 m_n, where the ring-mesh force is within 0.6 % of the sun's
+void CheckBalance(const Stage& s, double T, int intervals, bool expect_equal_sharing) {
   const Equilibrium e = Solve(s, T);
   // The contact moment on the sun balances T (solver tolerance of the root finding).
   EXPECT_NEAR(e.sun_moment, -T, 1e-6 * T);
@@ -189,9 +195,7 @@ void CheckBalance(const Stage& s, double T, int intervals, bool expect_equal_sha
               sun_force[2], ring_force[0], ring_force[1], ring_force[2], sun_sum / T - 1, tol);
   // Sun meshes: sum F_N r_bs = T; each planet passes its sun-mesh force to the ring mesh.
   EXPECT_NEAR(sun_sum, T, tol * T);
-  if (check_ring_mesh) {
-    for (int i = 0; i < 3; ++i) EXPECT_NEAR(ring_force[i], sun_force[i], 2 * tol * sun_force[i]);
-  }
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(ring_force[i], sun_force[i], 2 * tol * sun_force[i]);
   // Load sharing: T / (3 r_bs) per planet.
   const double mean = (sun_force[0] + sun_force[1] + sun_force[2]) / 3;
   double spread = 0;
@@ -205,9 +209,9 @@ void CheckBalance(const Stage& s, double T, int intervals, bool expect_equal_sha
 }
 
 TEST(PlanetaryContactTest, TorqueBalanceAndEqualSharingOfAnInPhaseStage) {
-  const Stage s = MakeStage(21, 15, 51, 24);
+  const Stage s = MakeStage(21, 15, 51, 24, /*ring_addendum_coefficient=*/0.80);
   ASSERT_EQ(s.model.contacts.size(), 6u);
-  CheckBalance(s, 1000, 24, true, /*check_ring_mesh=*/false);
+  CheckBalance(s, 1000, 24, true);
 }
 
 TEST(PlanetaryContactTest, TorqueBalanceOfSeed003Stage) {
