@@ -170,7 +170,7 @@ double FacetTolerance(const gears::GearPair& pair, int intervals) {
 // geometry clears (ring tip radius 98.60 mm against 98.43 mm for contact at the form circle),
 // but only by 0.17 mm. That corner's force acts off the line of action and the ring-mesh force
 // came out 24 % above the sun-mesh force (10741 vs 8628 N at 1000 N m). The stage therefore
-// takes a ring addendum of 0.80 m_n, where the ring-mesh force is within 0.6 % of the sun's
+// takes a ring addendum of 0.80 m_n, where the ring-mesh force is within 0.6 % of the sun's.
 void CheckBalance(const Stage& s, double T, int intervals, bool expect_equal_sharing) {
   const Equilibrium e = Solve(s, T);
   // The contact moment on the sun balances T (solver tolerance of the root finding).
