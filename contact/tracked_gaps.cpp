@@ -274,7 +274,7 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const std::vector<
                                       : 0.0;
       pass.odometer_reach[v] = pass.reach[v];
       pass.distance[v] = std::sqrt(best.d2);
-      if (best.d2 > d * d) continue;
+      if (best.d2 > d * d && !(g.gap < 0 && g.on_surface)) continue;
       g.node = v;
       g.p_W = X_WF * p;
       g.q_W = X_WF * best.point.point;

@@ -45,7 +45,9 @@
 //     the node lies under, such as flank and tip at a tip corner), is searched exactly in the paired parts' FCL hierarchies
 //     (FindClosestFaceInPart), the face it had giving the first bound.
 // The gap then follows signed_gap.h (NodeGapFromClosest), and the node is listed when its
-// distance is within d (as the candidate-pair path lists it).
+// distance is within d (as the candidate-pair path lists it) or when it penetrates, however
+// deep: the search is exact, so unlike candidate pairs a penetration beyond the margin (a step
+// that moved the teeth further than the margin) is still seen.
 //
 // A pair that joins or leaves the tracked set resets the nodes of both its parts (they are
 // seeded at their next evaluation). Update() allocates nothing.
@@ -81,8 +83,8 @@ class TrackedGaps {
   TrackedGaps(const ContactSurface& surface_a, const ContactSurface& surface_b);
 
   // The gaps at these poses: *gaps_a the nodes of A on B's faces, *gaps_b the nodes of B on A's
-  // faces, each in increasing node order, every evaluated node within the search distance d.
-  // Nodes that cannot touch are left out (their gaps are positive).
+  // faces, each in increasing node order: every evaluated node within the search distance d and
+  // every penetrating node. Nodes that cannot touch are left out (their gaps are positive).
   void Update(const Transform& X_WA, const Transform& X_WB, std::vector<NodeGap>* gaps_a,
               std::vector<NodeGap>* gaps_b);
   // The same with deformed surfaces (flexible_contact_element.h): each side's vertices and

@@ -143,8 +143,8 @@ Equilibrium Solve(const Stage& s, double T) {
   Equilibrium e;
   e.sun_moment = axial_moment(sun_body);
   for (size_t k = 0; k < m.external_forces.size(); ++k) {
-    double out[4];
-    m.external_forces[k]->GetOutputs(*data.external[k], out);
+    std::vector<double> out(m.external_forces[k]->OutputNames().size());
+    m.external_forces[k]->GetOutputs(*data.external[k], out.data());
     e.mesh_normal_force.push_back(out[0]);
   }
   for (int i = 0; i < 3; ++i) EXPECT_NEAR(axial_moment(planet_body[i]), 0, 1e-6 * T);
