@@ -261,6 +261,13 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const std::vector<
         ++stats_.seeded_nodes;
         ++stats_.seeds;
       }
+      // No face: the node's position is not finite (a diverging Newton iterate); it starts
+      // again at the next evaluation.
+      if (best.face < 0) {
+        pass.face[v] = -1;
+        pass.reach[v] = pass.odometer_reach[v] = 0;
+        continue;
+      }
       ++stats_.evaluated_nodes;
       ++stats_.node_evaluations;
       NodeGap g = NodeGapFromClosest(face_surface, best.face, faces.n[best.face], p,
