@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <tuple>
 #include <utility>
 
 #include "mbd/data.h"
@@ -30,10 +31,11 @@ ContactSideBuffers::ContactSideBuffers(const ContactSide& side)
   const int nv = side.surface().num_vertices();
   const int nf = side.flexible ? side.flexible->nf() : 0;
   displacement = Eigen::VectorXd::Zero(3 * nv);
-  velocity = Eigen::VectorXd::Zero(side.flexible ? 3 * nv : 0);
   modal_force = Eigen::VectorXd::Zero(nf);
   q_previous = Eigen::VectorXd::Zero(nf);
   dq = Eigen::VectorXd::Zero(nf);
+  has_force.assign(nv, 0);
+  forced.reserve(nv);
 }
 
 FlexibleContactWorkspace::FlexibleContactWorkspace(const ContactSide& a, const ContactSide& b)
@@ -104,14 +106,27 @@ void FlexibleContactElement::Evaluate(const ContactSideState& a, const ContactSi
     buf.q_previous = *st.q_f;
     buf.have_previous = true;
     if (buf.deformation_bound > fs.spec().deformation_allowance_m) ++ws.inflation_exceeded;
-    fs.Deform(*st.q_f, &buf.displacement, &buf.vertices, &buf.normals);
-    if (st.q_f_dot)
-      buf.velocity.noalias() = fs.shapes() * *st.q_f_dot;
-    else
-      buf.velocity.setZero();
+    buf.q_f = st.q_f;
+    buf.q_f_dot = st.q_f_dot;
   };
+  for (ContactSideBuffers* buf : {&ws.side_a, &ws.side_b}) buf->q_f = buf->q_f_dot = nullptr;
   deform(spec_.a, a, ws.side_a);
   deform(spec_.b, b, ws.side_b);
+  const bool tracked = spec_.gap_method == ContactGapMethod::kTracked;
+  if (tracked)
+    ws.tracked.TrackPairs(a.X_WB, b.X_WB, ws.side_a.deformation_change,
+                          ws.side_b.deformation_change);
+  // Deformed vertices and normals: of the tracked parts only (the tracked gaps read no others),
+  // or of the whole surface.
+  for (const auto& [side, buf, parts] :
+       {std::tuple{&spec_.a, &ws.side_a, &ws.tracked.tracked_parts_a()},
+        std::tuple{&spec_.b, &ws.side_b, &ws.tracked.tracked_parts_b()}}) {
+    if (!side->flexible || !buf->q_f) continue;
+    if (tracked)
+      side->flexible->DeformParts(*buf->q_f, *parts, &buf->vertices, &buf->normals);
+    else
+      side->flexible->Deform(*buf->q_f, &buf->displacement, &buf->vertices, &buf->normals);
+  }
   const ContactSurface& sa = spec_.a.surface();
   const ContactSurface& sb = spec_.b.surface();
   const double d = 0.5 * (spec_.a.gap_margin_m() + spec_.b.gap_margin_m());
@@ -124,8 +139,8 @@ void FlexibleContactElement::Evaluate(const ContactSideState& a, const ContactSi
                                       .deformation_m = buf.deformation_bound,
                                       .deformation_change_m = buf.deformation_change};
     };
-    ws.tracked.Update(a.X_WB, b.X_WB, side(ws.side_a), side(ws.side_b), d, &ws.gaps_a,
-                      &ws.gaps_b);
+    ws.tracked.ComputeGaps(a.X_WB, b.X_WB, side(ws.side_a), side(ws.side_b), d, &ws.gaps_a,
+                           &ws.gaps_b);
   } else {
     // Candidates of the undeformed surfaces.
     ws.searched = ws.search.Find(a.X_WB, b.X_WB, &ws.pairs);
@@ -145,19 +160,35 @@ void FlexibleContactElement::Evaluate(const ContactSideState& a, const ContactSi
   // Forces.
   for (ContactSideBuffers* buf : {&ws.side_a, &ws.side_b}) {
     buf->f_W.setZero();
-    std::fill(buf->node_force.begin(), buf->node_force.end(), Vec3::Zero());
+    for (const int i : buf->forced) {
+      buf->node_force[i].setZero();
+      buf->has_force[i] = 0;
+    }
+    buf->forced.clear();
   }
   ws.energy = ws.power_dissipated = 0;
   ws.normal_force = ws.friction_force = ws.max_penetration = 0;
   ws.contact_points = 0;
-  // Velocity (world) of a vertex's material point from the body motion and the deformation rate.
-  auto vertex_rate = [](const ContactSideBuffers& buf, const ContactSideState& st, int i) {
-    return buf.velocity.size() ? Vec3(st.X_WB.R * buf.velocity.segment<3>(3 * i)) : Vec3::Zero();
+  // Velocity (world) of a vertex's deformation rate, R Phi_P q_f-dot.
+  auto vertex_rate = [](const ContactSide& side, const ContactSideBuffers& buf,
+                        const ContactSideState& st, int i) {
+    if (!side.flexible || !buf.q_f_dot) return Vec3(Vec3::Zero());
+    return Vec3(st.X_WB.R * side.flexible->VertexShapeTimes(i, *buf.q_f_dot));
+  };
+  // A vertex force (body frame), remembering the vertex for the modal forces and the reset.
+  auto add_vertex_force = [](ContactSideBuffers& buf, int i, const Vec3& f_B) {
+    if (!buf.has_force[i]) {
+      buf.has_force[i] = 1;
+      buf.forced.push_back(i);
+    }
+    buf.node_force[i] += f_B;
   };
   // One pass: nodes of side N against faces of side F; the force acts on N.
-  auto pass = [&](const std::vector<NodeGap>& gaps, const ContactSurface& node_surface,
-                  const ContactSurface& face_surface, const ContactSideState& N,
+  auto pass = [&](const std::vector<NodeGap>& gaps, const ContactSide& node_side,
+                  const ContactSide& face_side, const ContactSideState& N,
                   const ContactSideState& F, ContactSideBuffers& bn, ContactSideBuffers& bf) {
+    const ContactSurface& node_surface = node_side.surface();
+    const ContactSurface& face_surface = face_side.surface();
     const auto& face_tris = face_surface.triangles();
     const Transform X_FW = F.X_WB.Inverse();
     for (const NodeGap& g : gaps) {
@@ -167,8 +198,9 @@ void FlexibleContactElement::Evaluate(const ContactSideState& a, const ContactSi
       const Vec3 w = Barycentric(X_FW * g.q_W, bf.vertices[tri[0]], bf.vertices[tri[1]],
                                  bf.vertices[tri[2]]);
       Vec3 v_face = PointVelocity(F.V_WB, g.p_W);
-      for (int k = 0; k < 3; ++k) v_face += w(k) * vertex_rate(bf, F, tri[k]);
-      const Vec3 v_rel = PointVelocity(N.V_WB, g.p_W) + vertex_rate(bn, N, g.node) - v_face;
+      for (int k = 0; k < 3; ++k) v_face += w(k) * vertex_rate(face_side, bf, F, tri[k]);
+      const Vec3 v_rel =
+          PointVelocity(N.V_WB, g.p_W) + vertex_rate(node_side, bn, N, g.node) - v_face;
       const double depth = -g.gap;
       const NodeForce f = EvaluateContactLaw(spec_.law, depth, -v_rel.dot(g.n_W), g.n_W, v_rel,
                                              0.5 * node_surface.vertex_areas()[g.node]);
@@ -176,9 +208,9 @@ void FlexibleContactElement::Evaluate(const ContactSideState& a, const ContactSi
       const Vec6 wrench = ForceAtPoint(g.p_W, f.f_W);
       bn.f_W += wrench;
       bf.f_W -= wrench;
-      bn.node_force[g.node] += N.X_WB.R.transpose() * f.f_W;
+      add_vertex_force(bn, g.node, N.X_WB.R.transpose() * f.f_W);
       const Vec3 f_F = F.X_WB.R.transpose() * f.f_W;
-      for (int k = 0; k < 3; ++k) bf.node_force[tri[k]] -= w(k) * f_F;
+      for (int k = 0; k < 3; ++k) add_vertex_force(bf, tri[k], -w(k) * f_F);
       ws.energy += f.energy;
       ws.power_dissipated += f.power_dissipated;
       ws.normal_force += f.normal;
@@ -187,14 +219,13 @@ void FlexibleContactElement::Evaluate(const ContactSideState& a, const ContactSi
       ++ws.contact_points;
     }
   };
-  pass(ws.gaps_a, sa, sb, a, b, ws.side_a, ws.side_b);
-  pass(ws.gaps_b, sb, sa, b, a, ws.side_b, ws.side_a);
+  pass(ws.gaps_a, spec_.a, spec_.b, a, b, ws.side_a, ws.side_b);
+  pass(ws.gaps_b, spec_.b, spec_.a, b, a, ws.side_b, ws.side_a);
   // Modal forces Q = sum_P Phi_P^T F_P.
   for (const auto& [side, buf] : {std::pair{&spec_.a, &ws.side_a}, std::pair{&spec_.b, &ws.side_b}}) {
     if (!side->flexible) continue;
-    const Eigen::Map<const Eigen::VectorXd> forces(buf->node_force[0].data(),
-                                                   3 * static_cast<Eigen::Index>(buf->node_force.size()));
-    buf->modal_force.noalias() = side->flexible->shapes().transpose() * forces;
+    buf->modal_force.setZero();
+    for (const int i : buf->forced) side->flexible->AddVertexForce(i, buf->node_force[i], &buf->modal_force);
   }
 }
 

@@ -94,10 +94,11 @@ struct ContactSideState {
 // Per side of one workspace.
 struct ContactSideBuffers {
   explicit ContactSideBuffers(const ContactSide& side);
-  std::vector<Vec3> vertices;   // #V: deformed vertices (B); the undeformed ones for a rigid side
+  // #V: deformed vertices (B); the undeformed ones for a rigid side. With tracked gaps only the
+  // tracked parts' are current (the others keep older positions and are not read).
+  std::vector<Vec3> vertices;
   std::vector<Vec3> normals;    // #T: deformed face normals (B)
-  Eigen::VectorXd displacement; // 3 #V: Phi q_f (flexible)
-  Eigen::VectorXd velocity;     // 3 #V: Phi q_f-dot (flexible)
+  Eigen::VectorXd displacement; // 3 #V: Phi q_f (flexible, candidate pairs)
   std::vector<Vec3> node_force; // #V: contact force on each vertex, body frame (N)
   Vec6 f_W = Vec6::Zero();      // spatial force on the body, world origin
   Eigen::VectorXd modal_force;  // nf: sum_P Phi_P^T node_force_P
@@ -105,6 +106,10 @@ struct ContactSideBuffers {
   double deformation_change = 0;  // m: bound on the vertices' deformation since the last call
   Eigen::VectorXd q_previous, dq;  // nf: modal coordinates of the last call, scratch
   bool have_previous = false;
+  const Eigen::VectorXd* q_f = nullptr;      // of the current Evaluate() (flexible, nf > 0)
+  const Eigen::VectorXd* q_f_dot = nullptr;
+  std::vector<char> has_force;  // #V: node_force[i] set in this evaluation
+  std::vector<int> forced;      // those vertices (the others' node_force is zero)
 };
 
 class FlexibleContactWorkspace final : public ExternalForceWorkspace {

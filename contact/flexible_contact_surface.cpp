@@ -49,6 +49,7 @@ std::vector<std::array<int, 3>> FlexibleContactSurface::SelectedTriangles(
 }
 
 void FlexibleContactSurface::SetModeBounds() {
+  shapes_rows_ = shapes_;
   const int nv = static_cast<int>(shapes_.rows() / 3);
   mode_bounds_ = Eigen::VectorXd::Zero(modes_->nf);
   for (int i = 0; i < nv; ++i)
@@ -187,6 +188,24 @@ void FlexibleContactSurface::Deform(const Eigen::Ref<const Eigen::VectorXd>& q_f
   for (int t = 0; t < s.num_triangles(); ++t) {
     const auto& tri = tris[t];
     (*normals)[t] = (v[tri[1]] - v[tri[0]]).cross(v[tri[2]] - v[tri[0]]).normalized();
+  }
+}
+
+void FlexibleContactSurface::DeformParts(const Eigen::Ref<const Eigen::VectorXd>& q_f,
+                                         const std::vector<int>& parts,
+                                         std::vector<Vec3>* vertices,
+                                         std::vector<Vec3>* normals) const {
+  const ContactSurface& s = *surface_;
+  const auto& s0 = s.vertices();
+  const auto& tris = s.triangles();
+  for (const int part : parts) {
+    for (int i = s.part_vertex_start()[part]; i < s.part_vertex_start()[part + 1]; ++i)
+      (*vertices)[i] = s0[i] + shapes_rows_.middleRows<3>(3 * i) * q_f;
+    const auto& v = *vertices;
+    for (int t = s.part_triangle_start()[part]; t < s.part_triangle_start()[part + 1]; ++t) {
+      const auto& tri = tris[t];
+      (*normals)[t] = (v[tri[1]] - v[tri[0]]).cross(v[tri[2]] - v[tri[0]]).normalized();
+    }
   }
 }
 

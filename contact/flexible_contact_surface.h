@@ -94,6 +94,19 @@ class FlexibleContactSurface {
   // *vertices and *normals must have #V and #T entries (no allocation).
   void Deform(const Eigen::Ref<const Eigen::VectorXd>& q_f, Eigen::VectorXd* displacement,
               std::vector<Vec3>* vertices, std::vector<Vec3>* normals) const;
+  // The same for the vertices and faces of the listed parts only (the others are left as they
+  // are): what the tracked gaps read (tracked_gaps.h), at a cost that follows the teeth in the
+  // mesh zone, not the whole surface.
+  void DeformParts(const Eigen::Ref<const Eigen::VectorXd>& q_f, const std::vector<int>& parts,
+                   std::vector<Vec3>* vertices, std::vector<Vec3>* normals) const;
+  // Phi_P v for one vertex (a deformation rate from q_f-dot), and Q += Phi_P^T f (a vertex force
+  // in B onto the modal forces).
+  Vec3 VertexShapeTimes(int vertex, const Eigen::Ref<const Eigen::VectorXd>& v) const {
+    return shapes_rows_.middleRows<3>(3 * vertex) * v;
+  }
+  void AddVertexForce(int vertex, const Vec3& f_B, Eigen::VectorXd* modal_force) const {
+    modal_force->noalias() += shapes_rows_.middleRows<3>(3 * vertex).transpose() * f_B;
+  }
 
  private:
   void Check(const std::string& what) const;
@@ -105,6 +118,8 @@ class FlexibleContactSurface {
   std::shared_ptr<const ContactSurface> surface_;
   std::vector<int> vertex_node_;
   Eigen::MatrixXd shapes_;
+  // The same, row-major: a vertex's three rows lie together (DeformParts, VertexShapeTimes).
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> shapes_rows_;
   Eigen::VectorXd mode_bounds_;
 };
 

@@ -96,6 +96,8 @@ TrackedGaps::TrackedGaps(const ContactSurface& surface_a, const ContactSurface& 
   next_.reserve(all_pairs);
   keep_.reserve(all_pairs);
   by_part_.reserve(all_pairs);
+  tracked_parts_a_.reserve(a_.num_parts());
+  tracked_parts_b_.reserve(b_.num_parts());
   partners_.reserve(std::max(a_.num_parts(), b_.num_parts()));
   active_b_.assign(b_.num_parts(), 0);
   odometer_a_.assign(a_.num_parts(), 0.0);
@@ -139,6 +141,12 @@ void TrackedGaps::Update(const Transform& X_WA, const Transform& X_WB,
 void TrackedGaps::Update(const Transform& X_WA, const Transform& X_WB, const TrackedSide& side_a,
                          const TrackedSide& side_b, double gap_distance_m,
                          std::vector<NodeGap>* gaps_a, std::vector<NodeGap>* gaps_b) {
+  TrackPairs(X_WA, X_WB, side_a.deformation_change_m, side_b.deformation_change_m);
+  ComputeGaps(X_WA, X_WB, side_a, side_b, gap_distance_m, gaps_a, gaps_b);
+}
+
+void TrackedGaps::TrackPairs(const Transform& X_WA, const Transform& X_WB,
+                             double deformation_change_a_m, double deformation_change_b_m) {
   const Transform X_AB = X_WA.Inverse() * X_WB;
   const double s = search_.slack_m();
 
@@ -166,11 +174,18 @@ void TrackedGaps::Update(const Transform& X_WA, const Transform& X_WB, const Tra
   tracked_.swap(next_);
   std::fill(active_b_.begin(), active_b_.end(), 0);
   for (const auto& pair : tracked_) active_b_[pair.second] = 1;
+  tracked_parts_a_.clear();
+  tracked_parts_b_.clear();
+  for (const auto& pair : tracked_)
+    if (tracked_parts_a_.empty() || tracked_parts_a_.back() != pair.first)
+      tracked_parts_a_.push_back(pair.first);
+  for (int j = 0; j < b_.num_parts(); ++j)
+    if (active_b_[j]) tracked_parts_b_.push_back(j);
 
   // Odometers: each tracked part of B adds its motion since the last call, each part of A the
   // largest motion of its partners.
   // Deformation (flexible sides) moves vertices by at most each side's change, on top.
-  const double deformation = side_a.deformation_change_m + side_b.deformation_change_m;
+  const double deformation = deformation_change_a_m + deformation_change_b_m;
   if (have_previous_) {
     double largest = 0;
     for (int j = 0; j < b_.num_parts(); ++j) {
@@ -186,11 +201,17 @@ void TrackedGaps::Update(const Transform& X_WA, const Transform& X_WB, const Tra
   }
   // The faces' own deformation per pass (the look of RunPass measures the node's displacement
   // in the face frame; the faces move by at most this since a node's stamp).
-  face_deformation_a_ += side_b.deformation_change_m;  // pass A: faces of B
-  face_deformation_b_ += side_a.deformation_change_m;
+  face_deformation_a_ += deformation_change_b_m;  // pass A: faces of B
+  face_deformation_b_ += deformation_change_a_m;
   X_AB_previous_ = X_AB;
   have_previous_ = true;
+}
 
+void TrackedGaps::ComputeGaps(const Transform& X_WA, const Transform& X_WB,
+                              const TrackedSide& side_a, const TrackedSide& side_b,
+                              double gap_distance_m, std::vector<NodeGap>* gaps_a,
+                              std::vector<NodeGap>* gaps_b) {
+  const Transform X_AB = X_WA.Inverse() * X_WB;
   stats_.evaluated_nodes = stats_.seeded_nodes = 0;
   RunPass(a_, *side_a.vertices, {b_, *side_b.vertices, *side_b.normals}, side_b.deformation_m,
           face_deformation_a_, gap_distance_m, X_WB.Inverse() * X_WA, X_WB,

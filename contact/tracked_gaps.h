@@ -101,6 +101,17 @@ class TrackedGaps {
   void Update(const Transform& X_WA, const Transform& X_WB, const TrackedSide& a,
               const TrackedSide& b, double gap_distance_m, std::vector<NodeGap>* gaps_a,
               std::vector<NodeGap>* gaps_b);
+  // Update() in two stages, for callers that prepare the surfaces in between: the tracked part
+  // pairs and the odometers at these poses (with each side's deformation change), then the
+  // gaps at the same poses. Between the two, tracked_parts_a() / _b() are the parts whose nodes
+  // and faces the gaps will read (only their vertices and normals need be current).
+  void TrackPairs(const Transform& X_WA, const Transform& X_WB, double deformation_change_a_m,
+                  double deformation_change_b_m);
+  void ComputeGaps(const Transform& X_WA, const Transform& X_WB, const TrackedSide& a,
+                   const TrackedSide& b, double gap_distance_m, std::vector<NodeGap>* gaps_a,
+                   std::vector<NodeGap>* gaps_b);
+  const std::vector<int>& tracked_parts_a() const { return tracked_parts_a_; }
+  const std::vector<int>& tracked_parts_b() const { return tracked_parts_b_; }
   // Forget every node's face and distance (the next Update() seeds them all).
   void Reset();
 
@@ -142,6 +153,7 @@ class TrackedGaps {
   std::vector<int> partners_;              // scratch: parts paired with one part
   std::vector<std::pair<int, int>> by_part_;  // scratch: (node part, face part), sorted
   std::vector<char> active_b_;             // #parts of B: in a tracked pair
+  std::vector<int> tracked_parts_a_, tracked_parts_b_;  // in a tracked pair, increasing
   Pass pass_a_, pass_b_;
   Transform X_AB_previous_;
   bool have_previous_ = false;

@@ -504,7 +504,7 @@ void Loader::ReadSolver(const MapReader& root, Scene& scene) {
                     {"integrator", "end_time", "rtol", "atol", "atol_multiplier", "max_step",
                      "initial_step", "max_order", "max_steps_per_output", "step", "rho_inf",
                      "alpha_m", "alpha_f", "beta", "gamma", "max_newton_iterations",
-                     "newton_tolerance", "max_step_halvings"});
+                     "newton_tolerance", "max_step_halvings", "matrix_refresh_rate"});
   SimulationOptions& sim = scene.simulation;
   IntegratorOptions& o = sim.integrator;
   // A number with a condition, reported at its key.
@@ -548,6 +548,8 @@ void Loader::ReadSolver(const MapReader& root, Scene& scene) {
   o.max_newton_iterations = m.Int("max_newton_iterations", o.max_newton_iterations);
   if (o.max_newton_iterations < 1) ctx_.Fail(*m.Find("max_newton_iterations"), "must be >= 1");
   o.newton_tolerance = checked("newton_tolerance", o.newton_tolerance, positive, "> 0");
+  o.matrix_refresh_rate = checked("matrix_refresh_rate", o.matrix_refresh_rate,
+                                  [](double x) { return x > 0 && x < 1; }, "in (0, 1)");
   o.max_step_halvings = m.Int("max_step_halvings", o.max_step_halvings);
   if (o.max_step_halvings < 0 || o.max_step_halvings > 20)
     ctx_.Fail(*m.Find("max_step_halvings"), "must be in [0, 20]");

@@ -167,7 +167,7 @@ class GeneralizedAlpha final : public Integrator {
   }
 
   // Modified Newton: the iteration matrix is kept from step to step and refreshed when the step
-  // size changes or the iteration converges slowly (rate above 1/10: contact stiffness changes as teeth come and go, and a refresh costs less than the iterations a stale matrix takes) or not at all. Converged when
+  // size changes or the iteration converges slowly (rate above options' matrix_refresh_rate) or not at all. Converged when
   // the scaled residual is below newton_tolerance times the force scale, or the acceleration
   // increment below newton_tolerance relative to the accelerations (kinks of tabulated mesh
   // stiffness can hold the residual above its floor while the iterates no longer move).
@@ -202,7 +202,8 @@ class GeneralizedAlpha final : public Integrator {
       }
       delta_.noalias() = lu_.solve(rhs_);
       double increment = delta_.head(nv).lpNorm<Eigen::Infinity>();
-      if (!fresh && (increment > 0.1 * previous || !std::isfinite(increment))) {
+      if (!fresh &&
+          (increment > options_.matrix_refresh_rate * previous || !std::isfinite(increment))) {
         // Slow with an old matrix: refresh it at the current iterate and take this step again.
         RefreshIterationMatrix(t, h);
         fresh = true;

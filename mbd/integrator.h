@@ -62,6 +62,11 @@ struct IntegratorOptions {
   // step / 2^max_step_halvings (contact coming on within a step); 0: fail at once. The halves
   // count as steps, their failures as newton_failures.
   int max_step_halvings = 4;
+  // The iteration matrix (finite differences: about 2 nv evaluations) is refreshed when an
+  // iteration with the old one contracts the increment by less than this factor. 0.1 suits a
+  // few rigid coordinates with stiff contact (a refresh costs a dozen evaluations); with many
+  // modal coordinates a refresh costs more than the iterations it saves, and 0.5 is cheaper.
+  double matrix_refresh_rate = 0.1;
 };
 
 struct IntegratorStats {
