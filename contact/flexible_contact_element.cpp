@@ -36,6 +36,10 @@ ContactSideBuffers::ContactSideBuffers(const ContactSide& side)
   dq = Eigen::VectorXd::Zero(nf);
   has_force.assign(nv, 0);
   forced.reserve(nv);
+  const int np = side.surface().num_parts();
+  part_deformation.assign(np, 0.0);
+  part_change.assign(np, 0.0);
+  part_current.assign(np, 0);
 }
 
 FlexibleContactWorkspace::FlexibleContactWorkspace(const ContactSide& a, const ContactSide& b)
@@ -113,18 +117,26 @@ void FlexibleContactElement::Evaluate(const ContactSideState& a, const ContactSi
   deform(spec_.a, a, ws.side_a);
   deform(spec_.b, b, ws.side_b);
   const bool tracked = spec_.gap_method == ContactGapMethod::kTracked;
-  if (tracked)
-    ws.tracked.TrackPairs(a.X_WB, b.X_WB, ws.side_a.deformation_change,
-                          ws.side_b.deformation_change);
+  if (tracked) ws.tracked.TrackPairs(a.X_WB, b.X_WB);
   // Deformed vertices and normals: of the tracked parts only (the tracked gaps read no others),
   // or of the whole surface.
   for (const auto& [side, buf, parts] :
        {std::tuple{&spec_.a, &ws.side_a, &ws.tracked.tracked_parts_a()},
         std::tuple{&spec_.b, &ws.side_b, &ws.tracked.tracked_parts_b()}}) {
     if (!side->flexible || !buf->q_f) continue;
-    if (tracked)
-      side->flexible->DeformParts(*buf->q_f, *parts, &buf->vertices, &buf->normals);
-    else
+    if (tracked) {
+      // The exact change of the parts deformed at the last evaluation too (a part new to the
+      // tracked set has its nodes and partners started again): far tighter than the modal
+      // bound sum |dq_k| c_k, which wakes every node when high modes ring.
+      side->flexible->DeformParts(*buf->q_f, *parts, &buf->vertices, &buf->normals,
+                                  &buf->part_deformation, &buf->part_change);
+      double change = 0;
+      for (const int part : *parts)
+        if (buf->part_current[part]) change = std::max(change, buf->part_change[part]);
+      std::fill(buf->part_current.begin(), buf->part_current.end(), 0);
+      for (const int part : *parts) buf->part_current[part] = 1;
+      buf->deformation_change = change;
+    } else
       side->flexible->Deform(*buf->q_f, &buf->displacement, &buf->vertices, &buf->normals);
   }
   const ContactSurface& sa = spec_.a.surface();
@@ -137,7 +149,8 @@ void FlexibleContactElement::Evaluate(const ContactSideState& a, const ContactSi
       return TrackedGaps::TrackedSide{.vertices = &buf.vertices,
                                       .normals = &buf.normals,
                                       .deformation_m = buf.deformation_bound,
-                                      .deformation_change_m = buf.deformation_change};
+                                      .deformation_change_m = buf.deformation_change,
+                                      .part_deformation_m = &buf.part_deformation};
     };
     ws.tracked.ComputeGaps(a.X_WB, b.X_WB, side(ws.side_a), side(ws.side_b), d, &ws.gaps_a,
                            &ws.gaps_b);

@@ -110,6 +110,10 @@ struct ContactSideBuffers {
   const Eigen::VectorXd* q_f_dot = nullptr;
   std::vector<char> has_force;  // #V: node_force[i] set in this evaluation
   std::vector<int> forced;      // those vertices (the others' node_force is zero)
+  // #parts (tracked gaps): largest displacement and change of each deformed part's vertices,
+  // and whether the part was deformed at the last evaluation.
+  std::vector<double> part_deformation, part_change;
+  std::vector<char> part_current;
 };
 
 class FlexibleContactWorkspace final : public ExternalForceWorkspace {

@@ -194,13 +194,23 @@ void FlexibleContactSurface::Deform(const Eigen::Ref<const Eigen::VectorXd>& q_f
 void FlexibleContactSurface::DeformParts(const Eigen::Ref<const Eigen::VectorXd>& q_f,
                                          const std::vector<int>& parts,
                                          std::vector<Vec3>* vertices,
-                                         std::vector<Vec3>* normals) const {
+                                         std::vector<Vec3>* normals,
+                                         std::vector<double>* displacement_max,
+                                         std::vector<double>* change_max) const {
   const ContactSurface& s = *surface_;
   const auto& s0 = s.vertices();
   const auto& tris = s.triangles();
   for (const int part : parts) {
-    for (int i = s.part_vertex_start()[part]; i < s.part_vertex_start()[part + 1]; ++i)
-      (*vertices)[i] = s0[i] + shapes_rows_.middleRows<3>(3 * i) * q_f;
+    double u2 = 0, c2 = 0;
+    for (int i = s.part_vertex_start()[part]; i < s.part_vertex_start()[part + 1]; ++i) {
+      const Vec3 u = shapes_rows_.middleRows<3>(3 * i) * q_f;
+      const Vec3 x = s0[i] + u;
+      u2 = std::max(u2, u.squaredNorm());
+      c2 = std::max(c2, (x - (*vertices)[i]).squaredNorm());
+      (*vertices)[i] = x;
+    }
+    (*displacement_max)[part] = std::sqrt(u2);
+    (*change_max)[part] = std::sqrt(c2);
     const auto& v = *vertices;
     for (int t = s.part_triangle_start()[part]; t < s.part_triangle_start()[part + 1]; ++t) {
       const auto& tri = tris[t];

@@ -97,8 +97,11 @@ class FlexibleContactSurface {
   // The same for the vertices and faces of the listed parts only (the others are left as they
   // are): what the tracked gaps read (tracked_gaps.h), at a cost that follows the teeth in the
   // mesh zone, not the whole surface.
+  // Per listed part j also: (*displacement_max)[j] = max |Phi_P q_f| and (*change_max)[j] =
+  // max |new - old position| over its vertices (#parts entries each).
   void DeformParts(const Eigen::Ref<const Eigen::VectorXd>& q_f, const std::vector<int>& parts,
-                   std::vector<Vec3>* vertices, std::vector<Vec3>* normals) const;
+                   std::vector<Vec3>* vertices, std::vector<Vec3>* normals,
+                   std::vector<double>* displacement_max, std::vector<double>* change_max) const;
   // Phi_P v for one vertex (a deformation rate from q_f-dot), and Q += Phi_P^T f (a vertex force
   // in B onto the modal forces).
   Vec3 VertexShapeTimes(int vertex, const Eigen::Ref<const Eigen::VectorXd>& v) const {

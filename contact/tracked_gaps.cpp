@@ -141,12 +141,11 @@ void TrackedGaps::Update(const Transform& X_WA, const Transform& X_WB,
 void TrackedGaps::Update(const Transform& X_WA, const Transform& X_WB, const TrackedSide& side_a,
                          const TrackedSide& side_b, double gap_distance_m,
                          std::vector<NodeGap>* gaps_a, std::vector<NodeGap>* gaps_b) {
-  TrackPairs(X_WA, X_WB, side_a.deformation_change_m, side_b.deformation_change_m);
+  TrackPairs(X_WA, X_WB);
   ComputeGaps(X_WA, X_WB, side_a, side_b, gap_distance_m, gaps_a, gaps_b);
 }
 
-void TrackedGaps::TrackPairs(const Transform& X_WA, const Transform& X_WB,
-                             double deformation_change_a_m, double deformation_change_b_m) {
+void TrackedGaps::TrackPairs(const Transform& X_WA, const Transform& X_WB) {
   const Transform X_AB = X_WA.Inverse() * X_WB;
   const double s = search_.slack_m();
 
@@ -184,12 +183,10 @@ void TrackedGaps::TrackPairs(const Transform& X_WA, const Transform& X_WB,
 
   // Odometers: each tracked part of B adds its motion since the last call, each part of A the
   // largest motion of its partners.
-  // Deformation (flexible sides) moves vertices by at most each side's change, on top.
-  const double deformation = deformation_change_a_m + deformation_change_b_m;
   if (have_previous_) {
     double largest = 0;
     for (int j = 0; j < b_.num_parts(); ++j) {
-      motion_b_[j] = active_b_[j] ? PartMotion(j, X_AB_previous_, X_AB) + deformation : 0.0;
+      motion_b_[j] = active_b_[j] ? PartMotion(j, X_AB_previous_, X_AB) : 0.0;
       odometer_b_[j] += motion_b_[j];
       largest = std::max(largest, motion_b_[j]);
     }
@@ -199,10 +196,6 @@ void TrackedGaps::TrackPairs(const Transform& X_WA, const Transform& X_WB,
     odometer_ += largest;
     stats_.max_motion_between_calls_m = std::max(stats_.max_motion_between_calls_m, largest);
   }
-  // The faces' own deformation per pass (the look of RunPass measures the node's displacement
-  // in the face frame; the faces move by at most this since a node's stamp).
-  face_deformation_a_ += deformation_change_b_m;  // pass A: faces of B
-  face_deformation_b_ += deformation_change_a_m;
   X_AB_previous_ = X_AB;
   have_previous_ = true;
 }
@@ -212,12 +205,22 @@ void TrackedGaps::ComputeGaps(const Transform& X_WA, const Transform& X_WB,
                               double gap_distance_m, std::vector<NodeGap>* gaps_a,
                               std::vector<NodeGap>* gaps_b) {
   const Transform X_AB = X_WA.Inverse() * X_WB;
+  // Deformation (flexible sides) moves vertices by at most each side's change, on top of the
+  // rigid motion; the faces' own part per pass (the look of RunPass measures the node's
+  // displacement in the face frame, and the faces move by at most this since a node's stamp).
+  const double deformation = side_a.deformation_change_m + side_b.deformation_change_m;
+  if (deformation > 0) {
+    for (double& o : odometer_a_) o += deformation;
+    for (double& o : odometer_b_) o += deformation;
+  }
+  face_deformation_a_ += side_b.deformation_change_m;  // pass A: faces of B
+  face_deformation_b_ += side_a.deformation_change_m;
   stats_.evaluated_nodes = stats_.seeded_nodes = 0;
   RunPass(a_, *side_a.vertices, {b_, *side_b.vertices, *side_b.normals}, side_b.deformation_m,
-          face_deformation_a_, gap_distance_m, X_WB.Inverse() * X_WA, X_WB,
+          side_b.part_deformation_m, face_deformation_a_, gap_distance_m, X_WB.Inverse() * X_WA, X_WB,
           /*nodes_are_a=*/true, odometer_a_, pass_a_, gaps_a);
   RunPass(b_, *side_b.vertices, {a_, *side_a.vertices, *side_a.normals}, side_a.deformation_m,
-          face_deformation_b_, gap_distance_m, X_AB, X_WA, /*nodes_are_a=*/false, odometer_b_,
+          side_a.part_deformation_m, face_deformation_b_, gap_distance_m, X_AB, X_WA, /*nodes_are_a=*/false, odometer_b_,
           pass_b_, gaps_b);
   stats_.tracked_pairs = static_cast<int>(tracked_.size());
   stats_.odometer_m = odometer_;
@@ -226,6 +229,7 @@ void TrackedGaps::ComputeGaps(const Transform& X_WA, const Transform& X_WB,
 
 void TrackedGaps::RunPass(const ContactSurface& node_surface, const std::vector<Vec3>& nodes,
                           const Geometry& faces, double face_deformation_m,
+                          const std::vector<double>* face_part_deformation_m,
                           double face_deformation_odometer_m, double d, const Transform& X_FN,
                           const Transform& X_WF, bool nodes_are_a,
                           const std::vector<double>& odometers, Pass& pass,
@@ -278,7 +282,9 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const std::vector<
       }
       if (search) {
         for (const int part_f : partners_)
-          FindClosestFaceInPart(face_surface, part_f, p, &best, faces.v, face_deformation_m);
+          FindClosestFaceInPart(
+              face_surface, part_f, p, &best, faces.v,
+              face_part_deformation_m ? (*face_part_deformation_m)[part_f] : face_deformation_m);
         ++stats_.seeded_nodes;
         ++stats_.seeds;
       }

@@ -97,16 +97,18 @@ class TrackedGaps {
     const std::vector<Vec3>* normals = nullptr;
     double deformation_m = 0;
     double deformation_change_m = 0;
+    // Optional, #parts: the largest displacement of each tracked part's vertices (tighter than
+    // deformation_m for the hierarchy bounds).
+    const std::vector<double>* part_deformation_m = nullptr;
   };
   void Update(const Transform& X_WA, const Transform& X_WB, const TrackedSide& a,
               const TrackedSide& b, double gap_distance_m, std::vector<NodeGap>* gaps_a,
               std::vector<NodeGap>* gaps_b);
   // Update() in two stages, for callers that prepare the surfaces in between: the tracked part
-  // pairs and the odometers at these poses (with each side's deformation change), then the
+  // pairs and the odometers' rigid motion at these poses, then (deformation changes added) the
   // gaps at the same poses. Between the two, tracked_parts_a() / _b() are the parts whose nodes
   // and faces the gaps will read (only their vertices and normals need be current).
-  void TrackPairs(const Transform& X_WA, const Transform& X_WB, double deformation_change_a_m,
-                  double deformation_change_b_m);
+  void TrackPairs(const Transform& X_WA, const Transform& X_WB);
   void ComputeGaps(const Transform& X_WA, const Transform& X_WB, const TrackedSide& a,
                    const TrackedSide& b, double gap_distance_m, std::vector<NodeGap>* gaps_a,
                    std::vector<NodeGap>* gaps_b);
@@ -141,6 +143,7 @@ class TrackedGaps {
   void ResetPart(Pass& pass, const ContactSurface& node_surface, int part);
   void RunPass(const ContactSurface& node_surface, const std::vector<Vec3>& nodes,
                const Geometry& faces, double face_deformation_m,
+               const std::vector<double>* face_part_deformation_m,
                double face_deformation_odometer_m, double d, const Transform& X_FN,
                const Transform& X_WF, bool nodes_are_a, const std::vector<double>& odometers,
                Pass& pass, std::vector<NodeGap>* gaps);
