@@ -192,7 +192,6 @@ class GeneralizedAlpha final : public Integrator {
     for (const Vec6& f : d.f_ext) scale = std::max(scale, f.tail<3>().lpNorm<Eigen::Infinity>());
     if (nc > 0) scale = std::max(scale, lambda_new_.lpNorm<Eigen::Infinity>());
     bool converged = false;
-    int growths = 0;
     double norm = 0, previous = std::numeric_limits<double>::infinity();
     for (int it = 0; it < options_.max_newton_iterations && !converged; ++it) {
       norm = Residual(t, h);
@@ -212,9 +211,6 @@ class GeneralizedAlpha final : public Integrator {
         delta_.noalias() = lu_.solve(rhs_);
         increment = delta_.head(nv).lpNorm<Eigen::Infinity>();
       }
-      // Diverging with a fresh matrix (the increment grew twice): give up at once, so the step
-      // is retried as halves before the iterates wander far (contact switching within the step).
-      if (fresh && it > 0 && increment > previous && ++growths >= 2) break;
       vdot_new_ -= delta_.head(nv);
       lambda_new_ -= delta_.tail(nc);
       UpdateKinematics(h);
