@@ -5,24 +5,10 @@
 #include <tuple>
 #include <utility>
 
+#include "contact/triangle_geometry.h"
 #include "mbd/data.h"
 
 namespace orrery::contact {
-
-namespace {
-
-// Barycentric coordinates of q in the triangle (a, b, c) (q on the triangle).
-Vec3 Barycentric(const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c) {
-  const Vec3 v0 = b - a, v1 = c - a, v2 = q - a;
-  const double d00 = v0.dot(v0), d01 = v0.dot(v1), d11 = v1.dot(v1);
-  const double d20 = v2.dot(v0), d21 = v2.dot(v1);
-  const double den = d00 * d11 - d01 * d01;
-  const double v = (d11 * d20 - d01 * d21) / den;
-  const double w = (d00 * d21 - d01 * d20) / den;
-  return {1.0 - v - w, v, w};
-}
-
-}  // namespace
 
 ContactSideBuffers::ContactSideBuffers(const ContactSide& side)
     : vertices(side.surface().vertices()),
@@ -32,8 +18,6 @@ ContactSideBuffers::ContactSideBuffers(const ContactSide& side)
   const int nf = side.flexible ? side.flexible->nf() : 0;
   displacement = Eigen::VectorXd::Zero(3 * nv);
   modal_force = Eigen::VectorXd::Zero(nf);
-  q_previous = Eigen::VectorXd::Zero(nf);
-  dq = Eigen::VectorXd::Zero(nf);
   has_force.assign(nv, 0);
   forced.reserve(nv);
   const int np = side.surface().num_parts();
@@ -101,14 +85,6 @@ void FlexibleContactElement::Evaluate(const ContactSideState& a, const ContactSi
     if (!side.flexible || !st.q_f || st.q_f->size() == 0) return;
     const FlexibleContactSurface& fs = *side.flexible;
     buf.deformation_bound = fs.DeformationBound(*st.q_f);
-    // How far any vertex moved by deformation since the last evaluation (tracked gaps).
-    if (buf.have_previous) {
-      buf.dq = *st.q_f;
-      buf.dq -= buf.q_previous;
-      buf.deformation_change = fs.DeformationBound(buf.dq);
-    }
-    buf.q_previous = *st.q_f;
-    buf.have_previous = true;
     if (buf.deformation_bound > fs.spec().deformation_allowance_m) ++ws.inflation_exceeded;
     buf.q_f = st.q_f;
     buf.q_f_dot = st.q_f_dot;

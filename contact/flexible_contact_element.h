@@ -76,9 +76,10 @@ struct FlexibleContactElementSpec {
   std::string name;
   ContactSide a, b;
   ContactLaw law;
-  // Stages 3-4 (header): kTracked tracks each node's closest deformed face (tracked_gaps.h; the
-  // hierarchies' boxes lowered by the deformation bound, every motion bound raised by the
-  // change of the deformation since the last evaluation); kCandidatePairs as described.
+  // Stages 3-4 (header): kTracked tracks each node's closest deformed face (tracked_gaps.h; only
+  // the tracked teeth are deformed, the hierarchies' boxes are lowered by each tooth's largest
+  // displacement and every motion bound is raised by the largest vertex change since the last
+  // evaluation); kCandidatePairs as described.
   ContactGapMethod gap_method = ContactGapMethod::kTracked;
 };
 
@@ -103,9 +104,7 @@ struct ContactSideBuffers {
   Vec6 f_W = Vec6::Zero();      // spatial force on the body, world origin
   Eigen::VectorXd modal_force;  // nf: sum_P Phi_P^T node_force_P
   double deformation_bound = 0; // m
-  double deformation_change = 0;  // m: bound on the vertices' deformation since the last call
-  Eigen::VectorXd q_previous, dq;  // nf: modal coordinates of the last call, scratch
-  bool have_previous = false;
+  double deformation_change = 0;  // m: largest vertex change since the last call (tracked gaps)
   const Eigen::VectorXd* q_f = nullptr;      // of the current Evaluate() (flexible, nf > 0)
   const Eigen::VectorXd* q_f_dot = nullptr;
   std::vector<char> has_force;  // #V: node_force[i] set in this evaluation

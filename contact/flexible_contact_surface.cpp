@@ -140,12 +140,7 @@ FlexibleContactSurface::FlexibleContactSurface(std::shared_ptr<const FlexibleBod
     const auto& tri = tris[best_t];
     const Vec3 a = m.nodes[tri[0]].position, b = m.nodes[tri[1]].position,
                c = m.nodes[tri[2]].position;
-    // Barycentric coordinates of the projection.
-    const Vec3 v0 = b - a, v1 = c - a, v2 = best_q - a;
-    const double d00 = v0.dot(v0), d01 = v0.dot(v1), d11 = v1.dot(v1);
-    const double d20 = v2.dot(v0), d21 = v2.dot(v1), den = d00 * d11 - d01 * d01;
-    const double wb = (d11 * d20 - d01 * d21) / den, wc = (d00 * d21 - d01 * d20) / den;
-    const double w[3] = {1 - wb - wc, wb, wc};
+    const Vec3 w = Barycentric(best_q, a, b, c);
     for (int k = 0; k < 3; ++k)
       shapes_.middleRows(3 * i, 3) += w[k] * m.nodes[tri[k]].translation_shapes;
   }

@@ -31,16 +31,6 @@ double Seconds(std::chrono::steady_clock::time_point t0) {
 // Angle wrapped to (-pi, pi].
 double Wrap(double a) { return a - 2 * kPi * std::round(a / (2 * kPi)); }
 
-Vec3 Barycentric(const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c) {
-  const Vec3 v0 = b - a, v1 = c - a, v2 = q - a;
-  const double d00 = v0.dot(v0), d01 = v0.dot(v1), d11 = v1.dot(v1);
-  const double d20 = v2.dot(v0), d21 = v2.dot(v1);
-  const double den = d00 * d11 - d01 * d01;
-  const double v = (d11 * d20 - d01 * d21) / den;
-  const double w = (d00 * d21 - d01 * d20) / den;
-  return {1.0 - v - w, v, w};
-}
-
 // Tooth of a gear with z teeth holding the point p (gear frame).
 int ToothOf(const Vec3& p, int z) {
   const int k = static_cast<int>(std::lround(std::atan2(p.y(), p.x()) * z / (2 * kPi)));

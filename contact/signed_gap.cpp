@@ -13,18 +13,7 @@ constexpr double kRimTolerance = 1e-9;
 
 // Whether the feature of triangle `face` lies on the surface's open rim.
 bool OnRim(const ContactSurface& surface, int face, TriangleFeature feature) {
-  const std::uint8_t edges = surface.boundary_edges()[face];
-  switch (feature) {
-    case TriangleFeature::kFace: return false;
-    case TriangleFeature::kEdge0: return edges & 1u;
-    case TriangleFeature::kEdge1: return edges & 2u;
-    case TriangleFeature::kEdge2: return edges & 4u;
-    // Vertex k lies on edges k and k + 2 (mod 3).
-    case TriangleFeature::kVertex0: return edges & (1u | 4u);
-    case TriangleFeature::kVertex1: return edges & (1u | 2u);
-    case TriangleFeature::kVertex2: return edges & (2u | 4u);
-  }
-  return false;
+  return surface.boundary_edges()[face] & FeatureEdges(feature);
 }
 
 }  // namespace

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
 
 namespace orrery::contact {
 
@@ -25,17 +24,7 @@ ClosestFace OnFace(const Geometry& g, int face, const Vec3& p) {
 
 // Whether the closest point's feature lies on a rim edge next to another part.
 bool OnSharedRim(const ContactSurface& s, const ClosestFace& c) {
-  const std::uint8_t edges = s.shared_rim_edges()[c.face];
-  switch (c.point.feature) {
-    case TriangleFeature::kFace: return false;
-    case TriangleFeature::kEdge0: return edges & 1u;
-    case TriangleFeature::kEdge1: return edges & 2u;
-    case TriangleFeature::kEdge2: return edges & 4u;
-    case TriangleFeature::kVertex0: return edges & (1u | 4u);
-    case TriangleFeature::kVertex1: return edges & (1u | 2u);
-    case TriangleFeature::kVertex2: return edges & (2u | 4u);
-  }
-  return false;
+  return s.shared_rim_edges()[c.face] & FeatureEdges(c.point.feature);
 }
 
 // Local descent over the faces (header): at each step the faces across the current face's

@@ -27,6 +27,25 @@ struct ClosestPoint {
 // Closest point to p on the (non-degenerate) triangle (a, b, c).
 ClosestPoint ClosestPointOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
 
+// The edges that hold a feature, as bits (edge k: bit k): none for the face interior, one for an
+// edge, the two that meet at a vertex (vertex k lies on edges k and k + 2 mod 3). Masked with a
+// triangle's edge flags (boundary or shared-rim edges) it says whether the feature lies on them.
+constexpr unsigned FeatureEdges(TriangleFeature feature) {
+  switch (feature) {
+    case TriangleFeature::kFace: return 0u;
+    case TriangleFeature::kEdge0: return 1u;
+    case TriangleFeature::kEdge1: return 2u;
+    case TriangleFeature::kEdge2: return 4u;
+    case TriangleFeature::kVertex0: return 1u | 4u;
+    case TriangleFeature::kVertex1: return 1u | 2u;
+    case TriangleFeature::kVertex2: return 2u | 4u;
+  }
+  return 0u;
+}
+
+// Barycentric coordinates (w_a, w_b, w_c) of a point q of the triangle's plane.
+Vec3 Barycentric(const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c);
+
 // Squared distance between the segments [p0, p1] and [q0, q1].
 double SegmentDistanceSquared(const Vec3& p0, const Vec3& p1, const Vec3& q0, const Vec3& q1);
 

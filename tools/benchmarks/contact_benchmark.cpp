@@ -208,15 +208,20 @@ struct Seed001Contact {
   Transform X_W1[2], X_W2;
 };
 
+// Seed 001's 18/34 sun-planet pair (m = 1.5 mm, 21.3 deg, b = 30 mm).
+gears::GearPair Seed001Pair() {
+  const double deg = 3.14159265358979323846 / 180;
+  gears::GearSpec g1{.teeth = 18, .normal_module_m = 1.5e-3,
+                     .normal_pressure_angle_rad = 21.3 * deg, .face_width_m = 0.03};
+  gears::GearSpec g2 = g1;
+  g2.teeth = 34;
+  return gears::GearPair{gears::Gear(g1), gears::Gear(g2)};
+}
+
 Seed001Contact& SetupSeed001() {
   static Seed001Contact* c = [] {
     auto* s = new Seed001Contact;
-    const double deg = 3.14159265358979323846 / 180;
-    gears::GearSpec g1{.teeth = 18, .normal_module_m = 1.5e-3,
-                       .normal_pressure_angle_rad = 21.3 * deg, .face_width_m = 0.03};
-    gears::GearSpec g2 = g1;
-    g2.teeth = 34;
-    const gears::GearPair pair{gears::Gear(g1), gears::Gear(g2)};
+    const gears::GearPair pair = Seed001Pair();
     ContactElementSpec spec = MakeGearContactSpec("mesh", pair, 1, 2, {});
     spec.gap_method = ContactGapMethod::kCandidatePairs;
     s->element = std::make_unique<ContactElement>(spec);
@@ -274,12 +279,8 @@ BENCHMARK(BM_Seed001EvaluationWithSearch)->Unit(benchmark::kMicrosecond);
 // with gear 2 at its kinematic angle, 3 um ahead on the line of action, over many mesh periods:
 // what a run pays per mesh evaluation, searches included, with each gap method.
 void RollingSeed001(benchmark::State& state, ContactGapMethod method) {
-  const double deg = 3.14159265358979323846 / 180, pi = 3.14159265358979323846;
-  gears::GearSpec g1{.teeth = 18, .normal_module_m = 1.5e-3,
-                     .normal_pressure_angle_rad = 21.3 * deg, .face_width_m = 0.03};
-  gears::GearSpec g2 = g1;
-  g2.teeth = 34;
-  const gears::GearPair pair{gears::Gear(g1), gears::Gear(g2)};
+  const double pi = 3.14159265358979323846;
+  const gears::GearPair pair = Seed001Pair();
   ContactElementSpec spec = MakeGearContactSpec("mesh", pair, 1, 2, {});
   spec.gap_method = method;
   ContactElement element(spec);
