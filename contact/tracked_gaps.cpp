@@ -10,6 +10,12 @@ namespace {
 // Face changes a walk may take before the node is searched exactly instead.
 constexpr int kMaxWalkSteps = 32;
 
+// Odometer reading (m) at which the odometers start again from zero with every node seeded
+// anew: a diverging Newton iterate can add 1e130 m in one call (or a NaN), after which the
+// micrometre motions still to come no longer change the sum, and the nodes would sleep on.
+// Ordinary runs reach it after some 1e5 evaluations (a restart then costs one seeding).
+constexpr double kOdometerRestart = 1.0;
+
 using Geometry = TrackedGaps::Geometry;
 
 ClosestFace OnFace(const Geometry& g, int face, const Vec3& p) {
@@ -100,6 +106,8 @@ void TrackedGaps::Reset() {
     std::fill(pass->face.begin(), pass->face.end(), -1);
     std::fill(pass->reach.begin(), pass->reach.end(), 0.0);
     std::fill(pass->odometer_reach.begin(), pass->odometer_reach.end(), 0.0);
+    std::fill(pass->stamp.begin(), pass->stamp.end(), 0.0);
+    std::fill(pass->stamp_face_deformation.begin(), pass->stamp_face_deformation.end(), 0.0);
   }
 }
 
@@ -187,6 +195,24 @@ void TrackedGaps::TrackPairs(const Transform& X_WA, const Transform& X_WB) {
   }
   X_AB_previous_ = X_AB;
   have_previous_ = true;
+  RestartIfSaturated();
+}
+
+void TrackedGaps::RestartIfSaturated() {
+  auto below = [](double x) { return x < kOdometerRestart; };  // false for NaN
+  if (std::all_of(odometer_a_.begin(), odometer_a_.end(), below) &&
+      std::all_of(odometer_b_.begin(), odometer_b_.end(), below) &&
+      below(face_deformation_a_) && below(face_deformation_b_) &&
+      X_AB_previous_.R.allFinite() && X_AB_previous_.p.allFinite())
+    return;
+  std::fill(odometer_a_.begin(), odometer_a_.end(), 0.0);
+  std::fill(odometer_b_.begin(), odometer_b_.end(), 0.0);
+  face_deformation_a_ = face_deformation_b_ = 0;
+  // A pose that is not finite is no start for the next motion: the next call adds none (its
+  // nodes are all seeded anyway).
+  have_previous_ = X_AB_previous_.R.allFinite() && X_AB_previous_.p.allFinite();
+  Reset();
+  ++stats_.odometer_restarts;
 }
 
 void TrackedGaps::ComputeGaps(const Transform& X_WA, const Transform& X_WB,
@@ -204,6 +230,7 @@ void TrackedGaps::ComputeGaps(const Transform& X_WA, const Transform& X_WB,
   }
   face_deformation_a_ += side_b.deformation_change_m;  // pass A: faces of B
   face_deformation_b_ += side_a.deformation_change_m;
+  RestartIfSaturated();
   stats_.evaluated_nodes = stats_.seeded_nodes = 0;
   RunPass(a_, *side_a.vertices, {b_, *side_b.vertices, *side_b.normals}, side_b.deformation_m,
           side_b.part_deformation_m, face_deformation_a_, gap_distance_m, X_WB.Inverse() * X_WA, X_WB,
@@ -241,8 +268,9 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const std::vector<
     const int v_end = node_surface.part_vertex_start()[part + 1];
     for (int v = node_surface.part_vertex_start()[part]; v < v_end; ++v) {
       // Asleep: the surfaces have not moved far enough for this node to touch, by the part's
-      // odometer, or else by the node's own displacement in the face frame since its stamp.
-      if (pass.odometer_reach[v] > odometer - pass.stamp[v]) continue;
+      // odometer, or else by the node's own displacement in the face frame since its stamp. A
+      // node without a face is always evaluated.
+      if (pass.face[v] >= 0 && pass.odometer_reach[v] > odometer - pass.stamp[v]) continue;
       const Vec3 p = X_FN * nodes[v];
       if (pass.reach[v] > 0) {
         const double moved = (p - pass.stamp_position[v]).norm() + face_deformation_odometer_m -

@@ -50,7 +50,10 @@
 // that moved the teeth further than the margin) is still seen.
 //
 // A pair that joins or leaves the tracked set resets the nodes of both its parts (they are
-// seeded at their next evaluation). Update() allocates nothing.
+// seeded at their next evaluation). The odometers only grow: once one reaches 1 m, or a
+// diverging Newton iterate makes one huge or not finite (where later motions would no longer
+// add to it), they all start again from zero and every node is seeded anew. Update()
+// allocates nothing.
 //
 // Usage:
 //   TrackedGaps tracked(surface_a, surface_b);
@@ -75,6 +78,7 @@ struct TrackedGapStats {
   long pair_changes = 0;        // pairs that joined or left, since construction
   double odometer_m = 0;        // sum of the per-call largest part motion bounds
   double max_motion_between_calls_m = 0;  // largest per-call motion bound (tracked parts of B)
+  long odometer_restarts = 0;   // odometers started again (RestartIfSaturated), since construction
 };
 
 class TrackedGaps {
@@ -148,6 +152,9 @@ class TrackedGaps {
                const Transform& X_WF, bool nodes_are_a, const std::vector<double>& odometers,
                Pass& pass, std::vector<NodeGap>* gaps);
   double PartMotion(int part_b, const Transform& X_AB0, const Transform& X_AB1) const;
+  // Starts the odometers (and the faces' deformation odometers) again from zero and seeds every
+  // node anew when one has reached kOdometerRestart or is not finite, or the pose is not finite.
+  void RestartIfSaturated();
 
   const ContactSurface& a_;
   const ContactSurface& b_;
