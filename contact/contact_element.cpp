@@ -94,7 +94,7 @@ void ContactElement::CalcForces(const Vec6& V_WA, const Vec6& V_WB, ContactWorks
       const double depth = -g.gap;
       const NodeForce f =
           EvaluateContactLaw(spec_.law, depth, -v_rel.dot(g.n_W), g.n_W, v_rel,
-                             0.5 * node_surface.vertex_areas()[g.node]);
+                             0.5 * g.weight * node_surface.vertex_areas()[g.node]);
       const Vec6 wrench = ForceAtPoint(g.p_W, f.f_W);
       *f_N += wrench;
       *f_F -= wrench;

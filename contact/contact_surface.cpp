@@ -82,6 +82,11 @@ ContactSurface::ContactSurface(const std::vector<gears::TriangleMesh>& parts, do
       if (faces.size() == 2)
         face_neighbors_[t][k] = faces[0] == static_cast<int>(t) ? faces[1] : faces[0];
     }
+  vertex_on_rim_.assign(vertices_.size(), 0);
+  for (size_t t = 0; t < triangles_.size(); ++t)
+    for (int k = 0; k < 3; ++k)
+      if (boundary_edges_[t] & (1u << k))
+        vertex_on_rim_[triangles_[t][k]] = vertex_on_rim_[triangles_[t][(k + 1) % 3]] = 1;
   // Triangles around each vertex (compressed rows, increasing triangle order).
   vertex_face_start_.assign(vertices_.size() + 1, 0);
   for (const auto& tri : triangles_)
@@ -125,6 +130,37 @@ ContactSurface::ContactSurface(const std::vector<gears::TriangleMesh>& parts, do
     triangle_centers_.push_back(c);
     triangle_radii_.push_back(r);
   }
+
+  // Rim fade of every face with a rim edge (header): a tenth of its height 2 A / |edge| across
+  // the edge.
+  // The outward direction of a rim edge: in the face's plane, across the edge, away from the
+  // face's third vertex.
+  face_rim_fade_.assign(triangles_.size(), 0.0);
+  face_rim_outward_.assign(triangles_.size(), {Vec3::Zero(), Vec3::Zero(), Vec3::Zero()});
+  for (size_t t = 0; t < triangles_.size(); ++t) {
+    const auto& tri = triangles_[t];
+    const Vec3 &a = vertices_[tri[0]], &b = vertices_[tri[1]], &c = vertices_[tri[2]];
+    const double twice_area = (b - a).cross(c - a).norm();
+    double fade = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < 3; ++k) {
+      if (!(boundary_edges_[t] & (1u << k))) continue;
+      const Vec3& e0 = vertices_[tri[k]];
+      const Vec3 edge = vertices_[tri[(k + 1) % 3]] - e0;
+      fade = std::min(fade, 0.1 * twice_area / edge.norm());
+      Vec3 m = edge.cross(face_normals_[t]).normalized();
+      if (m.dot(vertices_[tri[(k + 2) % 3]] - e0) > 0) m = -m;
+      face_rim_outward_[t][k] = m;
+    }
+    if (std::isfinite(fade)) face_rim_fade_[t] = fade;
+  }
+  vertex_rim_fade_.assign(vertices_.size(), std::numeric_limits<double>::infinity());
+  for (size_t t = 0; t < triangles_.size(); ++t)
+    for (int k = 0; k < 3; ++k)
+      if (boundary_edges_[t] & (1u << k))
+        for (const int v : {triangles_[t][k], triangles_[t][(k + 1) % 3]})
+          vertex_rim_fade_[v] = std::min(vertex_rim_fade_[v], face_rim_fade_[t]);
+  for (double& f : vertex_rim_fade_)
+    if (!std::isfinite(f)) f = 0;
 
   // Inner reach of every face (header): sharp interior edges per part, then the distance of
   // each face from the nearest, capped by a quarter of the radius of curvature L / angle across

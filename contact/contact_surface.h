@@ -81,6 +81,8 @@ class ContactSurface {
   const std::vector<Vec3>& vertex_normals() const { return vertex_normals_; }         // #V, B
   // #T: bit k set if edge k (vertex k to vertex k+1 mod 3) of the triangle is a boundary edge.
   const std::vector<std::uint8_t>& boundary_edges() const { return boundary_edges_; }
+  // #V: 1 for a vertex on a boundary edge (of any of its triangles), else 0.
+  const std::vector<std::uint8_t>& vertex_on_rim() const { return vertex_on_rim_; }
   // #T: the boundary edges (bits as above) that lie within 2 (margin + slack) of another part:
   // where a node's closest face may pass from one part to the next (a tooth's root line; not
   // its face ends).
@@ -93,6 +95,15 @@ class ContactSurface {
   const std::vector<int>& vertex_faces() const { return vertex_faces_; }
   // #T: the inner reach of each face (m; infinite on a smooth open surface).
   const std::vector<double>& face_inner_reach() const { return face_inner_reach_; }
+  // #T: the rim fade of each face with a rim edge (m; signed_gap.h): a tenth of the face's
+  // height across its rim edge (the smallest, for several); 0 for faces without one.
+  const std::vector<double>& face_rim_fade() const { return face_rim_fade_; }
+  // #V: the rim fade at a rim vertex, the smallest of its faces' with a rim edge there; 0 off
+  // the rim.
+  const std::vector<double>& vertex_rim_fade() const { return vertex_rim_fade_; }
+  // #T: for each rim edge k of each face, the unit direction in the face's plane, across the
+  // edge and away from the face (B); zero for edges that are not rim edges.
+  const std::vector<std::array<Vec3, 3>>& face_rim_outward() const { return face_rim_outward_; }
   // #V: the part of each vertex.
   const std::vector<int>& vertex_parts() const { return vertex_parts_; }
   // Triangles of part j are [part_triangle_start()[j], part_triangle_start()[j + 1]); #parts + 1.
@@ -117,10 +128,12 @@ class ContactSurface {
   std::vector<Vec3> face_normals_;
   std::vector<double> vertex_areas_;
   std::vector<Vec3> vertex_normals_;
-  std::vector<std::uint8_t> boundary_edges_, shared_rim_edges_;
+  std::vector<std::uint8_t> boundary_edges_, shared_rim_edges_, vertex_on_rim_;
   std::vector<std::array<int, 3>> face_neighbors_;
   std::vector<int> vertex_face_start_, vertex_faces_, vertex_parts_;
   std::vector<double> face_inner_reach_;
+  std::vector<double> face_rim_fade_, vertex_rim_fade_;
+  std::vector<std::array<Vec3, 3>> face_rim_outward_;
   std::vector<int> part_triangle_start_, part_vertex_start_;
   std::vector<Vec3> part_centers_;
   std::vector<double> part_radii_;

@@ -192,7 +192,7 @@ void FlexibleContactElement::Evaluate(const ContactSideState& a, const ContactSi
           PointVelocity(N.V_WB, g.p_W) + vertex_rate(node_side, bn, N, g.node) - v_face;
       const double depth = -g.gap;
       const NodeForce f = EvaluateContactLaw(spec_.law, depth, -v_rel.dot(g.n_W), g.n_W, v_rel,
-                                             0.5 * node_surface.vertex_areas()[g.node]);
+                                             0.5 * g.weight * node_surface.vertex_areas()[g.node]);
       // Spatial forces at the deformed node, and the vertex forces in the body frames.
       const Vec6 wrench = ForceAtPoint(g.p_W, f.f_W);
       bn.f_W += wrench;

@@ -432,7 +432,7 @@ FlexibleMeshSweep SweepFlexibleGearMesh(const gears::GearPair& pair,
           for (int k = 0; k < 3; ++k)
             r.segment(off_f, sf.nf()).noalias() -=
                 w(k) * (sf.shapes().middleRows(3 * tri[k], 3).transpose() * n_F);
-          const double c = cal.stiffness_per_area * 0.5 * sn.undeformed().vertex_areas()[gp.node];
+          const double c = cal.stiffness_per_area * 0.5 * gp.weight * sn.undeformed().vertex_areas()[gp.node];
           rows_R.push_back(r);
           weights_C.push_back(c);
         }

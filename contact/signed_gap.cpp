@@ -8,11 +8,12 @@ namespace orrery::contact {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-// Sideways offset beyond which a node projecting onto the rim is off the surface (m).
-constexpr double kRimTolerance = 1e-9;
-
-// Whether the feature of triangle `face` lies on the surface's open rim.
+// Whether the feature of triangle `face` lies on the surface's open rim: an edge by the face's
+// own flags, a vertex by the vertex's (a rim vertex is a corner of faces whose edges there are
+// interior too, and which of them a tie picks must not matter).
 bool OnRim(const ContactSurface& surface, int face, TriangleFeature feature) {
+  const int corner = FeatureVertex(feature);
+  if (corner >= 0) return surface.vertex_on_rim()[surface.triangles()[face][corner]];
   return surface.boundary_edges()[face] & FeatureEdges(feature);
 }
 
@@ -43,9 +44,42 @@ NodeGap NodeGapFromClosest(const ContactSurface& face_surface, int face, const V
     // Projection inside the face (eq. 7).
     g.gap = along;
   } else if (OnRim(face_surface, face, feature)) {
-    // On the open rim: a contact only if P lies on the rim's normal line.
-    g.gap = along;
-    g.on_surface = (d - along * n).norm() <= kRimTolerance;
+    // On the open rim: the part of P - Q across the rim edges (their outward directions m in
+    // the face's plane) is how far P lies beyond the surface; the rest is signed as at an
+    // interior edge or vertex (for a rim edge, the plane's gap).
+    // At a vertex, the rim edges of every face around it count (P may lie beyond a
+    // neighbour's rim edge rather than this face's).
+    Vec3 beyond = Vec3::Zero();
+    auto across = [&](int t, unsigned edges) {
+      for (int k = 0; k < 3; ++k) {
+        if (!(edges & (1u << k))) continue;
+        const Vec3& m = face_surface.face_rim_outward()[t][k];
+        const double c = (d - beyond).dot(m);
+        if (c > 0) beyond += c * m;
+      }
+    };
+    const int corner = FeatureVertex(feature);
+    double fade = 0;
+    if (corner < 0) {
+      across(face, face_surface.boundary_edges()[face] & FeatureEdges(feature));
+      fade = face_surface.face_rim_fade()[face];
+    } else {
+      const int v = face_surface.triangles()[face][corner];
+      fade = face_surface.vertex_rim_fade()[v];
+      for (int i = face_surface.vertex_face_start()[v]; i < face_surface.vertex_face_start()[v + 1]; ++i) {
+        const int t = face_surface.vertex_faces()[i];
+        const auto& tri = face_surface.triangles()[t];
+        const int k = tri[0] == v ? 0 : tri[1] == v ? 1 : 2;
+        // The two edges of t at v: k (v, next) and k - 1 (previous, v).
+        across(t, face_surface.boundary_edges()[t] & ((1u << k) | (1u << ((k + 2) % 3))));
+      }
+    }
+    const double inside = (d - beyond).norm();
+    g.gap = along < 0 ? -inside : inside;
+    g.rim_offset_m = beyond.norm();
+    g.rim_fade_m = fade;
+    g.weight = g.rim_offset_m < fade ? 1.0 - g.rim_offset_m / fade : 0.0;
+    g.on_surface = g.weight > 0;
   } else {
     // Interior edge or vertex: the distance, signed by the side of the face.
     g.gap = along < 0 ? -d.norm() : d.norm();

@@ -7,8 +7,20 @@
 //   g = sign((P - Q) . n) |P - Q|       when Q lies on an interior edge or vertex (a ridge or
 //                                        valley between faces, where the distance is the gap),
 //   g < 0: P penetrates (eq. 8 violated). A node whose Q lies on the open rim of the surface
-//   (boundary edge or vertex) with P off the rim's normal line (more than 1 nm sideways) is
-//   beyond the surface's edge and gets no contact.
+//   (boundary edge or vertex) lies beyond the surface's edge by s, the part of P - Q across
+//   the rim edges at Q (along their outward directions in the face's plane); the rest of
+//   P - Q is signed as at an interior edge or vertex (for a rim edge, the plane's gap
+//   (P - Q) . n). Its share of contact (its weight w, which scales its area weight in the
+//   contact law) fades linearly from 1 at s = 0 to 0 at s = the face's rim fade f
+//   (contact_surface.h: a tenth of the face's height across its rim edge; at a gear's axial
+//   end a tenth of the axial length of the flank's triangles, at a rim along the profile a
+//   tenth of a profile interval):   w = max(0, 1 - s / f),  off the surface when w = 0.
+//   The fade makes the contact force continuous where a node slides over a rim, as a node's
+//   patch overlapping the face less and less would. A plain cut at the rim made it jump: a
+//   flexible planet's edge row of nodes, deformed a nanometre beyond the ring's face width and
+//   back, switched some 140 N on and off between Newton iterates, and Newton cycled. A vertex
+//   is on the rim when any of its faces has a rim edge there: the face a search picks among
+//   ties (the lowest index) may have only interior edges at it.
 // Only nodes with |P - Q| <= the search distance are listed: for them the candidate faces hold
 // the true closest face (candidate_pairs.h), so the gaps equal a search over all faces.
 //
@@ -35,7 +47,11 @@ struct NodeGap {
   int node = -1;        // vertex of the node surface
   int face = -1;        // triangle of the face surface
   double gap = 0;       // m, signed (< 0: penetration)
-  bool on_surface = true;  // false: beyond the face surface's rim (no contact)
+  bool on_surface = true;  // false: beyond the face surface's rim (no contact, weight 0)
+  double weight = 1;       // share of the node's area weight in contact: 1 inside the rim,
+                           // fading to 0 over the face's rim fade beyond it (header)
+  double rim_offset_m = 0; // s: distance beyond the rim (0 inside it)
+  double rim_fade_m = 0;   // f: the rim's fade (header; 0 for a closest point off the rim)
   Vec3 p_W = Vec3::Zero();  // node position, world
   Vec3 q_W = Vec3::Zero();  // closest point on the face surface, world
   Vec3 n_W = Vec3::Zero();  // unit normal of the face, world (out of the face surface)

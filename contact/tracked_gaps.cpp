@@ -320,7 +320,10 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const std::vector<
       pass.stamp[v] = odometer;
       pass.stamp_position[v] = p;
       pass.stamp_face_deformation[v] = face_deformation_odometer_m;
-      pass.reach[v] = !g.on_surface ? std::max(0.0, std::sqrt(best.d2) - d)
+      // Reach: the motion before the node can press. Off the surface (beyond the rim) its
+      // sideways distance must first come within the face's rim fade f (signed_gap.h), by at
+      // least s - f; on it, its gap must close.
+      pass.reach[v] = !g.on_surface ? std::max(0.0, g.rim_offset_m - g.rim_fade_m)
                       : g.gap > 0     ? g.gap
                                       : 0.0;
       pass.odometer_reach[v] = pass.reach[v];

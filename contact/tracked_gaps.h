@@ -16,7 +16,8 @@
 //     pair at the edge of the zone does not come and go between Newton iterations). A node is tracked
 //     while its part is in a tracked pair; its faces are searched in the paired parts only;
 //   - per node: its closest face at its last evaluation, its distance to it then, the reach D
-//     (that distance; 0 when it penetrated; the distance less d when it lay beyond the rim),
+//     (that distance; 0 when it penetrated; beyond the rim, off the surface, its sideways
+//     distance s less the face's rim fade, signed_gap.h),
 //     and the odometer reading then;
 //   - an odometer per part: a part of B adds up its own motion in A's frame from one evaluation
 //     to the next (what moves its nodes against A's faces), a part of A the largest motion of
@@ -30,9 +31,9 @@
 // below D (one transform; the odometer sums bounds along the way, the displacement is the
 // chord; after such a look the odometer may advance by D less the displacement before the
 // next): a node outside the other surface at distance D cannot reach it by a relative motion
-// shorter than D (the distance is 1-Lipschitz in the node's position). Beyond the rim a node may pass round it
-// and come to lie under a face, at a depth no less than its distance D less the motion: after a
-// motion below D - d it can only lie deeper than d, where neither path sees nodes. Otherwise:
+// shorter than D (the distance is 1-Lipschitz in the node's position). A node off the surface
+// beyond its rim gets a share of contact only once its sideways distance is within the fade
+// f of signed_gap.h, which takes a motion of at least s - f. Otherwise:
 //   - walk: from the node's face, move to the closest of the faces across its edges (and around
 //     its vertex when the closest point is one) while one is closer (ties to the lower index);
 //     for a node within d + s of the surface the walk ends at the closest face of the part

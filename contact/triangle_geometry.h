@@ -27,6 +27,16 @@ struct ClosestPoint {
 // Closest point to p on the (non-degenerate) triangle (a, b, c).
 ClosestPoint ClosestPointOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
 
+// The vertex (0, 1, 2) of a vertex feature, -1 for the face or an edge.
+constexpr int FeatureVertex(TriangleFeature feature) {
+  switch (feature) {
+    case TriangleFeature::kVertex0: return 0;
+    case TriangleFeature::kVertex1: return 1;
+    case TriangleFeature::kVertex2: return 2;
+    default: return -1;
+  }
+}
+
 // The edges that hold a feature, as bits (edge k: bit k): none for the face interior, one for an
 // edge, the two that meet at a vertex (vertex k lies on edges k and k + 2 mod 3). Masked with a
 // triangle's edge flags (boundary or shared-rim edges) it says whether the feature lies on them.
