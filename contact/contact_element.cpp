@@ -14,8 +14,8 @@ bool SamePose(const Transform& X, const Transform& Y) { return X.R == Y.R && X.p
 
 }  // namespace
 
-ContactWorkspace::ContactWorkspace(const ContactSurface& a, const ContactSurface& b)
-    : tracked(a, b), search(a, b), scratch_a(a), scratch_b(b) {
+ContactWorkspace::ContactWorkspace(const ContactSurface& a, const ContactSurface& b, int nv)
+    : tracked(a, b), search(a, b), scratch_a(a), scratch_b(b), tangents(nullptr, nullptr, nv) {
   pairs.reserve(search.suggested_capacity());
   node_faces_a.reserve(3 * pairs.capacity());
   node_faces_b.reserve(3 * pairs.capacity());
@@ -41,7 +41,7 @@ std::unique_ptr<ExternalForceWorkspace> ContactElement::MakeWorkspace(const Mode
     if (body < 0 || body >= model.nbodies)
       throw std::invalid_argument("ContactElement '" + spec_.name + "': body index " +
                                   std::to_string(body) + " is not in the model");
-  return std::make_unique<ContactWorkspace>(*spec_.surface_a, *spec_.surface_b);
+  return std::make_unique<ContactWorkspace>(*spec_.surface_a, *spec_.surface_b, model.nv);
 }
 
 void ContactElement::UpdateGaps(const Transform& X_WA, const Transform& X_WB,
@@ -76,6 +76,22 @@ void ContactElement::UpdateGaps(const Transform& X_WA, const Transform& X_WB,
   ws.gaps_recomputed = true;
 }
 
+template <class Fn>
+void ContactElement::ForEachContactPoint(const Vec6& V_WA, const Vec6& V_WB,
+                                         const ContactWorkspace& ws, Fn&& fn) const {
+  // One pass: nodes on body N (velocity V_N) against faces on body F.
+  auto pass = [&](const std::vector<NodeGap>& gaps, const ContactSurface& node_surface,
+                  const Vec6& V_N, const Vec6& V_F, bool node_on_a) {
+    for (const NodeGap& g : gaps) {
+      if (!(g.gap < 0) || !g.on_surface) continue;
+      const Vec3 v_rel = PointVelocity(V_N, g.p_W) - PointVelocity(V_F, g.p_W);
+      fn(g, v_rel, 0.5 * g.weight * node_surface.vertex_areas()[g.node], node_on_a);
+    }
+  };
+  pass(ws.gaps_a, *spec_.surface_a, V_WA, V_WB, true);
+  pass(ws.gaps_b, *spec_.surface_b, V_WB, V_WA, false);
+}
+
 void ContactElement::CalcForces(const Vec6& V_WA, const Vec6& V_WB, ContactWorkspace& ws,
                                 Vec6* f_A, Vec6* f_B, double* energy,
                                 double* power_dissipated) const {
@@ -85,29 +101,38 @@ void ContactElement::CalcForces(const Vec6& V_WA, const Vec6& V_WB, ContactWorks
   *power_dissipated = 0;
   ws.normal_force = ws.friction_force = ws.max_penetration = 0;
   ws.contact_points = 0;
-  // One pass: nodes on body N (velocity V_N) against faces on body F; the force acts on N.
-  auto pass = [&](const std::vector<NodeGap>& gaps, const ContactSurface& node_surface,
-                  const Vec6& V_N, const Vec6& V_F, Vec6* f_N, Vec6* f_F) {
-    for (const NodeGap& g : gaps) {
-      if (!(g.gap < 0) || !g.on_surface) continue;
-      const Vec3 v_rel = PointVelocity(V_N, g.p_W) - PointVelocity(V_F, g.p_W);
-      const double depth = -g.gap;
-      const NodeForce f =
-          EvaluateContactLaw(spec_.law, depth, -v_rel.dot(g.n_W), g.n_W, v_rel,
-                             0.5 * g.weight * node_surface.vertex_areas()[g.node]);
-      const Vec6 wrench = ForceAtPoint(g.p_W, f.f_W);
-      *f_N += wrench;
-      *f_F -= wrench;
-      *energy += f.energy;
-      *power_dissipated += f.power_dissipated;
-      ws.normal_force += f.normal;
-      ws.friction_force += f.friction;
-      ws.max_penetration = std::max(ws.max_penetration, depth);
-      ++ws.contact_points;
-    }
-  };
-  pass(ws.gaps_a, *spec_.surface_a, V_WA, V_WB, f_A, f_B);
-  pass(ws.gaps_b, *spec_.surface_b, V_WB, V_WA, f_B, f_A);
+  // The force of a node acts on the node's body N, its reaction on the face's body.
+  ForEachContactPoint(V_WA, V_WB, ws, [&](const NodeGap& g, const Vec3& v_rel, double area,
+                                          bool node_on_a) {
+    const double depth = -g.gap;
+    const NodeForce f = EvaluateContactLaw(spec_.law, depth, -v_rel.dot(g.n_W), g.n_W, v_rel, area);
+    const Vec6 wrench = ForceAtPoint(g.p_W, f.f_W);
+    *(node_on_a ? f_A : f_B) += wrench;
+    *(node_on_a ? f_B : f_A) -= wrench;
+    *energy += f.energy;
+    *power_dissipated += f.power_dissipated;
+    ws.normal_force += f.normal;
+    ws.friction_force += f.friction;
+    ws.max_penetration = std::max(ws.max_penetration, depth);
+    ++ws.contact_points;
+  });
+}
+
+void ContactElement::AddTangents(const Model& model, const Data& data,
+                                 ExternalForceWorkspace& workspace, Eigen::Ref<Eigen::MatrixXd> K,
+                                 Eigen::Ref<Eigen::MatrixXd> C) const {
+  auto& ws = static_cast<ContactWorkspace&>(workspace);
+  const BodyIndex a = spec_.body_a, b = spec_.body_b;
+  const Mat3& R_WA = data.X_WB[a].R;
+  const Mat3& R_WB = data.X_WB[b].R;
+  ws.tangents.Clear();
+  ForEachContactPoint(data.V_WB[a], data.V_WB[b], ws, [&](const NodeGap& g, const Vec3& v_rel,
+                                                          double area, bool node_on_a) {
+    const NodeForceTangent t =
+        EvaluateContactLawTangent(spec_.law, -g.gap, -v_rel.dot(g.n_W), g.n_W, v_rel, area);
+    ws.tangents.AddPoint({.p_W = g.p_W, .node_on_a = node_on_a}, t, g.n_W, R_WA, R_WB);
+  });
+  ws.tangents.Scatter(model, data, a, b, K, C);
 }
 
 void ContactElement::Apply(const Model& /*model*/, double /*t*/, Data& data,

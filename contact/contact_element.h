@@ -21,6 +21,8 @@
 //   4. the node force F on the node's body at the node P and -F on the other body at P
 //      (spatial forces about the world origin in data.f_ext), elastic energy to
 //      data.potential_energy, dissipation to data.power_dissipated.
+// Its stiffness and damping reach the integrators analytically (AddTangents(), contact_tangents.h):
+// finite differences through the element are never taken.
 // Apply() allocates nothing once the workspace's lists have reached the size the scene needs
 // (they are reserved for 4 pairs per triangle and never shrink; tests/contact/
 // no_allocation_test.cpp counts).
@@ -44,6 +46,7 @@
 #include "contact/candidate_pairs.h"
 #include "contact/contact_law.h"
 #include "contact/contact_surface.h"
+#include "contact/contact_tangents.h"
 #include "contact/signed_gap.h"
 #include "contact/tracked_gaps.h"
 #include "mbd/external_force.h"
@@ -65,7 +68,8 @@ struct ContactElementSpec {
 // Mutable state of one element in one Data: the search caches and the last evaluation.
 class ContactWorkspace final : public ExternalForceWorkspace {
  public:
-  ContactWorkspace(const ContactSurface& a, const ContactSurface& b);
+  // nv: the model's velocity count (0: a workspace for UpdateGaps and CalcForces alone).
+  ContactWorkspace(const ContactSurface& a, const ContactSurface& b, int nv = 0);
 
   TrackedGaps tracked;                   // kTracked
   CandidateSearch search;                // kCandidatePairs
@@ -75,6 +79,7 @@ class ContactWorkspace final : public ExternalForceWorkspace {
   std::vector<NodeGap> gaps_a, gaps_b;   // nodes of A on B's faces, nodes of B on A's faces
   Transform X_WA, X_WB;                  // poses of the last gap computation
   bool have_gaps = false;
+  ContactTangents tangents;              // AddTangents()
   // Outputs of the last Apply().
   double normal_force = 0, friction_force = 0, max_penetration = 0;
   int contact_points = 0;
@@ -95,6 +100,10 @@ class ContactElement final : public ExternalForceElement {
              ExternalForceWorkspace& workspace) const override;
   std::vector<std::string> OutputNames() const override;
   void GetOutputs(const ExternalForceWorkspace& workspace, double* values) const override;
+  // Stiffness and damping of the penetrating nodes of the last Apply() (contact_tangents.h).
+  bool HasTangents() const override { return true; }
+  void AddTangents(const Model& model, const Data& data, ExternalForceWorkspace& workspace,
+                   Eigen::Ref<Eigen::MatrixXd> K, Eigen::Ref<Eigen::MatrixXd> C) const override;
 
   // Stages 1-2 of Apply() for given poses (also used by benchmarks): refreshes the pairs and
   // the gaps in `ws` if the poses changed.
@@ -105,6 +114,12 @@ class ContactElement final : public ExternalForceElement {
                   Vec6* f_B, double* energy, double* power_dissipated) const;
 
  private:
+    // Calls fn(gap, v_rel, area_weight, node_on_a) for every penetrating node of ws's gaps, both
+  // passes (nodes of A on B's faces, then nodes of B on A's faces).
+  template <class Fn>
+  void ForEachContactPoint(const Vec6& V_WA, const Vec6& V_WB, const ContactWorkspace& ws,
+                           Fn&& fn) const;
+
   ContactElementSpec spec_;
 };
 

@@ -49,6 +49,34 @@ struct NodeForce {
 NodeForce EvaluateContactLaw(const ContactLaw& law, double depth, double depth_rate,
                              const Vec3& n_W, const Vec3& v_rel_W, double area_weight);
 
+// Derivatives of the node force f (NodeForce::f_W) for Newton's iteration matrix: with x_rel the
+// node's position relative to the face point (depth = -n . x_rel + const) and v_rel its velocity,
+//   df = -K dx_rel - C dv_rel,
+//   K = k_n (n + f_t / F_N) n^T,                 k_n = dF_N/d(depth),
+//   C = c_n (n + f_t / F_N) n^T + mu F_N / s P,  c_n = dF_N/d(depth_rate),
+// P the tangent-plane projector I - n n^T while sticking (|v_t| < v_s, s = v_s), and the
+// projector across the slip direction t, P - t t^T, while sliding (s = |v_t|). The turning of n
+// with the surfaces is left out (a term of the order of the force over the curvature radius).
+struct NodeForceTangent {
+  double k_n = 0;          // dF_N/d(depth) (N/m)
+  double c_n = 0;          // dF_N/d(depth rate) (N s/m)
+  Vec3 a = Vec3::Zero();   // n + f_t / F_N: where a change of F_N acts
+  double slip_damping = 0; // mu F_N / s (N s/m)
+  int slip_directions = 0; // 0, 1 (sliding) or 2 (sticking): P = sum of d d^T over them
+  Vec3 slip_direction[2] = {Vec3::Zero(), Vec3::Zero()};
+  // The dense 3 x 3 forms (the accumulation in contact_tangents.h keeps the rank-1 terms).
+  Mat3 K(const Vec3& n_W) const { return k_n * a * n_W.transpose(); }
+  Mat3 C(const Vec3& n_W) const {
+    Mat3 c = c_n * a * n_W.transpose();
+    for (int i = 0; i < slip_directions; ++i)
+      c += slip_damping * slip_direction[i] * slip_direction[i].transpose();
+    return c;
+  }
+};
+NodeForceTangent EvaluateContactLawTangent(const ContactLaw& law, double depth, double depth_rate,
+                                           const Vec3& n_W, const Vec3& v_rel_W,
+                                           double area_weight);
+
 // Lankarani & Nikravesh (1990, J. Mech. Des. 112:369, eq. 20): b = 3 (1 - e_r^2) / (4 v0) for a
 // coefficient of restitution e_r at impact speed v0 (derived for e_r near 1).
 double HuntCrossleyFactorLankaraniNikravesh(double restitution, double impact_speed_m_s);

@@ -26,13 +26,16 @@ ContactSideBuffers::ContactSideBuffers(const ContactSide& side)
   part_current.assign(np, 0);
 }
 
-FlexibleContactWorkspace::FlexibleContactWorkspace(const ContactSide& a, const ContactSide& b)
+FlexibleContactWorkspace::FlexibleContactWorkspace(const ContactSide& a, const ContactSide& b,
+                                                   const FlexibleContactSurface* modal_a,
+                                                   const FlexibleContactSurface* modal_b, int nv)
     : tracked(a.surface(), b.surface()),
       search(a.surface(), b.surface()),
       scratch_a(a.surface()),
       scratch_b(b.surface()),
       side_a(a),
-      side_b(b) {
+      side_b(b),
+      tangents(modal_a, modal_b, nv) {
   pairs.reserve(search.suggested_capacity());
   node_faces_a.reserve(3 * pairs.capacity());
   node_faces_b.reserve(3 * pairs.capacity());
@@ -73,7 +76,50 @@ std::unique_ptr<ExternalForceWorkspace> FlexibleContactElement::MakeWorkspace(
       throw std::invalid_argument(what + "the surface's modes are not those of body " +
                                   std::to_string(s->body));
   }
-  return std::make_unique<FlexibleContactWorkspace>(spec_.a, spec_.b);
+  // The tangents' modal rows: the flexible sides whose bodies have modal coordinates.
+  auto modal = [&](const ContactSide& s) -> const FlexibleContactSurface* {
+    if (!s.flexible) return nullptr;
+    return model.flexible_bodies[model.bodies[s.body].flexible].nf > 0 ? s.flexible.get() : nullptr;
+  };
+  return std::make_unique<FlexibleContactWorkspace>(spec_.a, spec_.b, modal(spec_.a),
+                                                    modal(spec_.b), model.nv);
+}
+
+template <class Fn>
+void FlexibleContactElement::ForEachContactPoint(const ContactSideState& a,
+                                                 const ContactSideState& b,
+                                                 const FlexibleContactWorkspace& ws,
+                                                 Fn&& fn) const {
+  // Velocity (world) of a vertex's deformation rate, R Phi_P q_f-dot.
+  auto vertex_rate = [](const ContactSide& side, const ContactSideBuffers& buf,
+                        const ContactSideState& st, int i) {
+    if (!side.flexible || !buf.q_f_dot) return Vec3(Vec3::Zero());
+    return Vec3(st.X_WB.R * side.flexible->VertexShapeTimes(i, *buf.q_f_dot));
+  };
+  // One pass: nodes of side N against faces of side F.
+  auto pass = [&](const std::vector<NodeGap>& gaps, const ContactSide& node_side,
+                  const ContactSide& face_side, const ContactSideState& N,
+                  const ContactSideState& F, const ContactSideBuffers& bn,
+                  const ContactSideBuffers& bf, bool node_on_a) {
+    const ContactSurface& node_surface = node_side.surface();
+    const auto& face_tris = face_side.surface().triangles();
+    const Transform X_FW = F.X_WB.Inverse();
+    for (const NodeGap& g : gaps) {
+      if (!(g.gap < 0) || !g.on_surface) continue;
+      ContactPoint c{.gap = &g, .node_on_a = node_on_a, .face_vertices = face_tris[g.face]};
+      // Barycentric coordinates of the closest point on the deformed face.
+      const auto& tri = c.face_vertices;
+      c.face_weights = Barycentric(X_FW * g.q_W, bf.vertices[tri[0]], bf.vertices[tri[1]],
+                                   bf.vertices[tri[2]]);
+      Vec3 v_face = PointVelocity(F.V_WB, g.p_W);
+      for (int k = 0; k < 3; ++k) v_face += c.face_weights(k) * vertex_rate(face_side, bf, F, tri[k]);
+      c.v_rel = PointVelocity(N.V_WB, g.p_W) + vertex_rate(node_side, bn, N, g.node) - v_face;
+      c.area_weight = 0.5 * g.weight * node_surface.vertex_areas()[g.node];
+      fn(c);
+    }
+  };
+  pass(ws.gaps_a, spec_.a, spec_.b, a, b, ws.side_a, ws.side_b, true);
+  pass(ws.gaps_b, spec_.b, spec_.a, b, a, ws.side_b, ws.side_a, false);
 }
 
 void FlexibleContactElement::Evaluate(const ContactSideState& a, const ContactSideState& b,
@@ -158,12 +204,6 @@ void FlexibleContactElement::Evaluate(const ContactSideState& a, const ContactSi
   ws.energy = ws.power_dissipated = 0;
   ws.normal_force = ws.friction_force = ws.max_penetration = 0;
   ws.contact_points = 0;
-  // Velocity (world) of a vertex's deformation rate, R Phi_P q_f-dot.
-  auto vertex_rate = [](const ContactSide& side, const ContactSideBuffers& buf,
-                        const ContactSideState& st, int i) {
-    if (!side.flexible || !buf.q_f_dot) return Vec3(Vec3::Zero());
-    return Vec3(st.X_WB.R * side.flexible->VertexShapeTimes(i, *buf.q_f_dot));
-  };
   // A vertex force (body frame), remembering the vertex for the modal forces and the reset.
   auto add_vertex_force = [](ContactSideBuffers& buf, int i, const Vec3& f_B) {
     if (!buf.has_force[i]) {
@@ -172,44 +212,30 @@ void FlexibleContactElement::Evaluate(const ContactSideState& a, const ContactSi
     }
     buf.node_force[i] += f_B;
   };
-  // One pass: nodes of side N against faces of side F; the force acts on N.
-  auto pass = [&](const std::vector<NodeGap>& gaps, const ContactSide& node_side,
-                  const ContactSide& face_side, const ContactSideState& N,
-                  const ContactSideState& F, ContactSideBuffers& bn, ContactSideBuffers& bf) {
-    const ContactSurface& node_surface = node_side.surface();
-    const ContactSurface& face_surface = face_side.surface();
-    const auto& face_tris = face_surface.triangles();
-    const Transform X_FW = F.X_WB.Inverse();
-    for (const NodeGap& g : gaps) {
-      if (!(g.gap < 0) || !g.on_surface) continue;
-      // Barycentric coordinates of the closest point on the deformed face.
-      const auto& tri = face_tris[g.face];
-      const Vec3 w = Barycentric(X_FW * g.q_W, bf.vertices[tri[0]], bf.vertices[tri[1]],
-                                 bf.vertices[tri[2]]);
-      Vec3 v_face = PointVelocity(F.V_WB, g.p_W);
-      for (int k = 0; k < 3; ++k) v_face += w(k) * vertex_rate(face_side, bf, F, tri[k]);
-      const Vec3 v_rel =
-          PointVelocity(N.V_WB, g.p_W) + vertex_rate(node_side, bn, N, g.node) - v_face;
-      const double depth = -g.gap;
-      const NodeForce f = EvaluateContactLaw(spec_.law, depth, -v_rel.dot(g.n_W), g.n_W, v_rel,
-                                             0.5 * g.weight * node_surface.vertex_areas()[g.node]);
-      // Spatial forces at the deformed node, and the vertex forces in the body frames.
-      const Vec6 wrench = ForceAtPoint(g.p_W, f.f_W);
-      bn.f_W += wrench;
-      bf.f_W -= wrench;
-      add_vertex_force(bn, g.node, N.X_WB.R.transpose() * f.f_W);
-      const Vec3 f_F = F.X_WB.R.transpose() * f.f_W;
-      for (int k = 0; k < 3; ++k) add_vertex_force(bf, tri[k], -w(k) * f_F);
-      ws.energy += f.energy;
-      ws.power_dissipated += f.power_dissipated;
-      ws.normal_force += f.normal;
-      ws.friction_force += f.friction;
-      ws.max_penetration = std::max(ws.max_penetration, depth);
-      ++ws.contact_points;
-    }
-  };
-  pass(ws.gaps_a, spec_.a, spec_.b, a, b, ws.side_a, ws.side_b);
-  pass(ws.gaps_b, spec_.b, spec_.a, b, a, ws.side_b, ws.side_a);
+  // The force of a node acts on the node's side N, its reaction on the face's side F.
+  ForEachContactPoint(a, b, ws, [&](const ContactPoint& c) {
+    const NodeGap& g = *c.gap;
+    const ContactSideState& N = c.node_on_a ? a : b;
+    const ContactSideState& F = c.node_on_a ? b : a;
+    ContactSideBuffers& bn = c.node_on_a ? ws.side_a : ws.side_b;
+    ContactSideBuffers& bf = c.node_on_a ? ws.side_b : ws.side_a;
+    const double depth = -g.gap;
+    const NodeForce f =
+        EvaluateContactLaw(spec_.law, depth, -c.v_rel.dot(g.n_W), g.n_W, c.v_rel, c.area_weight);
+    // Spatial forces at the deformed node, and the vertex forces in the body frames.
+    const Vec6 wrench = ForceAtPoint(g.p_W, f.f_W);
+    bn.f_W += wrench;
+    bf.f_W -= wrench;
+    add_vertex_force(bn, g.node, N.X_WB.R.transpose() * f.f_W);
+    const Vec3 f_F = F.X_WB.R.transpose() * f.f_W;
+    for (int k = 0; k < 3; ++k) add_vertex_force(bf, c.face_vertices[k], -c.face_weights(k) * f_F);
+    ws.energy += f.energy;
+    ws.power_dissipated += f.power_dissipated;
+    ws.normal_force += f.normal;
+    ws.friction_force += f.friction;
+    ws.max_penetration = std::max(ws.max_penetration, depth);
+    ++ws.contact_points;
+  });
   // Modal forces Q = sum_P Phi_P^T F_P.
   for (const auto& [side, buf] : {std::pair{&spec_.a, &ws.side_a}, std::pair{&spec_.b, &ws.side_b}}) {
     if (!side->flexible) continue;
@@ -218,20 +244,21 @@ void FlexibleContactElement::Evaluate(const ContactSideState& a, const ContactSi
   }
 }
 
+ContactSideState FlexibleContactElement::SideState(const Model& model, const Data& data,
+                                                   const ContactSide& side) {
+  ContactSideState s{.X_WB = data.X_WB[side.body], .V_WB = data.V_WB[side.body]};
+  const int fb = model.bodies[side.body].flexible;
+  if (side.flexible && fb >= 0 && model.flexible_bodies[fb].nf > 0) {
+    s.q_f = &data.flex[fb].qf;
+    s.q_f_dot = &data.flex[fb].qf_dot;
+  }
+  return s;
+}
+
 void FlexibleContactElement::Apply(const Model& model, double /*t*/, Data& data,
                                    ExternalForceWorkspace& workspace) const {
   auto& ws = static_cast<FlexibleContactWorkspace&>(workspace);
-  // The states of both sides from the kinematics.
-  auto state = [&](const ContactSide& side) {
-    ContactSideState s{.X_WB = data.X_WB[side.body], .V_WB = data.V_WB[side.body]};
-    const int fb = model.bodies[side.body].flexible;
-    if (side.flexible && fb >= 0 && model.flexible_bodies[fb].nf > 0) {
-      s.q_f = &data.flex[fb].qf;
-      s.q_f_dot = &data.flex[fb].qf_dot;
-    }
-    return s;
-  };
-  const ContactSideState a = state(spec_.a), b = state(spec_.b);
+  const ContactSideState a = SideState(model, data, spec_.a), b = SideState(model, data, spec_.b);
   Evaluate(a, b, ws);
   // Scatter: spatial forces on the bodies (the world takes none), modal forces on the modes.
   auto scatter = [&](const ContactSide& side, const ContactSideState& st,
@@ -246,6 +273,27 @@ void FlexibleContactElement::Apply(const Model& model, double /*t*/, Data& data,
   scatter(spec_.b, b, ws.side_b);
   data.potential_energy += ws.energy;
   data.power_dissipated += ws.power_dissipated;
+}
+
+void FlexibleContactElement::AddTangents(const Model& model, const Data& data,
+                                         ExternalForceWorkspace& workspace,
+                                         Eigen::Ref<Eigen::MatrixXd> K,
+                                         Eigen::Ref<Eigen::MatrixXd> C) const {
+  auto& ws = static_cast<FlexibleContactWorkspace&>(workspace);
+  const ContactSideState a = SideState(model, data, spec_.a), b = SideState(model, data, spec_.b);
+  ws.tangents.Clear();
+  ForEachContactPoint(a, b, ws, [&](const ContactPoint& c) {
+    const NodeGap& g = *c.gap;
+    const NodeForceTangent t = EvaluateContactLawTangent(spec_.law, -g.gap, -c.v_rel.dot(g.n_W),
+                                                         g.n_W, c.v_rel, c.area_weight);
+    ws.tangents.AddPoint({.p_W = g.p_W,
+                          .node_on_a = c.node_on_a,
+                          .node_vertex = g.node,
+                          .face_vertices = c.face_vertices,
+                          .face_weights = c.face_weights},
+                         t, g.n_W, a.X_WB.R, b.X_WB.R);
+  });
+  ws.tangents.Scatter(model, data, spec_.a.body, spec_.b.body, K, C);
 }
 
 std::vector<std::string> FlexibleContactElement::OutputNames() const {

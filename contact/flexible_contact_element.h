@@ -44,6 +44,7 @@
 //   builder.AddExternalForce(std::make_shared<FlexibleContactElement>(FlexibleContactElementSpec{
 //       .name = "block_on_plane", .a = {.body = block_body, .flexible = block},
 //       .b = {.body = kWorldBody, .rigid = plane}, .law = {.stiffness_per_area = 1e13}}));
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -54,6 +55,7 @@
 #include "contact/contact_element.h"
 #include "contact/contact_law.h"
 #include "contact/contact_surface.h"
+#include "contact/contact_tangents.h"
 #include "contact/flexible_contact_surface.h"
 #include "contact/signed_gap.h"
 #include "mbd/external_force.h"
@@ -117,7 +119,12 @@ struct ContactSideBuffers {
 
 class FlexibleContactWorkspace final : public ExternalForceWorkspace {
  public:
-  FlexibleContactWorkspace(const ContactSide& a, const ContactSide& b);
+  // modal_a / modal_b: the flexible surfaces of sides whose bodies have modal coordinates
+  // (the tangents' modal rows), nv the model's velocity count (the defaults: a workspace for
+  // Evaluate() alone, without tangents).
+  FlexibleContactWorkspace(const ContactSide& a, const ContactSide& b,
+                           const FlexibleContactSurface* modal_a = nullptr,
+                           const FlexibleContactSurface* modal_b = nullptr, int nv = 0);
 
   TrackedGaps tracked;                   // kTracked
   CandidateSearch search;                // kCandidatePairs
@@ -126,6 +133,7 @@ class FlexibleContactWorkspace final : public ExternalForceWorkspace {
   GapScratch scratch_a, scratch_b;
   std::vector<NodeGap> gaps_a, gaps_b;  // nodes of A on B's faces, nodes of B on A's faces
   ContactSideBuffers side_a, side_b;
+  ContactTangents tangents;             // AddTangents()
   // Outputs of the last Evaluate().
   double normal_force = 0, friction_force = 0, max_penetration = 0;
   double energy = 0, power_dissipated = 0;
@@ -149,6 +157,11 @@ class FlexibleContactElement final : public ExternalForceElement {
   std::vector<std::string> OutputNames() const override;
   std::vector<std::string> OutputUnits() const override;
   void GetOutputs(const ExternalForceWorkspace& workspace, double* values) const override;
+  // Stiffness and damping of the penetrating nodes of the last Apply(), in the modal coordinates
+  // too (contact_tangents.h).
+  bool HasTangents() const override { return true; }
+  void AddTangents(const Model& model, const Data& data, ExternalForceWorkspace& workspace,
+                   Eigen::Ref<Eigen::MatrixXd> K, Eigen::Ref<Eigen::MatrixXd> C) const override;
 
   // Stages 1-6 for given states: fills ws.side_a / side_b (f_W, modal_force, node_force),
   // ws.energy, ws.power_dissipated and the outputs.
@@ -156,6 +169,22 @@ class FlexibleContactElement final : public ExternalForceElement {
                 FlexibleContactWorkspace& ws) const;
 
  private:
+  // A penetrating node of the last evaluation, with what its force and tangents need.
+  struct ContactPoint {
+    const NodeGap* gap = nullptr;
+    bool node_on_a = true;
+    std::array<int, 3> face_vertices = {0, 0, 0};  // of the face's side
+    Vec3 face_weights = Vec3::Zero();  // barycentric, of the closest point on the deformed face
+    Vec3 v_rel = Vec3::Zero();         // node relative to the face point, deformation rates in
+    double area_weight = 0;            // 1/2 w A_P of the node (w: its rim weight, signed_gap.h)
+  };
+  // Calls fn(ContactPoint) for every penetrating node of ws's gaps, both passes.
+  template <class Fn>
+  void ForEachContactPoint(const ContactSideState& a, const ContactSideState& b,
+                           const FlexibleContactWorkspace& ws, Fn&& fn) const;
+  // A side's state from the kinematics in data.
+  static ContactSideState SideState(const Model& model, const Data& data, const ContactSide& side);
+
   FlexibleContactElementSpec spec_;
 };
 

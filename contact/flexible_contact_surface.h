@@ -110,6 +110,8 @@ class FlexibleContactSurface {
   void AddVertexForce(int vertex, const Vec3& f_B, Eigen::VectorXd* modal_force) const {
     modal_force->noalias() += shapes_rows_.middleRows<3>(3 * vertex).transpose() * f_B;
   }
+  // Phi_P of one vertex (3 x nf).
+  auto VertexShapes(int vertex) const { return shapes_rows_.middleRows<3>(3 * vertex); }
 
  private:
   void Check(const std::string& what) const;

@@ -44,6 +44,7 @@ DaeSystem::DaeSystem(const Model& model)
   kkt_lu_ = Eigen::PartialPivLU<Eigen::MatrixXd>(nv_ + nc_);
   gamma_.setZero(nc_);
   zero_nv_.setZero(nv_);
+  for (const auto& element : model.external_forces) any_element_tangents_ |= element->HasTangents();
 }
 
 void DaeSystem::DynamicRows(double t, const Eigen::Ref<const Eigen::VectorXd>& q,
@@ -146,6 +147,8 @@ void DaeSystem::Tangents(double t, const Eigen::Ref<const Eigen::VectorXd>& q,
                          const Eigen::Ref<const Eigen::VectorXd>& vdot,
                          const Eigen::Ref<const Eigen::VectorXd>& lambda,
                          Eigen::Ref<Eigen::MatrixXd> Kq, Eigen::Ref<Eigen::MatrixXd> Cv) {
+  // Elements with analytic tangents are left out of the differences below.
+  data_.skip_elements_with_tangents = use_element_tangents_ && any_element_tangents_;
   // Positions: q <- q (+) h e_k, the whole pipeline per column.
   DynamicRows(t, q, v, vdot, lambda, rv0_, rl0_);
   for (int k = 0; k < nv_; ++k) {
@@ -174,10 +177,21 @@ void DaeSystem::Tangents(double t, const Eigen::Ref<const Eigen::VectorXd>& q,
     CalcInverseDynamics(model_, vdot, data_);
     Cv.col(k) = (data_.tau_id - rv0_) / h;
   }
-  // Leave data at the base point.
+  // Leave data at the base point, every element applied; those with analytic tangents add them
+  // there.
+  const bool add_element_tangents = data_.skip_elements_with_tangents;
+  data_.skip_elements_with_tangents = false;
   CalcVelocityKinematics(model_, v, data_);
   CalcForceElements(model_, t, v, data_);
   CalcInverseDynamics(model_, vdot, data_);
+  if (add_element_tangents) {
+    CalcBodyJacobians(model_, data_);
+    for (size_t i = 0; i < model_.external_forces.size(); ++i) {
+      const ExternalForceElement& element = *model_.external_forces[i];
+      if (element.HasTangents())
+        element.AddTangents(model_, data_, *data_.external[i], Kq.topRows(nv_), Cv);
+    }
+  }
 }
 
 void DaeSystem::SolveAccelerations(double t, const Eigen::Ref<const Eigen::VectorXd>& q,

@@ -47,6 +47,8 @@ class DaeSystem {
 
   // Tangent matrices at (t, q, v, vdot, lambda), by forward differences in velocity space:
   //   Kq ((nv + nc) x nv): d(r_v, r_lam)/d(dq) for q <- q (+) dq,   Cv (nv x nv): d r_v / d v.
+  // External elements with analytic tangents (external_force.h) are left out of the differences
+  // and add their own at the base point (unless set_element_tangents(false)).
   // Leaves data() at the base point with data().M computed.
   void Tangents(double t, const Eigen::Ref<const Eigen::VectorXd>& q,
                 const Eigen::Ref<const Eigen::VectorXd>& v,
@@ -67,6 +69,10 @@ class DaeSystem {
                           const Eigen::Ref<const Eigen::VectorXd>& v, Eigen::Ref<Eigen::VectorXd> vdot,
                           Eigen::Ref<Eigen::VectorXd> lambda);
 
+  // Whether Tangents() takes the analytic tangents of the elements that have them (default) or
+  // differences through them too (the oracle in tests).
+  void set_element_tangents(bool use) { use_element_tangents_ = use; }
+
   Data& data() { return data_; }
   const Model& model() const { return model_; }
   long residual_evaluations() const { return residual_evaluations_; }
@@ -83,6 +89,8 @@ class DaeSystem {
   Data data_;
   int nq_, nv_, nc_, nh_, n_;
   long residual_evaluations_ = 0;
+  bool any_element_tangents_ = false;  // some external element has analytic tangents
+  bool use_element_tangents_ = true;
   // Scratch, sized once.
   Eigen::VectorXd qdot_, w_, q_pert_, v_pert_, dv_, rv0_, rl0_, rv1_, rl1_;
   Eigen::MatrixXd dq_dv_;   // nq x nv: d(q (+) dv)/d(dv) at dv = 0  (N for quaternion blocks)

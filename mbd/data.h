@@ -43,6 +43,9 @@ struct Data {
   };
   std::vector<FlexibleBodyTerms> flex;  // n flexible bodies
 
+  // --- CalcBodyJacobians (kinematics.cpp), on demand (DaeSystem::Tangents) ---
+  std::vector<Eigen::Matrix<double, 6, Eigen::Dynamic>> J_WB;  // nbodies x (6 x nv): V_WB = J_WB v
+
   // --- CalcVelocityKinematics (kinematics.cpp) ---
   std::vector<Vec6> V_WB;             // nbodies: body spatial velocities, world origin
   std::vector<Vec6> c_J;              // njoints: S-dot v of each joint (velocity-product accel.)
@@ -63,6 +66,9 @@ struct Data {
   // One per Model::external_forces element, made by the element (its caches and outputs); filled
   // by the element's Apply() at the end of CalcForceElements.
   std::vector<std::unique_ptr<ExternalForceWorkspace>> external;
+  // Set by DaeSystem::Tangents while it takes finite differences: CalcForceElements then leaves
+  // out the external elements with analytic tangents (ExternalForceElement::HasTangents()).
+  bool skip_elements_with_tangents = false;
 
   // --- CalcInverseDynamics (inverse_dynamics.cpp) ---
   std::vector<Vec6> A_WB;             // nbodies: body spatial accelerations (gravity included

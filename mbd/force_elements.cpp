@@ -182,9 +182,13 @@ void CalcForceElements(const Model& model, double t, const Eigen::Ref<const Eige
   data.potential_energy = energy + elastic;
   data.power_applied = applied;
   data.power_dissipated = dissipated + modal_dissipated;
-  // Elements defined outside mbd/ (contact/) add to the same accumulators.
-  for (size_t i = 0; i < model.external_forces.size(); ++i)
-    model.external_forces[i]->Apply(model, t, data, *data.external[i]);
+  // Elements defined outside mbd/ (contact/) add to the same accumulators (those with analytic
+  // tangents not while DaeSystem::Tangents takes differences).
+  for (size_t i = 0; i < model.external_forces.size(); ++i) {
+    const ExternalForceElement& element = *model.external_forces[i];
+    if (data.skip_elements_with_tangents && element.HasTangents()) continue;
+    element.Apply(model, t, data, *data.external[i]);
+  }
 }
 
 }  // namespace orrery

@@ -31,6 +31,9 @@
 namespace orrery {
 namespace {
 
+// Times a step's Newton iteration may take back half of an increment (Step()).
+constexpr int kMaxBacktracks = 6;
+
 class GeneralizedAlpha final : public Integrator {
  public:
   GeneralizedAlpha(const Model& model, const IntegratorOptions& options)
@@ -167,10 +170,12 @@ class GeneralizedAlpha final : public Integrator {
   }
 
   // Modified Newton: the iteration matrix is kept from step to step and refreshed when the step
-  // size changes or the iteration converges slowly (rate above options' matrix_refresh_rate) or not at all. Converged when
-  // the scaled residual is below newton_tolerance times the force scale, or the acceleration
-  // increment below newton_tolerance relative to the accelerations (kinks of tabulated mesh
-  // stiffness can hold the residual above its floor while the iterates no longer move).
+  // size changes or the iteration converges slowly (rate above options' matrix_refresh_rate)
+  // or not at all. With a matrix fresh in this step, an increment after which the residual grew
+  // is taken back by halves (up to kMaxBacktracks times). Converged when the scaled residual is
+  // below newton_tolerance times the force scale, or the acceleration increment below
+  // newton_tolerance relative to the accelerations (kinks of tabulated mesh stiffness can hold
+  // the residual above its floor while the iterates no longer move).
   void Step(double h) {
     const int nv = model_.nv, nc = model_.n_constraints;
     const double t = state_.t + h;
@@ -193,12 +198,27 @@ class GeneralizedAlpha final : public Integrator {
     if (nc > 0) scale = std::max(scale, lambda_new_.lpNorm<Eigen::Infinity>());
     bool converged = false;
     double norm = 0, previous = std::numeric_limits<double>::infinity();
+    // Damping (below): the residual where the last increment started, the fraction of it taken.
+    double start_norm = std::numeric_limits<double>::infinity(), fraction = 1;
+    int backtracks = 0;
     for (int it = 0; it < options_.max_newton_iterations && !converged; ++it) {
       norm = Residual(t, h);
       ++stats_.newton_iterations;
       if (it > 0 && ResidualBelow(options_.newton_tolerance * scale)) {
         converged = true;
         break;
+      }
+      // With a fresh matrix, a residual that grew means the increment crossed a switch of the
+      // forces (tooth contact coming on or off, a node changing faces) where Newton can cycle
+      // between two contact states for ever: take back half of the increment instead.
+      if (fresh && it > 0 && norm > start_norm && backtracks < kMaxBacktracks) {
+        fraction *= 0.5;
+        vdot_new_ += fraction * delta_.head(nv);
+        lambda_new_ += fraction * delta_.tail(nc);
+        UpdateKinematics(h);
+        ++backtracks;
+        ++stats_.newton_backtracks;
+        continue;
       }
       delta_.noalias() = lu_.solve(rhs_);
       double increment = delta_.head(nv).lpNorm<Eigen::Infinity>();
@@ -211,6 +231,8 @@ class GeneralizedAlpha final : public Integrator {
         delta_.noalias() = lu_.solve(rhs_);
         increment = delta_.head(nv).lpNorm<Eigen::Infinity>();
       }
+      start_norm = norm;
+      fraction = 1;
       vdot_new_ -= delta_.head(nv);
       lambda_new_ -= delta_.tail(nc);
       UpdateKinematics(h);

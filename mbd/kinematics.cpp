@@ -144,6 +144,16 @@ void CalcVelocityKinematics(const Model& model, const Eigen::Ref<const Eigen::Ve
   CalcFrameVelocities(model, v, data);
 }
 
+void CalcBodyJacobians(const Model& model, Data& data) {
+  data.J_WB[kWorldBody].setZero();
+  for (const JointIndex j : model.tree_order) {
+    const Joint& jt = model.joints[j];
+    auto& J = data.J_WB[jt.spec.child];
+    J = data.J_WB[jt.spec.parent];
+    J.middleCols(jt.v_start, jt.nv) += data.S.middleCols(jt.v_start, jt.nv);
+  }
+}
+
 void CalcQDot(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& q,
               const Eigen::Ref<const Eigen::VectorXd>& v, Eigen::Ref<Eigen::VectorXd> qdot) {
   if (!model.has_quaternions) {

@@ -16,12 +16,12 @@ void WriteStats(ResultFile& out, const IntegratorStats& s, const std::string& in
                   {double(s.steps), double(s.residual_evaluations), double(s.jacobian_evaluations),
                    double(s.newton_iterations), double(s.newton_failures),
                    double(s.error_test_failures), double(s.last_order), s.last_step,
-                   s.max_abs_phi, s.max_abs_phidot, wall_s},
+                   s.max_abs_phi, s.max_abs_phidot, wall_s, double(s.newton_backtracks)},
                   "1");
   out.SetAttribute(g + "/statistics", "columns",
                    std::string("steps,residual_evaluations,jacobian_evaluations,newton_iterations,"
                                "newton_failures,error_test_failures,last_order,last_step_s,"
-                               "max_abs_phi,max_abs_phidot,wall_time_s"));
+                               "max_abs_phi,max_abs_phidot,wall_time_s,newton_backtracks"));
   out.SetAttribute(g, "integrator", integrator);
   out.SetAttribute(g, "completed", std::int64_t(completed ? 1 : 0));
   out.SetAttribute(g, "steps", std::int64_t(s.steps));

@@ -23,6 +23,9 @@
 #include "flex/fe_assembly.h"
 #include "flex/flexible_body_modes.h"
 #include "flex/geometric_stiffness.h"
+#include "mbd/dae.h"
+#include "mbd/model.h"
+#include "mbd/state.h"
 
 namespace orrery::contact {
 namespace {
@@ -179,6 +182,67 @@ TEST(FlexibleContactElement, ModalForcesAreMinusTheEnergyGradient) {
   }
   const double h = 1e-10;
   EXPECT_NEAR(fz, -(energy(q, z0 + h) - energy(q, z0 - h)) / (2 * h), 1e-5 * std::abs(fz));
+}
+
+// The element's analytic tangents (contact_tangents.h) through DaeSystem::Tangents against
+// forward differences of the whole pipeline through it, for the block on a free joint with its
+// 12 modal coordinates: deformed, tilted, sliding (sticking friction) and approaching. Left
+// out by the tangents: the turning of the forces' directions and points of action with the
+// block and with its deformation, terms of the order of the force F = k delta times the
+// half-width L against the rotational stiffness k L^2 / 3, so a relative 3 delta / L.
+TEST(FlexibleContactElement, TangentsMatchPipelineDifferences) {
+  const Block b = MakeBlock(12);
+  const int nf = b.modes->nf;
+  auto block = std::make_shared<const FlexibleContactSurface>(
+      b.modes, FlexibleContactSurfaceSpec{.node_sets = {"ZMIN"}, .gap_margin_m = 30e-6,
+                                          .deformation_allowance_m = 20e-6});
+  const double tilt = 2e-5, delta = 3e-6;
+  // The block with or without its contact (the tangents' common part: inertia, modal stiffness).
+  auto make = [&](bool contact) {
+    ModelBuilder mb;
+    const BodyIndex body = mb.AddFlexibleBody("block", b.modes);
+    const JointIndex free = mb.AddJoint({.name = "free", .type = JointType::kFree,
+                                         .parent = kWorldBody, .child = body});
+    const Vec3 axis = Vec3(1, 2, 0).normalized();
+    Eigen::VectorXd q0(7), v0(6), qf(nf), vf(nf);
+    q0 << 0.4e-3, -0.2e-3, kL - delta, std::cos(tilt / 2), std::sin(tilt / 2) * axis;
+    v0 << 3e-4, 2e-4, -1e-3, 0.004, -0.002, 0.02;
+    for (int k = 0; k < nf; ++k) {
+      qf(k) = 0.3e-6 / block->mode_bounds()(k) * std::sin(1.7 * k + 0.3);
+      vf(k) = 1e-3 / block->mode_bounds()(k) * std::cos(0.9 * k);
+    }
+    mb.SetJointPosition(free, q0);
+    mb.SetJointVelocity(free, v0);
+    mb.SetModalCoordinates(body, qf, vf);
+    if (contact)
+      mb.AddExternalForce(std::make_shared<FlexibleContactElement>(FlexibleContactElementSpec{
+          .name = "block_on_plane", .a = {.body = body, .flexible = block},
+          .b = {.body = kWorldBody, .rigid = Plane()},
+          .law = {.stiffness_per_area = 2.1e13, .hunt_crossley_s_per_m = 0.4,
+                  .friction_coefficient = 0.2, .slip_velocity_m_s = 1e-2}}));
+    return std::shared_ptr<const Model>(std::move(mb).Finalize());
+  };
+  const std::shared_ptr<const Model> model = make(true), bare = make(false);
+  const State s = State::Initial(*model);
+  const int nv = model->nv;
+  const Eigen::VectorXd vdot = Eigen::VectorXd::Zero(nv), lambda;
+  Eigen::MatrixXd K_an(nv, nv), C_an(nv, nv), K_fd(nv, nv), C_fd(nv, nv), K0(nv, nv), C0(nv, nv);
+  DaeSystem dae(*model), dae0(*bare);
+  dae0.Tangents(0, s.q, s.v, vdot, lambda, K0, C0);
+  dae.Tangents(0, s.q, s.v, vdot, lambda, K_an, C_an);
+  const auto& ws = static_cast<const FlexibleContactWorkspace&>(*dae.data().external[0]);
+  ASSERT_GT(ws.contact_points, 20);
+  EXPECT_GT(ws.friction_force, 0);
+  dae.set_element_tangents(false);
+  dae.Tangents(0, s.q, s.v, vdot, lambda, K_fd, C_fd);
+  // The contact's shares, against the deepest penetration (centre, tilt, deformation).
+  K_an -= K0, K_fd -= K0, C_an -= C0, C_fd -= C0;
+  const double relative = 3 * (delta + 0.01 * tilt + 0.3e-6) / 0.01;
+  EXPECT_LE((K_an - K_fd).norm(), relative * K_fd.norm()) << "K\n" << K_an << "\nfd\n" << K_fd;
+  EXPECT_LE((C_an - C_fd).norm(), relative * C_fd.norm()) << "C\n" << C_an << "\nfd\n" << C_fd;
+  std::printf("flexible block (%d modes): |K - K_fd| / |K_fd| = %.2e, |C - C_fd| / |C_fd| = %.2e "
+              "(bound %.1e)\n", nf, (K_an - K_fd).norm() / K_fd.norm(),
+              (C_an - C_fd).norm() / C_fd.norm(), relative);
 }
 
 TEST(FlexibleContactElement, ReportsDeformationBeyondTheInflation) {

@@ -82,6 +82,7 @@ void PrintSummary(std::ostream& out, const std::string& output_path, const Simul
   SummaryLine(out, "residual evals", std::to_string(s.residual_evaluations));
   SummaryLine(out, "jacobian evals", std::to_string(s.jacobian_evaluations));
   SummaryLine(out, "newton failures", std::to_string(s.newton_failures));
+  if (s.newton_backtracks > 0) SummaryLine(out, "newton backtracks", std::to_string(s.newton_backtracks));
   SummaryLine(out, "error-test fails", std::to_string(s.error_test_failures));
   SummaryLine(out, "max |Phi|", Number("%.3g", s.max_abs_phi));
   SummaryLine(out, "max |Phi-dot|", Number("%.3g", s.max_abs_phidot));
