@@ -19,6 +19,7 @@
 #include "flex/craig_bampton.h"
 #include "flex/fe_assembly.h"
 #include "flex/flexible_body_modes.h"
+#include "mbd/dae.h"
 #include "mbd/data.h"
 #include "mbd/dynamics.h"
 #include "mbd/evaluate.h"
@@ -40,6 +41,18 @@ long AllocationsIn(F&& f) {
 TEST(ContactNoAllocation, CounterCountsVectorGrowth) {
   std::vector<int> v;
   EXPECT_GT(AllocationsIn([&] { v.assign(100, 1); }), 0);
+}
+
+// The iteration matrix's tangents at state s (differences without the contact elements, their
+// analytic tangents) after one call has sized everything; the contact must press.
+void ExpectTangentsWithoutAllocation(const Model& m, const State& s) {
+  DaeSystem dae(m);
+  Eigen::MatrixXd K(m.nv, m.nv), C(m.nv, m.nv);
+  const Eigen::VectorXd vdot = Eigen::VectorXd::Zero(m.nv), lambda;
+  auto tangents = [&] { dae.Tangents(0.0, s.q, s.v, vdot, lambda, K, C); };
+  tangents();
+  EXPECT_EQ(AllocationsIn(tangents), 0);
+  EXPECT_GT(K.norm(), 0);
 }
 
 // A 18/34 spur pair (seed 001's sun and planet) on revolute joints with gear contact: after one
@@ -102,6 +115,7 @@ void CheckGearContactEvaluation(ContactGapMethod method) {
     EXPECT_GE(ws.search.stats().searches - searches, 25);
   }
   EXPECT_GT(ws.normal_force, 0);
+  ExpectTangentsWithoutAllocation(m, s);
 }
 
 TEST(ContactNoAllocation, GearContactEvaluationTracked) {
@@ -115,7 +129,8 @@ TEST(ContactNoAllocation, GearContactEvaluationCandidatePairs) {
 // A reduced steel block (hex8 4 x 4 x 2, 12 modes) on a vertical prismatic joint pressed onto a
 // rigid plane through a FlexibleContactElement: after a first pass has sized the lists, a second
 // pass over heights and modal states evaluates the dynamics, contact tracked on the deformed
-// surfaces and modal forces included, without allocating.
+// surfaces and modal forces included, without allocating; so does the tangents' pass (both
+// tests).
 TEST(ContactNoAllocation, FlexibleContactEvaluation) {
   flex::FeMesh mesh = flex::MakeBoxMesh({.origin_m = {-0.01, -0.01, 0}, .size_m = {0.02, 0.02, 0.01},
                                          .divisions = {4, 4, 2}, .type = flex::ElementType::kHex8});
@@ -161,6 +176,7 @@ TEST(ContactNoAllocation, FlexibleContactEvaluation) {
   EXPECT_GT(ws.tracked.stats().node_evaluations - evaluations, 40);
   EXPECT_GT(ws.normal_force, 0);
   EXPECT_GT(ws.side_a.modal_force.norm(), 0);
+  ExpectTangentsWithoutAllocation(m, s);
 }
 
 }  // namespace
