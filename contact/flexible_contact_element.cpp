@@ -24,6 +24,7 @@ ContactSideBuffers::ContactSideBuffers(const ContactSide& side)
   part_deformation.assign(np, 0.0);
   part_change.assign(np, 0.0);
   part_current.assign(np, 0);
+  if (side.flexible) base_displacement.assign(side.flexible->num_bases(), Vec3::Zero());
 }
 
 FlexibleContactWorkspace::FlexibleContactWorkspace(const ContactSide& a, const ContactSide& b,
@@ -151,7 +152,8 @@ void FlexibleContactElement::Evaluate(const ContactSideState& a, const ContactSi
       // tracked set has its nodes and partners started again): far tighter than the modal
       // bound sum |dq_k| c_k, which wakes every node when high modes ring.
       side->flexible->DeformParts(*buf->q_f, *parts, &buf->vertices, &buf->normals,
-                                  &buf->part_deformation, &buf->part_change);
+                                  &buf->part_deformation, &buf->part_change,
+                                  &buf->base_displacement);
       double change = 0;
       for (const int part : *parts)
         if (buf->part_current[part]) change = std::max(change, buf->part_change[part]);

@@ -115,6 +115,7 @@ struct ContactSideBuffers {
   // and whether the part was deformed at the last evaluation.
   std::vector<double> part_deformation, part_change;
   std::vector<char> part_current;
+  std::vector<Vec3> base_displacement;  // #bases of a flexible side: DeformParts' scratch
 };
 
 class FlexibleContactWorkspace final : public ExternalForceWorkspace {

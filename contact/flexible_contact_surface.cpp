@@ -48,6 +48,29 @@ std::vector<std::array<int, 3>> FlexibleContactSurface::SelectedTriangles(
   return out;
 }
 
+void FlexibleContactSurface::SetBasesToVertices() {
+  base_shapes_ = shapes_;
+  const int nv = surface_->num_vertices();
+  vertex_bases_.resize(nv);
+  vertex_base_weights_.assign(nv, Vec3(1, 0, 0));
+  for (int i = 0; i < nv; ++i) vertex_bases_[i] = {i, i, i};
+  SetPartBases();
+}
+
+void FlexibleContactSurface::SetPartBases() {
+  const ContactSurface& s = *surface_;
+  part_base_start_.assign(1, 0);
+  part_bases_.clear();
+  for (int p = 0; p < s.num_parts(); ++p) {
+    std::set<int> bases;
+    for (int i = s.part_vertex_start()[p]; i < s.part_vertex_start()[p + 1]; ++i)
+      for (int k = 0; k < 3; ++k)
+        if (vertex_base_weights_[i](k) != 0) bases.insert(vertex_bases_[i][k]);
+    part_bases_.insert(part_bases_.end(), bases.begin(), bases.end());
+    part_base_start_.push_back(static_cast<int>(part_bases_.size()));
+  }
+}
+
 void FlexibleContactSurface::SetModeBounds() {
   shapes_rows_ = shapes_;
   const int nv = static_cast<int>(shapes_.rows() / 3);
@@ -104,6 +127,7 @@ FlexibleContactSurface::FlexibleContactSurface(std::shared_ptr<const FlexibleBod
   shapes_.resize(3 * nv, m.nf);
   for (int i = 0; i < nv; ++i) shapes_.middleRows(3 * i, 3) = m.nodes[vertex_node_[i]].translation_shapes;
   SetModeBounds();
+  SetBasesToVertices();
 }
 
 FlexibleContactSurface::FlexibleContactSurface(std::shared_ptr<const FlexibleBodyModes> modes,
@@ -121,6 +145,9 @@ FlexibleContactSurface::FlexibleContactSurface(std::shared_ptr<const FlexibleBod
   const int nv = static_cast<int>(verts.size());
   vertex_node_.assign(nv, -1);
   shapes_ = Eigen::MatrixXd::Zero(3 * nv, m.nf);
+  vertex_bases_.resize(nv);
+  vertex_base_weights_.resize(nv);
+  std::vector<int> base_of_node(m.nodes.size(), -1), base_nodes;
   // Each vertex on its closest FE triangle (brute force: built once).
   for (int i = 0; i < nv; ++i) {
     double best = std::numeric_limits<double>::infinity();
@@ -141,10 +168,23 @@ FlexibleContactSurface::FlexibleContactSurface(std::shared_ptr<const FlexibleBod
     const Vec3 a = m.nodes[tri[0]].position, b = m.nodes[tri[1]].position,
                c = m.nodes[tri[2]].position;
     const Vec3 w = Barycentric(best_q, a, b, c);
-    for (int k = 0; k < 3; ++k)
+    for (int k = 0; k < 3; ++k) {
       shapes_.middleRows(3 * i, 3) += w[k] * m.nodes[tri[k]].translation_shapes;
+      int& base = base_of_node[tri[k]];
+      if (base < 0) {
+        base = static_cast<int>(base_nodes.size());
+        base_nodes.push_back(tri[k]);
+      }
+      vertex_bases_[i][k] = base;
+    }
+    vertex_base_weights_[i] = w;
   }
   SetModeBounds();
+  // The FE nodes are the bases of DeformParts.
+  base_shapes_.resize(3 * base_nodes.size(), m.nf);
+  for (size_t b = 0; b < base_nodes.size(); ++b)
+    base_shapes_.middleRows(3 * b, 3) = m.nodes[base_nodes[b]].translation_shapes;
+  SetPartBases();
 }
 
 FlexibleContactSurface::FlexibleContactSurface(std::shared_ptr<const FlexibleBodyModes> modes,
@@ -163,6 +203,7 @@ FlexibleContactSurface::FlexibleContactSurface(std::shared_ptr<const FlexibleBod
                                 std::to_string(modes_->nf));
   vertex_node_.assign(surface_->num_vertices(), -1);
   SetModeBounds();
+  SetBasesToVertices();
 }
 
 double FlexibleContactSurface::DeformationBound(
@@ -191,14 +232,23 @@ void FlexibleContactSurface::DeformParts(const Eigen::Ref<const Eigen::VectorXd>
                                          std::vector<Vec3>* vertices,
                                          std::vector<Vec3>* normals,
                                          std::vector<double>* displacement_max,
-                                         std::vector<double>* change_max) const {
+                                         std::vector<double>* change_max,
+                                         std::vector<Vec3>* base_displacement) const {
   const ContactSurface& s = *surface_;
   const auto& s0 = s.vertices();
   const auto& tris = s.triangles();
+  std::vector<Vec3>& ub = *base_displacement;
   for (const int part : parts) {
+    // The part's bases, then its vertices by interpolation.
+    for (int j = part_base_start_[part]; j < part_base_start_[part + 1]; ++j) {
+      const int b = part_bases_[j];
+      ub[b].noalias() = base_shapes_.middleRows<3>(3 * b) * q_f;
+    }
     double u2 = 0, c2 = 0;
     for (int i = s.part_vertex_start()[part]; i < s.part_vertex_start()[part + 1]; ++i) {
-      const Vec3 u = shapes_rows_.middleRows<3>(3 * i) * q_f;
+      const std::array<int, 3>& vb = vertex_bases_[i];
+      const Vec3& w = vertex_base_weights_[i];
+      const Vec3 u = w(0) * ub[vb[0]] + w(1) * ub[vb[1]] + w(2) * ub[vb[2]];
       const Vec3 x = s0[i] + u;
       u2 = std::max(u2, u.squaredNorm());
       c2 = std::max(c2, (x - (*vertices)[i]).squaredNorm());
@@ -209,7 +259,8 @@ void FlexibleContactSurface::DeformParts(const Eigen::Ref<const Eigen::VectorXd>
     const auto& v = *vertices;
     for (int t = s.part_triangle_start()[part]; t < s.part_triangle_start()[part + 1]; ++t) {
       const auto& tri = tris[t];
-      (*normals)[t] = (v[tri[1]] - v[tri[0]]).cross(v[tri[2]] - v[tri[0]]).normalized();
+      const Vec3 c = (v[tri[1]] - v[tri[0]]).cross(v[tri[2]] - v[tri[0]]);
+      (*normals)[t] = c * (1.0 / c.norm());  // one division, not three
     }
   }
 }

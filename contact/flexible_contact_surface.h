@@ -96,12 +96,20 @@ class FlexibleContactSurface {
               std::vector<Vec3>* vertices, std::vector<Vec3>* normals) const;
   // The same for the vertices and faces of the listed parts only (the others are left as they
   // are): what the tracked gaps read (tracked_gaps.h), at a cost that follows the teeth in the
-  // mesh zone, not the whole surface.
+  // mesh zone, not the whole surface. An embedded surface's vertices move with the FE nodes
+  // they are embedded in, Phi_v = sum_k w_k Phi_k: the nodes' displacements Phi_k q_f are
+  // formed once per part (*base_displacement: num_bases() entries, scratch) and interpolated,
+  // which streams the shapes of the FE nodes instead of those of the (several times more)
+  // vertices: the cost of a flexible contact evaluation is mostly this product.
   // Per listed part j also: (*displacement_max)[j] = max |Phi_P q_f| and (*change_max)[j] =
   // max |new - old position| over its vertices (#parts entries each).
   void DeformParts(const Eigen::Ref<const Eigen::VectorXd>& q_f, const std::vector<int>& parts,
                    std::vector<Vec3>* vertices, std::vector<Vec3>* normals,
-                   std::vector<double>* displacement_max, std::vector<double>* change_max) const;
+                   std::vector<double>* displacement_max, std::vector<double>* change_max,
+                   std::vector<Vec3>* base_displacement) const;
+  // The points whose shapes DeformParts forms (the FE nodes an embedded surface hangs on; the
+  // vertices themselves otherwise).
+  int num_bases() const { return static_cast<int>(base_shapes_.rows() / 3); }
   // Phi_P v for one vertex (a deformation rate from q_f-dot), and Q += Phi_P^T f (a vertex force
   // in B onto the modal forces).
   Vec3 VertexShapeTimes(int vertex, const Eigen::Ref<const Eigen::VectorXd>& v) const {
@@ -116,6 +124,10 @@ class FlexibleContactSurface {
  private:
   void Check(const std::string& what) const;
   void SetModeBounds();
+  // The bases of DeformParts: the vertices themselves (the node-set and given-shapes surfaces).
+  void SetBasesToVertices();
+  // Fills part_base_start_ / part_bases_ from vertex_bases_ (after the bases are set).
+  void SetPartBases();
   std::vector<std::array<int, 3>> SelectedTriangles(const std::string& what) const;
 
   std::shared_ptr<const FlexibleBodyModes> modes_;
@@ -126,6 +138,12 @@ class FlexibleContactSurface {
   // The same, row-major: a vertex's three rows lie together (DeformParts, VertexShapeTimes).
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> shapes_rows_;
   Eigen::VectorXd mode_bounds_;
+  // DeformParts' interpolation: base shapes (3 #bases x nf, row-major), each vertex's up to three
+  // bases and weights (#V), and the bases of each part (CSR: part_base_start_ #parts + 1).
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> base_shapes_;
+  std::vector<std::array<int, 3>> vertex_bases_;
+  std::vector<Vec3> vertex_base_weights_;
+  std::vector<int> part_base_start_, part_bases_;
 };
 
 }  // namespace orrery::contact
