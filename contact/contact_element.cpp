@@ -101,6 +101,7 @@ void ContactElement::CalcForces(const Vec6& V_WA, const Vec6& V_WB, ContactWorks
   *power_dissipated = 0;
   ws.normal_force = ws.friction_force = ws.max_penetration = 0;
   ws.contact_points = 0;
+  if (spec_.gear) ws.gear_mesh.Start(*spec_.gear, ws.X_WA, ws.X_WB);
   // The force of a node acts on the node's body N, its reaction on the face's body.
   ForEachContactPoint(V_WA, V_WB, ws, [&](const NodeGap& g, const Vec3& v_rel, double area,
                                           bool node_on_a) {
@@ -115,7 +116,9 @@ void ContactElement::CalcForces(const Vec6& V_WA, const Vec6& V_WB, ContactWorks
     ws.friction_force += f.friction;
     ws.max_penetration = std::max(ws.max_penetration, depth);
     ++ws.contact_points;
+    if (spec_.gear) ws.gear_mesh.Add(node_on_a ? g.p_W : g.q_W, g.n_W, f.stiffness);
   });
+  if (spec_.gear) ws.gear_mesh.Finish(*f_A);
 }
 
 void ContactElement::AddTangents(const Model& model, const Data& data,
@@ -151,7 +154,16 @@ void ContactElement::Apply(const Model& /*model*/, double /*t*/, Data& data,
 }
 
 std::vector<std::string> ContactElement::OutputNames() const {
-  return {"normal_force", "friction_force", "contact_points", "max_penetration"};
+  std::vector<std::string> names = {"normal_force", "friction_force", "contact_points",
+                                    "max_penetration"};
+  if (spec_.gear) names.insert(names.end(), kGearMeshOutputNames.begin(), kGearMeshOutputNames.end());
+  return names;
+}
+
+std::vector<std::string> ContactElement::OutputUnits() const {
+  std::vector<std::string> units = {"N", "N", "1", "m"};
+  if (spec_.gear) units.insert(units.end(), kGearMeshOutputUnits.begin(), kGearMeshOutputUnits.end());
+  return units;
 }
 
 void ContactElement::GetOutputs(const ExternalForceWorkspace& workspace, double* values) const {
@@ -160,6 +172,7 @@ void ContactElement::GetOutputs(const ExternalForceWorkspace& workspace, double*
   values[1] = ws.friction_force;
   values[2] = ws.contact_points;
   values[3] = ws.max_penetration;
+  if (spec_.gear) WriteGearMeshOutputs(ws.gear_mesh.outputs(), values + 4);
 }
 
 }  // namespace orrery::contact

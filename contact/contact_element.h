@@ -30,7 +30,9 @@
 //   v_rel = v_N(P) - v_F(P), depth rate = -v_rel . n, slip v_t = v_rel - (v_rel . n) n.
 //
 // Outputs (/external/<name>/...): normal_force (N, sum of F_N), friction_force (N, sum of
-// |F_T|), contact_points (penetrating nodes, both passes), max_penetration (m).
+// |F_T|), contact_points (penetrating nodes, both passes), max_penetration (m); between two gears
+// (spec.gear) also transmission_error (m), line_of_action_force (N), mesh_stiffness (N/m), pattern_roll_min / _max and
+// pattern_axial_min / _max (m) of gear_mesh_outputs.h.
 //
 // Usage:
 //   auto plane = std::make_shared<const ContactSurface>(std::vector{plane_mesh}, 1e-3);
@@ -40,6 +42,7 @@
 //       .surface_a = block, .surface_b = plane,
 //       .law = {.stiffness_per_area = 1e7, .friction_coefficient = 0.3}}));
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -47,6 +50,7 @@
 #include "contact/contact_law.h"
 #include "contact/contact_surface.h"
 #include "contact/contact_tangents.h"
+#include "contact/gear_mesh_outputs.h"
 #include "contact/signed_gap.h"
 #include "contact/tracked_gaps.h"
 #include "mbd/external_force.h"
@@ -63,6 +67,9 @@ struct ContactElementSpec {
   std::shared_ptr<const ContactSurface> surface_a, surface_b;  // in the frames of body_a, body_b
   ContactLaw law;
   ContactGapMethod gap_method = ContactGapMethod::kTracked;
+  // Two gears (gear 1 on body_a): the element also reports the transmission error, mesh
+  // stiffness and contact pattern (gear_mesh_outputs.h).
+  std::optional<GearMeshInfo> gear;
 };
 
 // Mutable state of one element in one Data: the search caches and the last evaluation.
@@ -80,6 +87,7 @@ class ContactWorkspace final : public ExternalForceWorkspace {
   Transform X_WA, X_WB;                  // poses of the last gap computation
   bool have_gaps = false;
   ContactTangents tangents;              // AddTangents()
+  GearMeshObserver gear_mesh;            // spec.gear: its outputs of the last Apply()
   // Outputs of the last Apply().
   double normal_force = 0, friction_force = 0, max_penetration = 0;
   int contact_points = 0;
@@ -99,6 +107,7 @@ class ContactElement final : public ExternalForceElement {
   void Apply(const Model& model, double t, Data& data,
              ExternalForceWorkspace& workspace) const override;
   std::vector<std::string> OutputNames() const override;
+  std::vector<std::string> OutputUnits() const override;
   void GetOutputs(const ExternalForceWorkspace& workspace, double* values) const override;
   // Stiffness and damping of the penetrating nodes of the last Apply() (contact_tangents.h).
   bool HasTangents() const override { return true; }

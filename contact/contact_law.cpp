@@ -24,8 +24,10 @@ NodeForce EvaluateContactLaw(const ContactLaw& law, double depth, double depth_r
   // Elastic part and Hunt-Crossley damping, never pulling.
   const double delta_e = law.exponent == 1.0 ? depth : std::pow(depth, law.exponent);
   const double elastic = area_weight * law.stiffness_per_area * delta_e;
-  const double fn = elastic * std::max(0.0, 1.0 + law.hunt_crossley_s_per_m * depth_rate);
+  const double damping = std::max(0.0, 1.0 + law.hunt_crossley_s_per_m * depth_rate);
+  const double fn = elastic * damping;
   out.normal = fn;
+  out.stiffness = law.exponent * elastic / depth * damping;
   out.energy = elastic * depth / (law.exponent + 1.0);
   out.power_dissipated = (fn - elastic) * depth_rate;
   out.f_W = fn * n_W;

@@ -38,6 +38,7 @@ void ValidateContactLaw(const ContactLaw& law);
 struct NodeForce {
   Vec3 f_W = Vec3::Zero();   // total force on the node side (normal + friction), world
   double normal = 0;         // F_N >= 0
+  double stiffness = 0;      // dF_N / d(depth) (N/m)
   double friction = 0;       // |F_T|
   double energy = 0;         // J, elastic energy
   double power_dissipated = 0;  // W, >= 0

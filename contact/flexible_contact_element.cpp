@@ -206,6 +206,7 @@ void FlexibleContactElement::Evaluate(const ContactSideState& a, const ContactSi
   ws.energy = ws.power_dissipated = 0;
   ws.normal_force = ws.friction_force = ws.max_penetration = 0;
   ws.contact_points = 0;
+  if (spec_.gear) ws.gear_mesh.Start(*spec_.gear, a.X_WB, b.X_WB);
   // A vertex force (body frame), remembering the vertex for the modal forces and the reset.
   auto add_vertex_force = [](ContactSideBuffers& buf, int i, const Vec3& f_B) {
     if (!buf.has_force[i]) {
@@ -237,7 +238,9 @@ void FlexibleContactElement::Evaluate(const ContactSideState& a, const ContactSi
     ws.friction_force += f.friction;
     ws.max_penetration = std::max(ws.max_penetration, depth);
     ++ws.contact_points;
+    if (spec_.gear) ws.gear_mesh.Add(c.node_on_a ? g.p_W : g.q_W, g.n_W, f.stiffness);
   });
+  if (spec_.gear) ws.gear_mesh.Finish(ws.side_a.f_W);
   // Modal forces Q = sum_P Phi_P^T F_P.
   for (const auto& [side, buf] : {std::pair{&spec_.a, &ws.side_a}, std::pair{&spec_.b, &ws.side_b}}) {
     if (!side->flexible) continue;
@@ -299,12 +302,16 @@ void FlexibleContactElement::AddTangents(const Model& model, const Data& data,
 }
 
 std::vector<std::string> FlexibleContactElement::OutputNames() const {
-  return {"normal_force",      "friction_force",    "contact_points",
-          "max_penetration",   "deformation_bound", "inflation_exceeded"};
+  std::vector<std::string> names = {"normal_force",    "friction_force",    "contact_points",
+                                    "max_penetration", "deformation_bound", "inflation_exceeded"};
+  if (spec_.gear) names.insert(names.end(), kGearMeshOutputNames.begin(), kGearMeshOutputNames.end());
+  return names;
 }
 
 std::vector<std::string> FlexibleContactElement::OutputUnits() const {
-  return {"N", "N", "1", "m", "m", "1"};
+  std::vector<std::string> units = {"N", "N", "1", "m", "m", "1"};
+  if (spec_.gear) units.insert(units.end(), kGearMeshOutputUnits.begin(), kGearMeshOutputUnits.end());
+  return units;
 }
 
 void FlexibleContactElement::GetOutputs(const ExternalForceWorkspace& workspace,
@@ -316,6 +323,7 @@ void FlexibleContactElement::GetOutputs(const ExternalForceWorkspace& workspace,
   values[3] = ws.max_penetration;
   values[4] = std::max(ws.side_a.deformation_bound, ws.side_b.deformation_bound);
   values[5] = static_cast<double>(ws.inflation_exceeded);
+  if (spec_.gear) WriteGearMeshOutputs(ws.gear_mesh.outputs(), values + 6);
 }
 
 }  // namespace orrery::contact

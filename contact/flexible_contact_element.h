@@ -37,7 +37,9 @@
 //
 // Outputs (/external/<name>/...): normal_force (N), friction_force (N), contact_points,
 // max_penetration (m), deformation_bound (m, the larger side's u), inflation_exceeded (count of
-// evaluations whose u exceeded the allowance).
+// evaluations whose u exceeded the allowance); between two gears (spec.gear) also
+// transmission_error (m), mesh_stiffness (N/m, the contact layer's), pattern_roll_min / _max
+// and pattern_axial_min / _max (m) of gear_mesh_outputs.h.
 //
 // Usage:
 //   auto block = std::make_shared<const FlexibleContactSurface>(modes, FlexibleContactSurfaceSpec{});
@@ -46,6 +48,7 @@
 //       .b = {.body = kWorldBody, .rigid = plane}, .law = {.stiffness_per_area = 1e13}}));
 #include <array>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -56,6 +59,7 @@
 #include "contact/contact_law.h"
 #include "contact/contact_surface.h"
 #include "contact/contact_tangents.h"
+#include "contact/gear_mesh_outputs.h"
 #include "contact/flexible_contact_surface.h"
 #include "contact/signed_gap.h"
 #include "mbd/external_force.h"
@@ -83,6 +87,9 @@ struct FlexibleContactElementSpec {
   // displacement and every motion bound is raised by the largest vertex change since the last
   // evaluation); kCandidatePairs as described.
   ContactGapMethod gap_method = ContactGapMethod::kTracked;
+  // Two gears (gear 1 on side a): the element also reports the transmission error, the contact
+  // layer's mesh stiffness and the contact pattern (gear_mesh_outputs.h).
+  std::optional<GearMeshInfo> gear;
 };
 
 // The state of one side for Evaluate(): pose and spatial velocity (world origin) of the body
@@ -135,6 +142,7 @@ class FlexibleContactWorkspace final : public ExternalForceWorkspace {
   std::vector<NodeGap> gaps_a, gaps_b;  // nodes of A on B's faces, nodes of B on A's faces
   ContactSideBuffers side_a, side_b;
   ContactTangents tangents;             // AddTangents()
+  GearMeshObserver gear_mesh;           // spec.gear: its outputs of the last Evaluate()
   // Outputs of the last Evaluate().
   double normal_force = 0, friction_force = 0, max_penetration = 0;
   double energy = 0, power_dissipated = 0;

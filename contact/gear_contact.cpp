@@ -126,6 +126,11 @@ ContactElementSpec MakeGearContactSpec(const std::string& name, const gears::Gea
               .hunt_crossley_s_per_m = options.hunt_crossley_s_per_m,
               .friction_coefficient = options.friction_coefficient,
               .slip_velocity_m_s = options.slip_velocity_m_s};
+  spec.gear = GearMeshInfo{.X_AG1 = options.X_B1G1, .X_BG2 = options.X_B2G2,
+                           .base_radius1_m = pair.gear1().base_radius_m(),
+                           .base_radius2_m = pair.gear2().base_radius_m(),
+                           .teeth1 = pair.gear1().teeth(), .teeth2 = pair.gear2().teeth(),
+                           .internal = pair.internal()};
   return spec;
 }
 

@@ -341,6 +341,15 @@ TrainContactModel BuildTrainContactModel(const gears::PlanetaryTrain& train, int
                     .hunt_crossley_s_per_m = go.hunt_crossley_s_per_m,
                     .friction_coefficient = go.friction_coefficient,
                     .slip_velocity_m_s = go.slip_velocity_m_s}};
+        // Gear frames: the rigid side's as its surface; the planet's analytic teeth turned by the
+        // whole pitches in B (its joint starts at delta), both shifted by z0.
+        const Transform X_BG_planet(AxisAngle(Vec3::UnitZ(), whole), Vec3(0, 0, z0));
+        spec.gear = GearMeshInfo{.X_AG1 = rigid1 ? X_BG : X_BG_planet,
+                                 .X_BG2 = rigid1 ? X_BG_planet : X_BG,
+                                 .base_radius1_m = e.base_radius1_m,
+                                 .base_radius2_m = e.base_radius2_m,
+                                 .teeth1 = pair.gear1().teeth(), .teeth2 = pair.gear2().teeth(),
+                                 .internal = internal};
         b.AddExternalForce(std::make_shared<FlexibleContactElement>(std::move(spec)));
         e.external_force = next_force++;
         out->push_back(e);

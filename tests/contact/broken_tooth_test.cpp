@@ -63,8 +63,14 @@ class ObservedContact final : public ExternalForceElement {
     ++obs_->calls;
   }
   std::vector<std::string> OutputNames() const override { return element_.OutputNames(); }
+  std::vector<std::string> OutputUnits() const override { return element_.OutputUnits(); }
   void GetOutputs(const ExternalForceWorkspace& ws, double* values) const override {
     element_.GetOutputs(ws, values);
+  }
+  bool HasTangents() const override { return element_.HasTangents(); }
+  void AddTangents(const Model& m, const Data& data, ExternalForceWorkspace& ws,
+                   Eigen::Ref<Eigen::MatrixXd> K, Eigen::Ref<Eigen::MatrixXd> C) const override {
+    element_.AddTangents(m, data, ws, K, C);
   }
   const ContactElement& element() const { return element_; }
 

@@ -208,7 +208,7 @@ StageRun Simulate(const Stage& s) {
     EvaluateDynamics(m, st.t, st.q, st.v, integ->vdot(), data);
     for (int k = 0; k < 6; ++k) {
       const int e = s.model.contacts[k].external_force;
-      double out[8];
+      double out[16];  // 13 outputs of a flexible gear contact
       m.external_forces[e]->GetOutputs(*data.external[e], out);
       force[k][i] = out[0];
       if (s.model.contacts[k].flexible_side) {
