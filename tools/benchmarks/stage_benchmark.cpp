@@ -1,0 +1,166 @@
+// Seed 003's planetary stage with tooth contact on every mesh (models/scenes/
+// seed003_contact_stage.yaml) and with planet 1 flexible (seed003_flexible_contact_stage.yaml,
+// 24 modes; its reduced body is made on the first run): what one step of the integrators pays.
+//   *Residual: one evaluation of the dynamics (kinematics, the six contacts, inverse dynamics),
+//     the stage rolling at its speeds from a loaded state (2 ms of the scene's own run);
+//   *Tangents: the iteration matrix's tangents (DaeSystem::Tangents: finite differences of the
+//     pipeline without the contacts, the contacts' analytic tangents);
+//   FlexibleSunMesh*: the flexible planet's sun-mesh element alone (Apply after the kinematics),
+//     and its tangents.
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "import/scene.h"
+#include "mbd/dae.h"
+#include "mbd/data.h"
+#include "mbd/evaluate.h"
+#include "mbd/integrator.h"
+#include "mbd/kinematics.h"
+
+namespace orrery {
+namespace {
+
+struct Stage {
+  Scene scene;
+  State loaded;                    // after 2 ms of the scene's run
+  Eigen::VectorXd vdot, lambda;
+};
+
+const Stage& LoadStage(const std::string& file) {
+  static std::map<std::string, std::unique_ptr<Stage>> stages;
+  auto& s = stages[file];
+  if (s) return *s;
+  s = std::make_unique<Stage>(Stage{.scene = LoadScene(std::string(ORRERY_SOURCE_DIR) + "/models/scenes/" + file)});
+  IntegratorOptions o = s->scene.simulation.integrator;
+  std::unique_ptr<Integrator> integ = MakeIntegrator(*s->scene.model, o);
+  integ->Initialize(State::Initial(*s->scene.model));
+  integ->AdvanceTo(0.002);
+  s->loaded = integ->state();
+  s->vdot = integ->vdot();
+  s->lambda = integ->lambda();
+  return *s;
+}
+
+// The state rolled on by dt along its velocities.
+void Roll(const Model& m, const State& from, double dt, State* to) {
+  to->q = from.q;
+  IntegratePositions(m, dt * from.v, to->q);
+  to->v = from.v;
+}
+
+void Residual(benchmark::State& state, const std::string& file) {
+  const Stage& s = LoadStage(file);
+  const Model& m = *s.scene.model;
+  Data data(m);
+  State st = s.loaded;
+  double dt = 0;
+  for (auto _ : state) {
+    dt += 5e-6;
+    Roll(m, s.loaded, dt, &st);
+    EvaluateDynamics(m, 0.002 + dt, st.q, st.v, s.vdot, data);
+    benchmark::DoNotOptimize(data.tau_id.data());
+  }
+  state.counters["simulated_ms"] = dt * 1e3;
+}
+
+void Tangents(benchmark::State& state, const std::string& file) {
+  const Stage& s = LoadStage(file);
+  const Model& m = *s.scene.model;
+  DaeSystem dae(m);
+  Eigen::MatrixXd K(m.nv + m.n_constraints, m.nv), C(m.nv, m.nv);
+  State st = s.loaded;
+  double dt = 0;
+  for (auto _ : state) {
+    dt += 5e-6;
+    Roll(m, s.loaded, dt, &st);
+    dae.Tangents(0.002 + dt, st.q, st.v, s.vdot, s.lambda, K, C);
+    benchmark::DoNotOptimize(K.data());
+  }
+  state.counters["nv"] = m.nv;
+}
+
+void BM_RigidStageResidual(benchmark::State& state) { Residual(state, "seed003_contact_stage.yaml"); }
+void BM_RigidStageTangents(benchmark::State& state) { Tangents(state, "seed003_contact_stage.yaml"); }
+void BM_FlexibleStageResidual(benchmark::State& state) {
+  Residual(state, "seed003_flexible_contact_stage.yaml");
+}
+void BM_FlexibleStageTangents(benchmark::State& state) {
+  Tangents(state, "seed003_flexible_contact_stage.yaml");
+}
+BENCHMARK(BM_RigidStageResidual)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_RigidStageTangents)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_FlexibleStageResidual)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_FlexibleStageTangents)->Unit(benchmark::kMicrosecond);
+
+// The flexible planet's sun mesh alone: its Apply after the kinematics (the kinematics timed
+// apart and subtracted by the reader: BM_StageKinematics), and its tangents.
+void BM_StageKinematics(benchmark::State& state) {
+  const Stage& s = LoadStage("seed003_flexible_contact_stage.yaml");
+  const Model& m = *s.scene.model;
+  Data data(m);
+  State st = s.loaded;
+  double dt = 0;
+  for (auto _ : state) {
+    dt += 5e-6;
+    Roll(m, s.loaded, dt, &st);
+    CalcPositionKinematics(m, st.q, data);
+    CalcVelocityKinematics(m, st.v, data);
+    benchmark::DoNotOptimize(data.V_WB.data());
+  }
+}
+BENCHMARK(BM_StageKinematics)->Unit(benchmark::kMicrosecond);
+
+void BM_FlexibleSunMeshApply(benchmark::State& state) {
+  const Stage& s = LoadStage("seed003_flexible_contact_stage.yaml");
+  const Model& m = *s.scene.model;
+  const int e = static_cast<int>(std::find_if(m.external_forces.begin(), m.external_forces.end(),
+                                              [](const auto& f) { return f->name() == "S.sun-planet#1"; }) -
+                                 m.external_forces.begin());
+  Data data(m);
+  State st = s.loaded;
+  double dt = 0;
+  for (auto _ : state) {
+    dt += 5e-6;
+    Roll(m, s.loaded, dt, &st);
+    CalcPositionKinematics(m, st.q, data);
+    CalcVelocityKinematics(m, st.v, data);
+    m.external_forces[e]->Apply(m, 0.002 + dt, data, *data.external[e]);
+  }
+  CalcBodyJacobians(m, data);
+  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(m.nv, m.nv), C = K;
+  m.external_forces[e]->AddTangents(m, data, *data.external[e], K, C);
+  std::vector<double> out(m.external_forces[e]->OutputNames().size());
+  m.external_forces[e]->GetOutputs(*data.external[e], out.data());
+  state.counters["normal_force_N"] = out[0];
+  state.counters["contact_points"] = out[2];
+}
+BENCHMARK(BM_FlexibleSunMeshApply)->Unit(benchmark::kMicrosecond);
+
+void BM_FlexibleSunMeshTangents(benchmark::State& state) {
+  const Stage& s = LoadStage("seed003_flexible_contact_stage.yaml");
+  const Model& m = *s.scene.model;
+  const int e = static_cast<int>(std::find_if(m.external_forces.begin(), m.external_forces.end(),
+                                              [](const auto& f) { return f->name() == "S.sun-planet#1"; }) -
+                                 m.external_forces.begin());
+  Data data(m);
+  CalcPositionKinematics(m, s.loaded.q, data);
+  CalcVelocityKinematics(m, s.loaded.v, data);
+  m.external_forces[e]->Apply(m, 0.002, data, *data.external[e]);
+  CalcBodyJacobians(m, data);
+  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(m.nv, m.nv), C = K;
+  for (auto _ : state) {
+    m.external_forces[e]->AddTangents(m, data, *data.external[e], K, C);
+    benchmark::DoNotOptimize(K.data());
+  }
+}
+BENCHMARK(BM_FlexibleSunMeshTangents)->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+}  // namespace orrery
+
+BENCHMARK_MAIN();
