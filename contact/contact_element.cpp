@@ -15,7 +15,8 @@ bool SamePose(const Transform& X, const Transform& Y) { return X.R == Y.R && X.p
 }  // namespace
 
 ContactWorkspace::ContactWorkspace(const ContactSurface& a, const ContactSurface& b, int nv)
-    : tracked(a, b), search(a, b), scratch_a(a), scratch_b(b), tangents(nullptr, nullptr, nv) {
+    : tracked(a, b), search(a, b), scratch_a(a), scratch_b(b), tangents(nullptr, nullptr, nv),
+      points(a.num_vertices() + b.num_vertices()) {
   pairs.reserve(search.suggested_capacity());
   node_faces_a.reserve(3 * pairs.capacity());
   node_faces_b.reserve(3 * pairs.capacity());
@@ -29,6 +30,9 @@ ContactElement::ContactElement(ContactElementSpec spec) : spec_(std::move(spec))
     throw std::invalid_argument(what + "both surfaces are required");
   if (spec_.body_a == spec_.body_b)
     throw std::invalid_argument(what + "body_a and body_b are the same body");
+  if (spec_.record_points < 0)
+    throw std::invalid_argument(what + "record_points must be >= 0, got " +
+                                std::to_string(spec_.record_points));
   try {
     ValidateContactLaw(spec_.law);
   } catch (const std::invalid_argument& e) {
@@ -102,6 +106,8 @@ void ContactElement::CalcForces(const Vec6& V_WA, const Vec6& V_WB, ContactWorks
   ws.normal_force = ws.friction_force = ws.max_penetration = 0;
   ws.contact_points = 0;
   if (spec_.gear) ws.gear_mesh.Start(*spec_.gear, ws.X_WA, ws.X_WB);
+  ws.points.Clear();
+  const Transform X_AW = ws.X_WA.Inverse();
   // The force of a node acts on the node's body N, its reaction on the face's body.
   ForEachContactPoint(V_WA, V_WB, ws, [&](const NodeGap& g, const Vec3& v_rel, double area,
                                           bool node_on_a) {
@@ -117,6 +123,7 @@ void ContactElement::CalcForces(const Vec6& V_WA, const Vec6& V_WB, ContactWorks
     ws.max_penetration = std::max(ws.max_penetration, depth);
     ++ws.contact_points;
     if (spec_.gear) ws.gear_mesh.Add(node_on_a ? g.p_W : g.q_W, g.n_W, f.stiffness);
+    if (spec_.record_points > 0) ws.points.Add(X_AW * (node_on_a ? g.p_W : g.q_W), f.normal);
   });
   if (spec_.gear) ws.gear_mesh.Finish(*f_A);
 }
@@ -157,13 +164,24 @@ std::vector<std::string> ContactElement::OutputNames() const {
   std::vector<std::string> names = {"normal_force", "friction_force", "contact_points",
                                     "max_penetration"};
   if (spec_.gear) names.insert(names.end(), kGearMeshOutputNames.begin(), kGearMeshOutputNames.end());
+  if (spec_.record_points > 0) names.insert(names.end(), {"point_positions", "point_normal_forces"});
   return names;
 }
 
 std::vector<std::string> ContactElement::OutputUnits() const {
   std::vector<std::string> units = {"N", "N", "1", "m"};
   if (spec_.gear) units.insert(units.end(), kGearMeshOutputUnits.begin(), kGearMeshOutputUnits.end());
+  if (spec_.record_points > 0) units.insert(units.end(), {"m", "N"});
   return units;
+}
+
+std::vector<int> ContactElement::OutputColumns() const {
+  std::vector<int> columns(OutputNames().size(), 1);
+  if (spec_.record_points > 0) {
+    columns[columns.size() - 2] = 3 * spec_.record_points;
+    columns.back() = spec_.record_points;
+  }
+  return columns;
 }
 
 void ContactElement::GetOutputs(const ExternalForceWorkspace& workspace, double* values) const {
@@ -172,7 +190,13 @@ void ContactElement::GetOutputs(const ExternalForceWorkspace& workspace, double*
   values[1] = ws.friction_force;
   values[2] = ws.contact_points;
   values[3] = ws.max_penetration;
-  if (spec_.gear) WriteGearMeshOutputs(ws.gear_mesh.outputs(), values + 4);
+  double* next = values + 4;
+  if (spec_.gear) {
+    WriteGearMeshOutputs(ws.gear_mesh.outputs(), next);
+    next += kGearMeshOutputNames.size();
+  }
+  if (spec_.record_points > 0)
+    ws.points.Write(spec_.record_points, next, next + 3 * spec_.record_points);
 }
 
 }  // namespace orrery::contact

@@ -32,7 +32,8 @@
 // Outputs (/external/<name>/...): normal_force (N, sum of F_N), friction_force (N, sum of
 // |F_T|), contact_points (penetrating nodes, both passes), max_penetration (m); between two gears
 // (spec.gear) also transmission_error (m), line_of_action_force (N), mesh_stiffness (N/m), pattern_roll_min / _max and
-// pattern_axial_min / _max (m) of gear_mesh_outputs.h.
+// pattern_axial_min / _max (m) of gear_mesh_outputs.h; with spec.record_points = n,
+// point_positions (n x 3) and point_normal_forces (n) of contact_point_record.h.
 //
 // Usage:
 //   auto plane = std::make_shared<const ContactSurface>(std::vector{plane_mesh}, 1e-3);
@@ -48,6 +49,7 @@
 
 #include "contact/candidate_pairs.h"
 #include "contact/contact_law.h"
+#include "contact/contact_point_record.h"
 #include "contact/contact_surface.h"
 #include "contact/contact_tangents.h"
 #include "contact/gear_mesh_outputs.h"
@@ -70,6 +72,8 @@ struct ContactElementSpec {
   // Two gears (gear 1 on body_a): the element also reports the transmission error, mesh
   // stiffness and contact pattern (gear_mesh_outputs.h).
   std::optional<GearMeshInfo> gear;
+  // > 0: the outputs also hold this many contact points per row (contact_point_record.h).
+  int record_points = 0;
 };
 
 // Mutable state of one element in one Data: the search caches and the last evaluation.
@@ -88,6 +92,7 @@ class ContactWorkspace final : public ExternalForceWorkspace {
   bool have_gaps = false;
   ContactTangents tangents;              // AddTangents()
   GearMeshObserver gear_mesh;            // spec.gear: its outputs of the last Apply()
+  ContactPointRecord points;             // spec.record_points: the last Apply()'s points
   // Outputs of the last Apply().
   double normal_force = 0, friction_force = 0, max_penetration = 0;
   int contact_points = 0;
@@ -108,6 +113,7 @@ class ContactElement final : public ExternalForceElement {
              ExternalForceWorkspace& workspace) const override;
   std::vector<std::string> OutputNames() const override;
   std::vector<std::string> OutputUnits() const override;
+  std::vector<int> OutputColumns() const override;
   void GetOutputs(const ExternalForceWorkspace& workspace, double* values) const override;
   // Stiffness and damping of the penetrating nodes of the last Apply() (contact_tangents.h).
   bool HasTangents() const override { return true; }

@@ -36,7 +36,8 @@ FlexibleContactWorkspace::FlexibleContactWorkspace(const ContactSide& a, const C
       scratch_b(b.surface()),
       side_a(a),
       side_b(b),
-      tangents(modal_a, modal_b, nv) {
+      tangents(modal_a, modal_b, nv),
+      points(a.surface().num_vertices() + b.surface().num_vertices()) {
   pairs.reserve(search.suggested_capacity());
   node_faces_a.reserve(3 * pairs.capacity());
   node_faces_b.reserve(3 * pairs.capacity());
@@ -53,6 +54,9 @@ FlexibleContactElement::FlexibleContactElement(FlexibleContactElementSpec spec)
                                          "surface");
   if (spec_.a.body == spec_.b.body)
     throw std::invalid_argument(what + "both sides are on the same body");
+  if (spec_.record_points < 0)
+    throw std::invalid_argument(what + "record_points must be >= 0, got " +
+                                std::to_string(spec_.record_points));
   try {
     ValidateContactLaw(spec_.law);
   } catch (const std::invalid_argument& e) {
@@ -207,6 +211,8 @@ void FlexibleContactElement::Evaluate(const ContactSideState& a, const ContactSi
   ws.normal_force = ws.friction_force = ws.max_penetration = 0;
   ws.contact_points = 0;
   if (spec_.gear) ws.gear_mesh.Start(*spec_.gear, a.X_WB, b.X_WB);
+  ws.points.Clear();
+  const Transform X_AW = a.X_WB.Inverse();
   // A vertex force (body frame), remembering the vertex for the modal forces and the reset.
   auto add_vertex_force = [](ContactSideBuffers& buf, int i, const Vec3& f_B) {
     if (!buf.has_force[i]) {
@@ -239,6 +245,7 @@ void FlexibleContactElement::Evaluate(const ContactSideState& a, const ContactSi
     ws.max_penetration = std::max(ws.max_penetration, depth);
     ++ws.contact_points;
     if (spec_.gear) ws.gear_mesh.Add(c.node_on_a ? g.p_W : g.q_W, g.n_W, f.stiffness);
+    if (spec_.record_points > 0) ws.points.Add(X_AW * (c.node_on_a ? g.p_W : g.q_W), f.normal);
   });
   if (spec_.gear) ws.gear_mesh.Finish(ws.side_a.f_W);
   // Modal forces Q = sum_P Phi_P^T F_P.
@@ -305,13 +312,24 @@ std::vector<std::string> FlexibleContactElement::OutputNames() const {
   std::vector<std::string> names = {"normal_force",    "friction_force",    "contact_points",
                                     "max_penetration", "deformation_bound", "inflation_exceeded"};
   if (spec_.gear) names.insert(names.end(), kGearMeshOutputNames.begin(), kGearMeshOutputNames.end());
+  if (spec_.record_points > 0) names.insert(names.end(), {"point_positions", "point_normal_forces"});
   return names;
 }
 
 std::vector<std::string> FlexibleContactElement::OutputUnits() const {
   std::vector<std::string> units = {"N", "N", "1", "m", "m", "1"};
   if (spec_.gear) units.insert(units.end(), kGearMeshOutputUnits.begin(), kGearMeshOutputUnits.end());
+  if (spec_.record_points > 0) units.insert(units.end(), {"m", "N"});
   return units;
+}
+
+std::vector<int> FlexibleContactElement::OutputColumns() const {
+  std::vector<int> columns(OutputNames().size(), 1);
+  if (spec_.record_points > 0) {
+    columns[columns.size() - 2] = 3 * spec_.record_points;
+    columns.back() = spec_.record_points;
+  }
+  return columns;
 }
 
 void FlexibleContactElement::GetOutputs(const ExternalForceWorkspace& workspace,
@@ -323,7 +341,13 @@ void FlexibleContactElement::GetOutputs(const ExternalForceWorkspace& workspace,
   values[3] = ws.max_penetration;
   values[4] = std::max(ws.side_a.deformation_bound, ws.side_b.deformation_bound);
   values[5] = static_cast<double>(ws.inflation_exceeded);
-  if (spec_.gear) WriteGearMeshOutputs(ws.gear_mesh.outputs(), values + 6);
+  double* next = values + 6;
+  if (spec_.gear) {
+    WriteGearMeshOutputs(ws.gear_mesh.outputs(), next);
+    next += kGearMeshOutputNames.size();
+  }
+  if (spec_.record_points > 0)
+    ws.points.Write(spec_.record_points, next, next + 3 * spec_.record_points);
 }
 
 }  // namespace orrery::contact

@@ -39,7 +39,9 @@
 // max_penetration (m), deformation_bound (m, the larger side's u), inflation_exceeded (count of
 // evaluations whose u exceeded the allowance); between two gears (spec.gear) also
 // transmission_error (m), mesh_stiffness (N/m, the contact layer's), pattern_roll_min / _max
-// and pattern_axial_min / _max (m) of gear_mesh_outputs.h.
+// and pattern_axial_min / _max (m) of gear_mesh_outputs.h; with spec.record_points = n,
+// point_positions (n x 3, side a's body frame, deformed) and point_normal_forces (n) of
+// contact_point_record.h.
 //
 // Usage:
 //   auto block = std::make_shared<const FlexibleContactSurface>(modes, FlexibleContactSurfaceSpec{});
@@ -57,6 +59,7 @@
 #include "contact/candidate_pairs.h"
 #include "contact/contact_element.h"
 #include "contact/contact_law.h"
+#include "contact/contact_point_record.h"
 #include "contact/contact_surface.h"
 #include "contact/contact_tangents.h"
 #include "contact/gear_mesh_outputs.h"
@@ -90,6 +93,8 @@ struct FlexibleContactElementSpec {
   // Two gears (gear 1 on side a): the element also reports the transmission error, the contact
   // layer's mesh stiffness and the contact pattern (gear_mesh_outputs.h).
   std::optional<GearMeshInfo> gear;
+  // > 0: the outputs also hold this many contact points per row (contact_point_record.h).
+  int record_points = 0;
 };
 
 // The state of one side for Evaluate(): pose and spatial velocity (world origin) of the body
@@ -143,6 +148,7 @@ class FlexibleContactWorkspace final : public ExternalForceWorkspace {
   ContactSideBuffers side_a, side_b;
   ContactTangents tangents;             // AddTangents()
   GearMeshObserver gear_mesh;           // spec.gear: its outputs of the last Evaluate()
+  ContactPointRecord points;            // spec.record_points: the last Evaluate()'s points
   // Outputs of the last Evaluate().
   double normal_force = 0, friction_force = 0, max_penetration = 0;
   double energy = 0, power_dissipated = 0;
@@ -165,6 +171,7 @@ class FlexibleContactElement final : public ExternalForceElement {
              ExternalForceWorkspace& workspace) const override;
   std::vector<std::string> OutputNames() const override;
   std::vector<std::string> OutputUnits() const override;
+  std::vector<int> OutputColumns() const override;
   void GetOutputs(const ExternalForceWorkspace& workspace, double* values) const override;
   // Stiffness and damping of the penetrating nodes of the last Apply(), in the modal coordinates
   // too (contact_tangents.h).

@@ -131,6 +131,7 @@ ContactElementSpec MakeGearContactSpec(const std::string& name, const gears::Gea
                            .base_radius2_m = pair.gear2().base_radius_m(),
                            .teeth1 = pair.gear1().teeth(), .teeth2 = pair.gear2().teeth(),
                            .internal = pair.internal()};
+  spec.record_points = options.record_points;
   return spec;
 }
 

@@ -76,6 +76,8 @@ struct GearContactOptions {
   double slip_velocity_m_s = 1e-3;
   // Poses of the gear frames in the body frames (default: the same frame).
   Transform X_B1G1, X_B2G2;
+  // > 0: record this many contact points per output row (contact_point_record.h).
+  int record_points = 0;
 };
 
 struct GearContactCalibration {

@@ -350,6 +350,7 @@ TrainContactModel BuildTrainContactModel(const gears::PlanetaryTrain& train, int
                                  .base_radius2_m = e.base_radius2_m,
                                  .teeth1 = pair.gear1().teeth(), .teeth2 = pair.gear2().teeth(),
                                  .internal = internal};
+        spec.record_points = go.record_points;
         b.AddExternalForce(std::make_shared<FlexibleContactElement>(std::move(spec)));
         e.external_force = next_force++;
         out->push_back(e);

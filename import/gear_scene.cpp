@@ -506,7 +506,7 @@ void ReadToothContact(const Context& ctx, const std::optional<Item>& item, const
   const auto margin = std::vector<std::pair<std::string, double>>{{"margin", 1.0}, {"margin_um", 1e-6}};
   std::vector<std::string> allowed{"meshes", "involute_intervals", "single_pair_stiffness",
                                    "calibration_load", "hunt_crossley", "friction_coefficient",
-                                   "missing_teeth", "flexible"};
+                                   "missing_teeth", "flexible", "record_points"};
   Append(allowed, Names(margin));
   const MapReader m(ctx, *item, allowed);
   if (const auto meshes = m.Find("meshes")) {
@@ -524,6 +524,11 @@ void ReadToothContact(const Context& ctx, const std::optional<Item>& item, const
   if (m.Has("involute_intervals")) {
     c.gear.involute_intervals = m.Int("involute_intervals", c.gear.involute_intervals);
     if (c.gear.involute_intervals < 4) ctx.Fail(m.Need("involute_intervals"), "must be >= 4");
+  }
+  if (m.Has("record_points")) {
+    c.gear.record_points = m.Int("record_points", 0);
+    if (c.gear.record_points < 0 || c.gear.record_points > 1000)
+      ctx.Fail(m.Need("record_points"), "must be in 0..1000");
   }
   if (m.Has("single_pair_stiffness")) c.gear.single_pair_stiffness_n_per_m = NeedScaled(m, Plain("single_pair_stiffness"));
   c.gear.calibration_load_n = OptScaled(m, Plain("calibration_load"), c.gear.calibration_load_n, true);

@@ -62,7 +62,11 @@ class ExternalForceElement {
   virtual std::vector<std::string> OutputNames() const { return {}; }
   // SI unit of each output ("N", "m", "1"); empty: all "1".
   virtual std::vector<std::string> OutputUnits() const { return {}; }
-  // Writes OutputNames().size() values from the workspace of the last Apply().
+  // Columns of each output (empty: one each); an output with k columns is recorded as an
+  // (rows x k) series.
+  virtual std::vector<int> OutputColumns() const { return {}; }
+  // Writes the outputs' values (the sum of their columns, in order) from the workspace of the
+  // last Apply().
   virtual void GetOutputs(const ExternalForceWorkspace& /*workspace*/, double* /*values*/) const {}
 };
 

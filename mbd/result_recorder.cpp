@@ -124,20 +124,28 @@ ResultRecorder::ResultRecorder(const Model& model, ResultFile& out)
   }
   stress_.setZero(max_stress);
   surface_row_.setZero(max_surface);
+  size_t max_external = 8;
   for (const auto& e : model.external_forces) {
     std::vector<ResultFile::SeriesId> ids;
+    std::vector<int> offsets;
     const std::vector<std::string> names = e->OutputNames(), units = e->OutputUnits();
-    for (size_t k = 0; k < names.size(); ++k)
-      ids.push_back(out.AddSeries("/external/" + e->name() + "/" + names[k], 1,
+    const std::vector<int> columns = e->OutputColumns();
+    int offset = 0;
+    for (size_t k = 0; k < names.size(); ++k) {
+      const int n = k < columns.size() ? columns[k] : 1;
+      ids.push_back(out.AddSeries("/external/" + e->name() + "/" + names[k], n,
                                   k < units.size() ? units[k] : "1"));
+      offsets.push_back(offset);
+      offset += n;
+    }
     external_.push_back(std::move(ids));
+    external_offsets_.push_back(std::move(offsets));
+    max_external = std::max(max_external, static_cast<size_t>(offset));
   }
   energy_ = out.AddSeries("/energy", 3, "J", {"kinetic", "gravity_potential", "elastic_potential"});
   power_ = out.AddSeries("/power", 3, "W", {"applied", "drivers", "dissipated"});
   drift_ = out.AddSeries("/constraints/drift", 2, "m, m/s (rad, rad/s for angular rows)",
                          {"max_abs_phi", "max_abs_phidot"});
-  size_t max_external = 8;
-  for (const auto& ids : external_) max_external = std::max(max_external, ids.size());
   row_.setZero(static_cast<Eigen::Index>(max_external));
 }
 
@@ -267,7 +275,8 @@ void ResultRecorder::Record(const State& s, const Eigen::VectorXd& vdot,
   for (size_t e = 0; e < external_.size(); ++e) {
     if (external_[e].empty()) continue;
     model_.external_forces[e]->GetOutputs(*d.external[e], row_.data());
-    for (size_t k = 0; k < external_[e].size(); ++k) out_.Append(external_[e][k], row_.data() + k);
+    for (size_t k = 0; k < external_[e].size(); ++k)
+      out_.Append(external_[e][k], row_.data() + external_offsets_[e][k]);
   }
   // Drivers: effort = -lambda of the driver's row.
   for (size_t k = 0; k < model_.drivers.size(); ++k) {

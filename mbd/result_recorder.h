@@ -74,6 +74,7 @@ class ResultRecorder {
   };
   std::vector<FlexSeries> flex_;
   std::vector<std::vector<ResultFile::SeriesId>> external_;
+  std::vector<std::vector<int>> external_offsets_;  // first value of each output in a row
   Eigen::VectorXd stress_, surface_row_;  // scratch
   Eigen::VectorXd row_;                     // scratch
 };

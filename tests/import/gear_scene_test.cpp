@@ -304,6 +304,16 @@ output: {interval: 0.001}
   EXPECT_NE(ErrorOf(with("{mesh_model: contact, tooth_contact: {flexible: {face_interval: 2}}}"))
                 .find("face_intervals"),
             std::string::npos);
+  // Recorded contact points: a count, named when wrong; recorded as n x 3 and n columns.
+  EXPECT_NE(ErrorOf(with("{mesh_model: contact, tooth_contact: {record_points: -2}}"))
+                .find("record_points: must be in 0..1000"),
+            std::string::npos);
+  const Scene r = LoadSceneFromString(with("{mesh_model: contact, tooth_contact: {record_points: 4}}"), "t.yaml");
+  const auto& e = *r.model->external_forces[0];
+  const std::vector<std::string> names = e.OutputNames();
+  ASSERT_EQ(names.back(), "point_normal_forces");
+  EXPECT_EQ(e.OutputColumns().back(), 4);
+  EXPECT_EQ(e.OutputColumns()[names.size() - 2], 12);
 }
 
 // A flexible planet in tooth contact whose reduced body is not the train's planet (15 teeth for
