@@ -163,25 +163,18 @@ void ContactElement::Apply(const Model& /*model*/, double /*t*/, Data& data,
 std::vector<std::string> ContactElement::OutputNames() const {
   std::vector<std::string> names = {"normal_force", "friction_force", "contact_points",
                                     "max_penetration"};
-  if (spec_.gear) names.insert(names.end(), kGearMeshOutputNames.begin(), kGearMeshOutputNames.end());
-  if (spec_.record_points > 0) names.insert(names.end(), {"point_positions", "point_normal_forces"});
+  AppendContactOutputs(output_options(), &names, nullptr);
   return names;
 }
 
 std::vector<std::string> ContactElement::OutputUnits() const {
   std::vector<std::string> units = {"N", "N", "1", "m"};
-  if (spec_.gear) units.insert(units.end(), kGearMeshOutputUnits.begin(), kGearMeshOutputUnits.end());
-  if (spec_.record_points > 0) units.insert(units.end(), {"m", "N"});
+  AppendContactOutputs(output_options(), nullptr, &units);
   return units;
 }
 
 std::vector<int> ContactElement::OutputColumns() const {
-  std::vector<int> columns(OutputNames().size(), 1);
-  if (spec_.record_points > 0) {
-    columns[columns.size() - 2] = 3 * spec_.record_points;
-    columns.back() = spec_.record_points;
-  }
-  return columns;
+  return ContactOutputColumns(output_options(), 4);
 }
 
 void ContactElement::GetOutputs(const ExternalForceWorkspace& workspace, double* values) const {
@@ -190,13 +183,7 @@ void ContactElement::GetOutputs(const ExternalForceWorkspace& workspace, double*
   values[1] = ws.friction_force;
   values[2] = ws.contact_points;
   values[3] = ws.max_penetration;
-  double* next = values + 4;
-  if (spec_.gear) {
-    WriteGearMeshOutputs(ws.gear_mesh.outputs(), next);
-    next += kGearMeshOutputNames.size();
-  }
-  if (spec_.record_points > 0)
-    ws.points.Write(spec_.record_points, next, next + 3 * spec_.record_points);
+  WriteContactOutputs(output_options(), ws.gear_mesh, ws.points, values + 4);
 }
 
 }  // namespace orrery::contact

@@ -49,6 +49,7 @@
 
 #include "contact/candidate_pairs.h"
 #include "contact/contact_law.h"
+#include "contact/contact_outputs.h"
 #include "contact/contact_point_record.h"
 #include "contact/contact_surface.h"
 #include "contact/contact_tangents.h"
@@ -129,11 +130,15 @@ class ContactElement final : public ExternalForceElement {
                   Vec6* f_B, double* energy, double* power_dissipated) const;
 
  private:
-    // Calls fn(gap, v_rel, area_weight, node_on_a) for every penetrating node of ws's gaps, both
+  // Calls fn(gap, v_rel, area_weight, node_on_a) for every penetrating node of ws's gaps, both
   // passes (nodes of A on B's faces, then nodes of B on A's faces).
   template <class Fn>
   void ForEachContactPoint(const Vec6& V_WA, const Vec6& V_WB, const ContactWorkspace& ws,
                            Fn&& fn) const;
+
+  ContactOutputOptions output_options() const {
+    return {.gear = spec_.gear.has_value(), .record_points = spec_.record_points};
+  }
 
   ContactElementSpec spec_;
 };

@@ -311,25 +311,18 @@ void FlexibleContactElement::AddTangents(const Model& model, const Data& data,
 std::vector<std::string> FlexibleContactElement::OutputNames() const {
   std::vector<std::string> names = {"normal_force",    "friction_force",    "contact_points",
                                     "max_penetration", "deformation_bound", "inflation_exceeded"};
-  if (spec_.gear) names.insert(names.end(), kGearMeshOutputNames.begin(), kGearMeshOutputNames.end());
-  if (spec_.record_points > 0) names.insert(names.end(), {"point_positions", "point_normal_forces"});
+  AppendContactOutputs(output_options(), &names, nullptr);
   return names;
 }
 
 std::vector<std::string> FlexibleContactElement::OutputUnits() const {
   std::vector<std::string> units = {"N", "N", "1", "m", "m", "1"};
-  if (spec_.gear) units.insert(units.end(), kGearMeshOutputUnits.begin(), kGearMeshOutputUnits.end());
-  if (spec_.record_points > 0) units.insert(units.end(), {"m", "N"});
+  AppendContactOutputs(output_options(), nullptr, &units);
   return units;
 }
 
 std::vector<int> FlexibleContactElement::OutputColumns() const {
-  std::vector<int> columns(OutputNames().size(), 1);
-  if (spec_.record_points > 0) {
-    columns[columns.size() - 2] = 3 * spec_.record_points;
-    columns.back() = spec_.record_points;
-  }
-  return columns;
+  return ContactOutputColumns(output_options(), 6);
 }
 
 void FlexibleContactElement::GetOutputs(const ExternalForceWorkspace& workspace,
@@ -341,13 +334,7 @@ void FlexibleContactElement::GetOutputs(const ExternalForceWorkspace& workspace,
   values[3] = ws.max_penetration;
   values[4] = std::max(ws.side_a.deformation_bound, ws.side_b.deformation_bound);
   values[5] = static_cast<double>(ws.inflation_exceeded);
-  double* next = values + 6;
-  if (spec_.gear) {
-    WriteGearMeshOutputs(ws.gear_mesh.outputs(), next);
-    next += kGearMeshOutputNames.size();
-  }
-  if (spec_.record_points > 0)
-    ws.points.Write(spec_.record_points, next, next + 3 * spec_.record_points);
+  WriteContactOutputs(output_options(), ws.gear_mesh, ws.points, values + 6);
 }
 
 }  // namespace orrery::contact

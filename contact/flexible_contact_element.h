@@ -59,6 +59,7 @@
 #include "contact/candidate_pairs.h"
 #include "contact/contact_element.h"
 #include "contact/contact_law.h"
+#include "contact/contact_outputs.h"
 #include "contact/contact_point_record.h"
 #include "contact/contact_surface.h"
 #include "contact/contact_tangents.h"
@@ -200,6 +201,10 @@ class FlexibleContactElement final : public ExternalForceElement {
                            const FlexibleContactWorkspace& ws, Fn&& fn) const;
   // A side's state from the kinematics in data.
   static ContactSideState SideState(const Model& model, const Data& data, const ContactSide& side);
+
+  ContactOutputOptions output_options() const {
+    return {.gear = spec_.gear.has_value(), .record_points = spec_.record_points};
+  }
 
   FlexibleContactElementSpec spec_;
 };

@@ -90,15 +90,40 @@ void ExpectOracleGaps(const std::vector<NodeGap>& got, const std::vector<NodeGap
   }
 }
 
-TEST_F(TrackedGapsTest, EqualTheCandidatePairGapsWhileRolling) {
-  TrackedGaps tracked(*s1_, *s2_);
-  CandidateSearch search(*s1_, *s2_);
-  const double d = tracked.search_distance_m();
+// Tracked gaps and the candidate search of the oracle over the same surfaces, with their lists.
+struct Tracking {
+  Tracking(const ContactSurface& a, const ContactSurface& b)
+      : a(a), b(b), tracked(a, b), search(a, b) {
+    gaps_a.reserve(a.num_vertices());
+    gaps_b.reserve(b.num_vertices());
+    pairs.reserve(search.suggested_capacity());
+  }
+  // The tracked gaps of the last Update() at these poses (pose k) against the candidate-pair
+  // oracle, both passes (ExpectOracleGaps).
+  void ExpectOracle(const Poses& p, size_t k, int* compared, int* penetrating,
+                    int* face_ties = nullptr) {
+    search.UpdateBroadPhase(p.X_W1, p.X_W2);
+    search.FindPairs(&pairs);
+    const double d = tracked.search_distance_m();
+    for (int dir = 0; dir < 2; ++dir) {
+      const std::vector<NodeGap> want =
+          dir == 0 ? OracleGaps(a, p.X_W1, b, p.X_W2, true, pairs, d)
+                   : OracleGaps(b, p.X_W2, a, p.X_W1, false, pairs, d);
+      ExpectOracleGaps(dir == 0 ? gaps_a : gaps_b, want,
+                       "pose " + std::to_string(k) + " dir " + std::to_string(dir), compared,
+                       penetrating, face_ties);
+    }
+  }
+  const ContactSurface& a;
+  const ContactSurface& b;
+  TrackedGaps tracked;
+  CandidateSearch search;
   std::vector<NodeGap> gaps_a, gaps_b;
-  gaps_a.reserve(s1_->num_vertices());
-  gaps_b.reserve(s2_->num_vertices());
   std::vector<TrianglePair> pairs;
-  pairs.reserve(search.suggested_capacity());
+};
+
+TEST_F(TrackedGapsTest, EqualTheCandidatePairGapsWhileRolling) {
+  Tracking w(*s1_, *s2_);
 
   // Two mesh periods forward in 400 steps, the approach oscillating between 5 and 25 um, with a
   // wobble (a Newton iterate) at every step; then jumps, a reversal and a shifted centre.
@@ -118,22 +143,13 @@ TEST_F(TrackedGapsTest, EqualTheCandidatePairGapsWhileRolling) {
   int compared = 0, penetrating = 0, face_ties = 0;
   for (size_t k = 0; k < poses.size(); ++k) {
     const Poses& p = poses[k];
-    tracked.Update(p.X_W1, p.X_W2, &gaps_a, &gaps_b);
-    search.UpdateBroadPhase(p.X_W1, p.X_W2);
-    search.FindPairs(&pairs);
-    for (int dir = 0; dir < 2; ++dir) {
-      const std::vector<NodeGap> want =
-          dir == 0 ? OracleGaps(*s1_, p.X_W1, *s2_, p.X_W2, true, pairs, d)
-                   : OracleGaps(*s2_, p.X_W2, *s1_, p.X_W1, false, pairs, d);
-      ExpectOracleGaps(dir == 0 ? gaps_a : gaps_b, want,
-                       "pose " + std::to_string(k) + " dir " + std::to_string(dir), &compared,
-                       &penetrating, &face_ties);
-    }
+    w.tracked.Update(p.X_W1, p.X_W2, &w.gaps_a, &w.gaps_b);
+    w.ExpectOracle(p, k, &compared, &penetrating, &face_ties);
   }
   EXPECT_GT(compared, 10000);
   EXPECT_LT(face_ties, compared / 1000);
   EXPECT_GT(penetrating, 5000);
-  const TrackedGapStats& s = tracked.stats();
+  const TrackedGapStats& s = w.tracked.stats();
   // The walk and the seeding both ran, pairs came and went, and most nodes slept.
   EXPECT_GT(s.walk_steps, 100);
   EXPECT_GT(s.seeds, 100);
@@ -224,14 +240,7 @@ TEST_F(TrackedGapsTest, EqualTheCandidatePairGapsOnDeformingSurfaces) {
 // odometers at 1e136 m, where the next motions no longer added anything, so every sleeping node
 // slept on and tooth contacts were missed for the rest of the run.
 TEST_F(TrackedGapsTest, ComeBackExactAfterADivergingIterate) {
-  TrackedGaps tracked(*s1_, *s2_);
-  CandidateSearch search(*s1_, *s2_);
-  const double d = tracked.search_distance_m();
-  std::vector<NodeGap> gaps_a, gaps_b;
-  gaps_a.reserve(s1_->num_vertices());
-  gaps_b.reserve(s2_->num_vertices());
-  std::vector<TrianglePair> pairs;
-  pairs.reserve(search.suggested_capacity());
+  Tracking w(*s1_, *s2_);
   const double period = 2 * kPi / 19;
   const double nan = std::numeric_limits<double>::quiet_NaN();
   int compared = 0, penetrating = 0;
@@ -241,22 +250,13 @@ TEST_F(TrackedGapsTest, ComeBackExactAfterADivergingIterate) {
     if (k == 60 || k == 120) {
       // The iterate, then the step again from its start.
       const Vec3 away = k == 60 ? Vec3(1e130, 0, 0) : Vec3(nan, 0, 0);
-      tracked.Update(p.X_W1, Transform(p.X_W2.R, p.X_W2.p + away), &gaps_a, &gaps_b);
+      w.tracked.Update(p.X_W1, Transform(p.X_W2.R, p.X_W2.p + away), &w.gaps_a, &w.gaps_b);
     }
-    tracked.Update(p.X_W1, p.X_W2, &gaps_a, &gaps_b);
-    search.UpdateBroadPhase(p.X_W1, p.X_W2);
-    search.FindPairs(&pairs);
-    for (int dir = 0; dir < 2; ++dir) {
-      const std::vector<NodeGap> want =
-          dir == 0 ? OracleGaps(*s1_, p.X_W1, *s2_, p.X_W2, true, pairs, d)
-                   : OracleGaps(*s2_, p.X_W2, *s1_, p.X_W1, false, pairs, d);
-      ExpectOracleGaps(dir == 0 ? gaps_a : gaps_b, want,
-                       "pose " + std::to_string(k) + " dir " + std::to_string(dir), &compared,
-                       &penetrating);
-    }
+    w.tracked.Update(p.X_W1, p.X_W2, &w.gaps_a, &w.gaps_b);
+    w.ExpectOracle(p, k, &compared, &penetrating);
   }
   EXPECT_GT(penetrating, 1000);
-  EXPECT_GE(tracked.stats().odometer_restarts, 2);
+  EXPECT_GE(w.tracked.stats().odometer_restarts, 2);
 }
 
 }  // namespace

@@ -9,8 +9,8 @@
 //     and its tangents.
 #include <benchmark/benchmark.h>
 
-#include <algorithm>
 #include <map>
+#include <stdexcept>
 #include <memory>
 #include <string>
 #include <vector>
@@ -91,50 +91,41 @@ BENCHMARK(BM_FlexibleStageTangents)->Unit(benchmark::kMicrosecond);
 
 // The flexible planet's sun mesh alone: its Apply after the kinematics (the kinematics timed
 // apart: BM_StageKinematics), and its tangents; normal force and contact points at the last.
-void BM_StageKinematics(benchmark::State& state) {
+int ElementIndex(const Model& m, const std::string& name) {
+  for (size_t e = 0; e < m.external_forces.size(); ++e)
+    if (m.external_forces[e]->name() == name) return static_cast<int>(e);
+  throw std::out_of_range("no external force element '" + name + "'");
+}
+
+// The kinematics at the run's states, then (apply) the flexible sun mesh's Apply.
+void KinematicsThenSunMesh(benchmark::State& state, bool apply) {
   const Stage& s = LoadStage("seed003_flexible_contact_stage.yaml");
   const Model& m = *s.scene.model;
+  const int e = ElementIndex(m, "S.sun-planet#1");
   Data data(m);
   long k = 0;
   for (auto _ : state) {
     const State& st = s.at(k++);
     CalcPositionKinematics(m, st.q, data);
     CalcVelocityKinematics(m, st.v, data);
+    if (apply) m.external_forces[e]->Apply(m, st.t, data, *data.external[e]);
     benchmark::DoNotOptimize(data.V_WB.data());
   }
-}
-BENCHMARK(BM_StageKinematics)->Unit(benchmark::kMicrosecond);
-
-void BM_FlexibleSunMeshApply(benchmark::State& state) {
-  const Stage& s = LoadStage("seed003_flexible_contact_stage.yaml");
-  const Model& m = *s.scene.model;
-  const int e = static_cast<int>(std::find_if(m.external_forces.begin(), m.external_forces.end(),
-                                              [](const auto& f) { return f->name() == "S.sun-planet#1"; }) -
-                                 m.external_forces.begin());
-  Data data(m);
-  long k = 0;
-  for (auto _ : state) {
-    const State& st = s.at(k++);
-    CalcPositionKinematics(m, st.q, data);
-    CalcVelocityKinematics(m, st.v, data);
-    m.external_forces[e]->Apply(m, st.t, data, *data.external[e]);
-  }
-  CalcBodyJacobians(m, data);
-  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(m.nv, m.nv), C = K;
-  m.external_forces[e]->AddTangents(m, data, *data.external[e], K, C);
+  if (!apply) return;
   std::vector<double> out(m.external_forces[e]->OutputNames().size());
   m.external_forces[e]->GetOutputs(*data.external[e], out.data());
   state.counters["normal_force_N"] = out[0];
   state.counters["contact_points"] = out[2];
 }
+void BM_StageKinematics(benchmark::State& state) { KinematicsThenSunMesh(state, false); }
+void BM_FlexibleSunMeshApply(benchmark::State& state) { KinematicsThenSunMesh(state, true); }
+BENCHMARK(BM_StageKinematics)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_FlexibleSunMeshApply)->Unit(benchmark::kMicrosecond);
 
 void BM_FlexibleSunMeshTangents(benchmark::State& state) {
   const Stage& s = LoadStage("seed003_flexible_contact_stage.yaml");
   const Model& m = *s.scene.model;
-  const int e = static_cast<int>(std::find_if(m.external_forces.begin(), m.external_forces.end(),
-                                              [](const auto& f) { return f->name() == "S.sun-planet#1"; }) -
-                                 m.external_forces.begin());
+  const int e = ElementIndex(m, "S.sun-planet#1");
   Data data(m);
   CalcPositionKinematics(m, s.at(0).q, data);
   CalcVelocityKinematics(m, s.at(0).v, data);
