@@ -49,7 +49,7 @@ std::vector<std::array<int, 3>> FlexibleContactSurface::SelectedTriangles(
 }
 
 void FlexibleContactSurface::SetBasesToVertices() {
-  base_shapes_ = shapes_;
+  base_shapes_.resize(0, 0);  // the vertices' own shapes_rows_ serve
   const int nv = surface_->num_vertices();
   vertex_bases_.resize(nv);
   vertex_base_weights_.assign(nv, Vec3(1, 0, 0));
@@ -238,11 +238,12 @@ void FlexibleContactSurface::DeformParts(const Eigen::Ref<const Eigen::VectorXd>
   const auto& s0 = s.vertices();
   const auto& tris = s.triangles();
   std::vector<Vec3>& ub = *base_displacement;
+  const RowMajorMatrix& base_shapes = BaseShapes();
   for (const int part : parts) {
     // The part's bases, then its vertices by interpolation.
     for (int j = part_base_start_[part]; j < part_base_start_[part + 1]; ++j) {
       const int b = part_bases_[j];
-      ub[b].noalias() = base_shapes_.middleRows<3>(3 * b) * q_f;
+      ub[b].noalias() = base_shapes.middleRows<3>(3 * b) * q_f;
     }
     double u2 = 0, c2 = 0;
     for (int i = s.part_vertex_start()[part]; i < s.part_vertex_start()[part + 1]; ++i) {

@@ -109,7 +109,7 @@ class FlexibleContactSurface {
                    std::vector<Vec3>* base_displacement) const;
   // The points whose shapes DeformParts forms (the FE nodes an embedded surface hangs on; the
   // vertices themselves otherwise).
-  int num_bases() const { return static_cast<int>(base_shapes_.rows() / 3); }
+  int num_bases() const { return static_cast<int>(BaseShapes().rows() / 3); }
   // Phi_P v for one vertex (a deformation rate from q_f-dot), and Q += Phi_P^T f (a vertex force
   // in B onto the modal forces).
   Vec3 VertexShapeTimes(int vertex, const Eigen::Ref<const Eigen::VectorXd>& v) const {
@@ -138,9 +138,14 @@ class FlexibleContactSurface {
   // The same, row-major: a vertex's three rows lie together (DeformParts, VertexShapeTimes).
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> shapes_rows_;
   Eigen::VectorXd mode_bounds_;
-  // DeformParts' interpolation: base shapes (3 #bases x nf, row-major), each vertex's up to three
-  // bases and weights (#V), and the bases of each part (CSR: part_base_start_ #parts + 1).
-  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> base_shapes_;
+  // DeformParts' interpolation: base shapes (3 #bases x nf, row-major; empty when the bases are
+  // the vertices, whose shapes_rows_ then serve), each vertex's up to three bases and weights
+  // (#V), and the bases of each part (CSR: part_base_start_ #parts + 1).
+  using RowMajorMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  const RowMajorMatrix& BaseShapes() const {
+    return base_shapes_.size() > 0 ? base_shapes_ : shapes_rows_;
+  }
+  RowMajorMatrix base_shapes_;
   std::vector<std::array<int, 3>> vertex_bases_;
   std::vector<Vec3> vertex_base_weights_;
   std::vector<int> part_base_start_, part_bases_;

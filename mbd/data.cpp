@@ -15,7 +15,12 @@ Data::Data(const Model& model) {
   I_W.assign(nb, SpatialInertia{});
   q_normalized = Eigen::VectorXd::Zero(model.nq);
   V_WB.assign(nb, Vec6::Zero());
-  J_WB.assign(nb, Eigen::Matrix<double, 6, Eigen::Dynamic>::Zero(6, model.nv));
+  // Body Jacobians only where an element's analytic tangents need them.
+  for (const auto& element : model.external_forces)
+    if (element->HasTangents()) {
+      J_WB.assign(nb, Eigen::Matrix<double, 6, Eigen::Dynamic>::Zero(6, model.nv));
+      break;
+    }
   c_J.assign(nj, Vec6::Zero());
   f_ext.assign(nb, Vec6::Zero());
   tau_applied = Eigen::VectorXd::Zero(model.nv);

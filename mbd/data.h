@@ -44,7 +44,8 @@ struct Data {
   std::vector<FlexibleBodyTerms> flex;  // n flexible bodies
 
   // --- CalcBodyJacobians (kinematics.cpp), on demand (DaeSystem::Tangents) ---
-  std::vector<Eigen::Matrix<double, 6, Eigen::Dynamic>> J_WB;  // nbodies x (6 x nv): V_WB = J_WB v
+  // nbodies x (6 x nv): V_WB = J_WB v; empty unless an external element has analytic tangents.
+  std::vector<Eigen::Matrix<double, 6, Eigen::Dynamic>> J_WB;
 
   // --- CalcVelocityKinematics (kinematics.cpp) ---
   std::vector<Vec6> V_WB;             // nbodies: body spatial velocities, world origin

@@ -20,7 +20,8 @@ void CalcVelocityKinematics(const Model& model, const Eigen::Ref<const Eigen::Ve
 
 // Fills data.J_WB: each body's spatial velocity (world origin) as V_WB = J_WB v, the sums of the
 // motion subspaces S of the joints from the root to the body (a flexible body's own modal
-// coordinates do not move its frame). Needs CalcPositionKinematics first.
+// coordinates do not move its frame). Needs CalcPositionKinematics first and data.J_WB sized
+// (Data sizes it when an external element has analytic tangents).
 void CalcBodyJacobians(const Model& model, Data& data);
 
 // q-dot = N(q) v (nq from nv); identity except quaternion blocks: q-dot = 1/2 (0, w_F) x q.
