@@ -110,9 +110,9 @@ double Wrap(double a) {
   return a - kTwoPi * std::floor((a + 0.5 * kTwoPi) / kTwoPi);
 }
 
-// The mesh zone seen from gear G: the polar angles phi in [0, pi] (measured from the direction
-// to the other gear's axis, at distance a) of the points of G's tooth band inner <= r <= outer
-// that lie in the other gear's band grown by `reach`:
+// The ring zone seen from ring G: the polar angles phi in [0, pi] (measured from the direction
+// to the other ring's axis, at distance a) of the points of G's band inner <= r <= outer
+// that lie in the other ring's band grown by `reach`:
 //   lo' - reach <= |P - O'| <= hi' + reach,  |P - O'|^2 = a^2 + r^2 - 2 a r cos(phi).
 // |P - O'| grows with phi, so at each r the angles form one interval; their hull over r sampled
 // at 33 radii, padded by the largest change between neighbouring samples, bounds the zone.
@@ -148,9 +148,9 @@ bool ZoneWindow(double a, double inner, double outer, double lo_other, double hi
   return true;
 }
 
-// Flags the parts of a tooth ring inside the zone window, seen from the other gear's direction
-// beta (gear frame); returns how many.
-int FlagZoneParts(const ToothRing& ring, double beta, double phi_min, double phi_max,
+// Flags the parts of a ring inside the zone window, seen from the other ring's direction beta
+// (ring frame); returns how many.
+int FlagZoneParts(const PartRing& ring, double beta, double phi_min, double phi_max,
                   double angular_reach, std::vector<char>* flags) {
   int n = 0;
   const double h = ring.part_half_angle_rad + angular_reach;
@@ -170,7 +170,7 @@ struct CandidateSearch::Impl {
   std::vector<std::pair<int, int>> part_pairs;
   // B's part centres in A's frame (capacity #parts_B).
   std::vector<Vec3> centers_b_A;
-  // Parts inside the mesh zone (tooth rings on both surfaces): flags, #parts_A and #parts_B.
+  // Parts inside the ring zone (part rings on both surfaces): flags, #parts_A and #parts_B.
   std::vector<char> zone_a, zone_b;
   Transform X_WA, X_WB, X_AB_search, X_AB_previous;
   bool have_pairs = false, have_previous = false;
@@ -215,15 +215,15 @@ void CandidateSearch::UpdateBroadPhase(const Transform& X_WA, const Transform& X
   const double reach = search_distance_ + slack_ + extra_reach_m;
   const int na = a_.num_parts(), nb = b_.num_parts();
   for (int j = 0; j < nb; ++j) m.centers_b_A[j] = X_AB * b_.part_centers()[j];
-  // Mesh zone of two gears on (nearly) parallel axes: only teeth whose angular span meets the
-  // overlap of the two tooth bands (at the gears' current angles) go on.
+  // Ring zone of two part rings on (nearly) parallel axes: only parts whose angular span meets
+  // the overlap of the two bands (at the rings' current angles) go on.
   std::fill(m.zone_a.begin(), m.zone_a.end(), 1);
   std::fill(m.zone_b.begin(), m.zone_b.end(), 1);
   stats_.zone_parts_a = na;
   stats_.zone_parts_b = nb;
-  if (a_.tooth_ring() && b_.tooth_ring()) {
-    const ToothRing& ra = *a_.tooth_ring();
-    const ToothRing& rb = *b_.tooth_ring();
+  if (a_.part_ring() && b_.part_ring()) {
+    const PartRing& ra = *a_.part_ring();
+    const PartRing& rb = *b_.part_ring();
     const Transform X_GaGb = (X_WA * ra.X_BG).Inverse() * (X_WB * rb.X_BG);
     const Vec3 o_b = X_GaGb.p;                       // B's axis origin in Ga
     const Vec3 o_a = X_GaGb.Inverse().p;             // A's axis origin in Gb

@@ -17,14 +17,14 @@
 // searches again only when delta exceeds the slack.
 //
 // Stages of a search:
-//   1. broad phase (the mesh zone), no allocation:
-//      a. two gears (both surfaces carry a ToothRing, axes parallel): from the gears' current
-//         angles and centre distance a, the polar window [phi_min, phi_max] of each gear's tooth
-//         band (inner <= r <= outer) whose points lie in the other gear's band grown by d + s
+//   1. broad phase (the ring zone), no allocation:
+//      a. two part rings (both surfaces carry a PartRing, axes parallel): from the rings' current
+//         angles and axis distance a, the polar window [phi_min, phi_max] of each ring's band
+//         (inner <= r <= outer) whose points lie in the other ring's band grown by d + s
 //         (|P - O'|^2 = a^2 + r^2 - 2 a r cos phi, phi from the direction to the other axis);
-//         only teeth whose angular span (+- half angle + (d + s) / inner) meets the window go on.
-//         This is the overlap of the tip circles around the contact path: 3 to 4 teeth per gear
-//         for spur gears with contact ratio < 2, whatever the face width;
+//         only parts whose angular span (+- half angle + (d + s) / inner) meets the window go on.
+//         For two gears this is the overlap of the tip circles around the contact path: 3 to 4
+//         teeth per gear for spur gears with contact ratio < 2, whatever the face width;
 //      b. a bounding sphere per part, tested pairwise in A's frame with the spheres grown by
 //         d + s; only parts that can be within d + s go on.
 //   2. triangle pairs: per overlapping part pair, FCL's OBBRSS mesh-mesh traversal
@@ -39,7 +39,7 @@
 //   Why not FCL's DynamicAABBTreeCollisionManager for stage 1: its update() rebuilds the tree
 //   (allocating). Spheres alone keep 18 tooth pairs of a 19/27, b = 10 mm mesh (world boxes:
 //   22), but they are loose around wide teeth (168 of seed 001's 18/34, b = 30 mm pair): hence
-//   the mesh-zone test 1a for gears.
+//   the ring-zone test 1a.
 //
 // Usage:
 //   CandidateSearch search(surface_a, surface_b);
@@ -69,7 +69,7 @@ std::shared_ptr<const CullingGeometry> BuildCullingGeometry(const ContactSurface
 // Counters of the last search (for benchmarks and tests).
 struct CandidateStats {
   int part_pairs = 0;       // overlapping parts after the broad phase
-  int zone_parts_a = 0, zone_parts_b = 0;  // parts inside the mesh zone (all without rings)
+  int zone_parts_a = 0, zone_parts_b = 0;  // parts inside the ring zone (all without rings)
   int leaf_tests = 0;       // triangle pairs whose inflated bounding volumes overlap
   int exact_tests = 0;      // leaf tests past the triangle-sphere pre-check
   int candidate_pairs = 0;  // pairs within the search distance
@@ -116,7 +116,7 @@ class CandidateSearch {
   int suggested_capacity() const;
 
   // Stage 1: poses of the bodies of A and B in the world; lists the part pairs whose spheres
-  // are within d + s (+ extra_reach_m, and the mesh zone grown by as much).
+  // are within d + s (+ extra_reach_m, and the ring zone grown by as much).
   void UpdateBroadPhase(const Transform& X_WA, const Transform& X_WB, double extra_reach_m = 0);
   // The part pairs (part of A, part of B) of the last UpdateBroadPhase().
   const std::vector<std::pair<int, int>>& part_pairs() const;

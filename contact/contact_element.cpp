@@ -14,8 +14,10 @@ bool SamePose(const Transform& X, const Transform& Y) { return X.R == Y.R && X.p
 
 }  // namespace
 
-ContactWorkspace::ContactWorkspace(const ContactSurface& a, const ContactSurface& b, int nv)
+ContactWorkspace::ContactWorkspace(const ContactSurface& a, const ContactSurface& b, int nv,
+                                   const ContactMonitor* monitor)
     : tracked(a, b), search(a, b), scratch_a(a), scratch_b(b), tangents(nullptr, nullptr, nv),
+      monitor(monitor ? monitor->MakeState() : nullptr),
       points(a.num_vertices() + b.num_vertices()) {
   pairs.reserve(search.suggested_capacity());
   node_faces_a.reserve(3 * pairs.capacity());
@@ -38,6 +40,11 @@ ContactElement::ContactElement(ContactElementSpec spec) : spec_(std::move(spec))
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(what + e.what());
   }
+  outputs_ = ContactOutputs({{.name = "normal_force", .unit = "N"},
+                             {.name = "friction_force", .unit = "N"},
+                             {.name = "contact_points", .unit = "1"},
+                             {.name = "max_penetration", .unit = "m"}},
+                            spec_.monitor.get(), spec_.record_points);
 }
 
 std::unique_ptr<ExternalForceWorkspace> ContactElement::MakeWorkspace(const Model& model) const {
@@ -45,7 +52,8 @@ std::unique_ptr<ExternalForceWorkspace> ContactElement::MakeWorkspace(const Mode
     if (body < 0 || body >= model.nbodies)
       throw std::invalid_argument("ContactElement '" + spec_.name + "': body index " +
                                   std::to_string(body) + " is not in the model");
-  return std::make_unique<ContactWorkspace>(*spec_.surface_a, *spec_.surface_b, model.nv);
+  return std::make_unique<ContactWorkspace>(*spec_.surface_a, *spec_.surface_b, model.nv,
+                                            spec_.monitor.get());
 }
 
 void ContactElement::UpdateGaps(const Transform& X_WA, const Transform& X_WB,
@@ -105,7 +113,9 @@ void ContactElement::CalcForces(const Vec6& V_WA, const Vec6& V_WB, ContactWorks
   *power_dissipated = 0;
   ws.normal_force = ws.friction_force = ws.max_penetration = 0;
   ws.contact_points = 0;
-  if (spec_.gear) ws.gear_mesh.Start(*spec_.gear, ws.X_WA, ws.X_WB);
+  // The monitor reads the points when the workspace has its state (MakeWorkspace() makes it).
+  const ContactMonitor* monitor = ws.monitor ? spec_.monitor.get() : nullptr;
+  if (monitor) monitor->Start(ws.X_WA, ws.X_WB, *ws.monitor);
   ws.points.Clear();
   const Transform X_AW = ws.X_WA.Inverse();
   // The force of a node acts on the node's body N, its reaction on the face's body.
@@ -122,10 +132,10 @@ void ContactElement::CalcForces(const Vec6& V_WA, const Vec6& V_WB, ContactWorks
     ws.friction_force += f.friction;
     ws.max_penetration = std::max(ws.max_penetration, depth);
     ++ws.contact_points;
-    if (spec_.gear) ws.gear_mesh.Add(node_on_a ? g.p_W : g.q_W, g.n_W, f.stiffness);
+    if (monitor) monitor->Add(node_on_a ? g.p_W : g.q_W, g.n_W, f.stiffness, *ws.monitor);
     if (spec_.record_points > 0) ws.points.Add(X_AW * (node_on_a ? g.p_W : g.q_W), f.normal);
   });
-  if (spec_.gear) ws.gear_mesh.Finish(*f_A);
+  if (monitor) monitor->Finish(*f_A, *ws.monitor);
 }
 
 void ContactElement::AddTangents(const Model& model, const Data& data,
@@ -160,30 +170,14 @@ void ContactElement::Apply(const Model& /*model*/, double /*t*/, Data& data,
   data.power_dissipated += power;
 }
 
-std::vector<std::string> ContactElement::OutputNames() const {
-  std::vector<std::string> names = {"normal_force", "friction_force", "contact_points",
-                                    "max_penetration"};
-  AppendContactOutputs(output_options(), &names, nullptr);
-  return names;
-}
-
-std::vector<std::string> ContactElement::OutputUnits() const {
-  std::vector<std::string> units = {"N", "N", "1", "m"};
-  AppendContactOutputs(output_options(), nullptr, &units);
-  return units;
-}
-
-std::vector<int> ContactElement::OutputColumns() const {
-  return ContactOutputColumns(output_options(), 4);
-}
-
 void ContactElement::GetOutputs(const ExternalForceWorkspace& workspace, double* values) const {
   const auto& ws = static_cast<const ContactWorkspace&>(workspace);
   values[0] = ws.normal_force;
   values[1] = ws.friction_force;
   values[2] = ws.contact_points;
   values[3] = ws.max_penetration;
-  WriteContactOutputs(output_options(), ws.gear_mesh, ws.points, values + 4);
+  WriteContactOutputs(spec_.monitor.get(), ws.monitor.get(), ws.points, spec_.record_points,
+                      values + 4);
 }
 
 }  // namespace orrery::contact

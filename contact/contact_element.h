@@ -1,6 +1,6 @@
 #pragma once
-// Tooth (or any surface) contact between two rigid bodies as an engine force element
-// (mbd/external_force.h): the `contact` mesh model of DESIGN.md.
+// Surface contact between two rigid bodies as an engine force element (mbd/external_force.h):
+// what the `contact` mesh model of DESIGN.md puts between two gears' tooth surfaces.
 //
 // One Apply() (MuJoCo-style table of contents), with ContactGapMethod::kTracked (the default):
 //   1-2. signed gaps both ways by tracking each node's closest face (tracked_gaps.h): the broad
@@ -9,7 +9,7 @@
 //      are searched in the parts' FCL hierarchies; skipped when neither body moved;
 // with ContactGapMethod::kCandidatePairs (the oracle of the tracked gaps, and what the flexible
 // element uses):
-//   1. candidate triangle pairs (candidate_pairs.h): part spheres (the mesh zone), then the
+//   1. candidate triangle pairs (candidate_pairs.h): part spheres (the ring zone), then the
 //      inflated-BVH traversal; skipped while the relative motion since the last search is within
 //      the surfaces' slack; after a search, the distinct node-face candidates of each pass;
 //   2. signed gaps both ways (signed_gap.h, seed 000 eqs. 6-9): nodes of A against faces of B
@@ -30,9 +30,8 @@
 //   v_rel = v_N(P) - v_F(P), depth rate = -v_rel . n, slip v_t = v_rel - (v_rel . n) n.
 //
 // Outputs (/external/<name>/...): normal_force (N, sum of F_N), friction_force (N, sum of
-// |F_T|), contact_points (penetrating nodes, both passes), max_penetration (m); between two gears
-// (spec.gear) also transmission_error (m), line_of_action_force (N), mesh_stiffness (N/m), pattern_roll_min / _max and
-// pattern_axial_min / _max (m) of gear_mesh_outputs.h; with spec.record_points = n,
+// |F_T|), contact_points (penetrating nodes, both passes), max_penetration (m); then the
+// outputs of spec.monitor (contact_monitor.h), if any; with spec.record_points = n,
 // point_positions (n x 3) and point_normal_forces (n) of contact_point_record.h.
 //
 // Usage:
@@ -53,7 +52,7 @@
 #include "contact/contact_point_record.h"
 #include "contact/contact_surface.h"
 #include "contact/contact_tangents.h"
-#include "contact/gear_mesh_outputs.h"
+#include "contact/contact_monitor.h"
 #include "contact/signed_gap.h"
 #include "contact/tracked_gaps.h"
 #include "mbd/external_force.h"
@@ -70,9 +69,10 @@ struct ContactElementSpec {
   std::shared_ptr<const ContactSurface> surface_a, surface_b;  // in the frames of body_a, body_b
   ContactLaw law;
   ContactGapMethod gap_method = ContactGapMethod::kTracked;
-  // Two gears (gear 1 on body_a): the element also reports the transmission error, mesh
-  // stiffness and contact pattern (gear_mesh_outputs.h).
-  std::optional<GearMeshInfo> gear;
+  // Optional: reads the contact points of every evaluation and adds its outputs after the
+  // element's own (contact_monitor.h; a gear pair's transmission error, mesh stiffness and
+  // contact pattern: models/gear_mesh_monitor.h).
+  std::shared_ptr<const ContactMonitor> monitor;
   // > 0: the outputs also hold this many contact points per row (contact_point_record.h).
   int record_points = 0;
 };
@@ -80,8 +80,10 @@ struct ContactElementSpec {
 // Mutable state of one element in one Data: the search caches and the last evaluation.
 class ContactWorkspace final : public ExternalForceWorkspace {
  public:
-  // nv: the model's velocity count (0: a workspace for UpdateGaps and CalcForces alone).
-  ContactWorkspace(const ContactSurface& a, const ContactSurface& b, int nv = 0);
+  // nv: the model's velocity count (0: a workspace for UpdateGaps and CalcForces alone);
+  // monitor: the element's monitor, whose state the workspace then holds (nullptr: none).
+  ContactWorkspace(const ContactSurface& a, const ContactSurface& b, int nv = 0,
+                   const ContactMonitor* monitor = nullptr);
 
   TrackedGaps tracked;                   // kTracked
   CandidateSearch search;                // kCandidatePairs
@@ -92,7 +94,7 @@ class ContactWorkspace final : public ExternalForceWorkspace {
   Transform X_WA, X_WB;                  // poses of the last gap computation
   bool have_gaps = false;
   ContactTangents tangents;              // AddTangents()
-  GearMeshObserver gear_mesh;            // spec.gear: its outputs of the last Apply()
+  std::unique_ptr<ContactMonitorState> monitor;  // spec.monitor's state of the last Apply()
   ContactPointRecord points;             // spec.record_points: the last Apply()'s points
   // Outputs of the last Apply().
   double normal_force = 0, friction_force = 0, max_penetration = 0;
@@ -112,9 +114,7 @@ class ContactElement final : public ExternalForceElement {
   std::unique_ptr<ExternalForceWorkspace> MakeWorkspace(const Model& model) const override;
   void Apply(const Model& model, double t, Data& data,
              ExternalForceWorkspace& workspace) const override;
-  std::vector<std::string> OutputNames() const override;
-  std::vector<std::string> OutputUnits() const override;
-  std::vector<int> OutputColumns() const override;
+  const std::vector<OutputDescription>& outputs() const override { return outputs_; }
   void GetOutputs(const ExternalForceWorkspace& workspace, double* values) const override;
   // Stiffness and damping of the penetrating nodes of the last Apply() (contact_tangents.h).
   bool HasTangents() const override { return true; }
@@ -136,11 +136,8 @@ class ContactElement final : public ExternalForceElement {
   void ForEachContactPoint(const Vec6& V_WA, const Vec6& V_WB, const ContactWorkspace& ws,
                            Fn&& fn) const;
 
-  ContactOutputOptions output_options() const {
-    return {.gear = spec_.gear.has_value(), .record_points = spec_.record_points};
-  }
-
   ContactElementSpec spec_;
+  std::vector<OutputDescription> outputs_;
 };
 
 }  // namespace orrery::contact

@@ -1,32 +1,30 @@
 #include "contact/contact_outputs.h"
 
+#include <algorithm>
+#include <limits>
+
 namespace orrery::contact {
 
-void AppendContactOutputs(const ContactOutputOptions& o, std::vector<std::string>* names,
-                          std::vector<std::string>* units) {
-  if (o.gear) {
-    if (names) names->insert(names->end(), kGearMeshOutputNames.begin(), kGearMeshOutputNames.end());
-    if (units) units->insert(units->end(), kGearMeshOutputUnits.begin(), kGearMeshOutputUnits.end());
+std::vector<OutputDescription> ContactOutputs(std::vector<OutputDescription> own,
+                                              const ContactMonitor* monitor, int record_points) {
+  if (monitor) own.insert(own.end(), monitor->outputs().begin(), monitor->outputs().end());
+  if (record_points > 0) {
+    own.push_back({.name = "point_positions", .unit = "m", .columns = 3 * record_points});
+    own.push_back({.name = "point_normal_forces", .unit = "N", .columns = record_points});
   }
-  if (o.record_points > 0) {
-    if (names) names->insert(names->end(), {"point_positions", "point_normal_forces"});
-    if (units) units->insert(units->end(), {"m", "N"});
-  }
+  return own;
 }
 
-std::vector<int> ContactOutputColumns(const ContactOutputOptions& o, int own_outputs) {
-  std::vector<int> columns(own_outputs + (o.gear ? kGearMeshOutputNames.size() : 0), 1);
-  if (o.record_points > 0) columns.insert(columns.end(), {3 * o.record_points, o.record_points});
-  return columns;
-}
-
-void WriteContactOutputs(const ContactOutputOptions& o, const GearMeshObserver& gear,
-                         const ContactPointRecord& points, double* values) {
-  if (o.gear) {
-    WriteGearMeshOutputs(gear.outputs(), values);
-    values += kGearMeshOutputNames.size();
+void WriteContactOutputs(const ContactMonitor* monitor, const ContactMonitorState* state,
+                         const ContactPointRecord& points, int record_points, double* values) {
+  if (monitor) {
+    // A workspace made without the monitor's state (not by MakeWorkspace()) has no values.
+    const int n = OutputValueCount(monitor->outputs());
+    if (state) monitor->Write(*state, values);
+    else std::fill(values, values + n, std::numeric_limits<double>::quiet_NaN());
+    values += n;
   }
-  if (o.record_points > 0) points.Write(o.record_points, values, values + 3 * o.record_points);
+  if (record_points > 0) points.Write(record_points, values, values + 3 * record_points);
 }
 
 }  // namespace orrery::contact

@@ -13,20 +13,32 @@
 
 namespace orrery::contact {
 
-ContactSurface::ContactSurface(const std::vector<gears::TriangleMesh>& parts, double margin_m,
-                               double slack_m, std::optional<ToothRing> tooth_ring)
-    : tooth_ring_(std::move(tooth_ring)), margin_m_(margin_m), slack_m_(slack_m) {
+ContactSurface::ContactSurface(const std::vector<TriangleMesh>& parts, double margin_m,
+                               double slack_m, std::optional<PartRing> part_ring)
+    : part_ring_(std::move(part_ring)), margin_m_(margin_m), slack_m_(slack_m) {
   if (!(margin_m > 0))
     throw std::invalid_argument("ContactSurface: margin_m must be > 0, got " +
                                 std::to_string(margin_m));
   if (!(slack_m >= 0))
     throw std::invalid_argument("ContactSurface: slack_m must be >= 0, got " +
                                 std::to_string(slack_m));
+  ConcatenateParts(parts);
+  CalcFaceNormalsAndAreas();
+  CalcAdjacency();
+  CalcBoundingSpheres();
+  CalcRimFades();
+  CalcInnerReach();
+  CheckPartRing();
+  culling_ = BuildCullingGeometry(*this);
+  CalcSharedRimEdges();
+}
+
+void ContactSurface::ConcatenateParts(const std::vector<TriangleMesh>& parts) {
   // Concatenate the parts, offsetting the vertex indices.
   part_triangle_start_.push_back(0);
   part_vertex_start_.push_back(0);
   for (size_t j = 0; j < parts.size(); ++j) {
-    const gears::TriangleMesh& part = parts[j];
+    const TriangleMesh& part = parts[j];
     if (part.triangles.empty())
       throw std::invalid_argument("ContactSurface: part " + std::to_string(j) + " is empty");
     const int offset = static_cast<int>(vertices_.size());
@@ -44,7 +56,9 @@ ContactSurface::ContactSurface(const std::vector<gears::TriangleMesh>& parts, do
     part_vertex_start_.push_back(static_cast<int>(vertices_.size()));
   }
   if (triangles_.empty()) throw std::invalid_argument("ContactSurface: no triangles");
+}
 
+void ContactSurface::CalcFaceNormalsAndAreas() {
   // Face normals and the area weights of the vertices (one third of each incident triangle).
   vertex_areas_.assign(vertices_.size(), 0.0);
   vertex_normals_.assign(vertices_.size(), Vec3::Zero());
@@ -65,7 +79,9 @@ ContactSurface::ContactSurface(const std::vector<gears::TriangleMesh>& parts, do
   }
   for (Vec3& n : vertex_normals_)
     if (n.squaredNorm() > 0) n.normalize();
+}
 
+void ContactSurface::CalcAdjacency() {
   // Boundary edges: undirected edges used by one triangle only. Neighbours: the other triangle
   // of an edge used by exactly two.
   std::map<std::pair<int, int>, std::vector<int>> edge_faces;
@@ -102,7 +118,9 @@ ContactSurface::ContactSurface(const std::vector<gears::TriangleMesh>& parts, do
   for (int j = 0; j < num_parts(); ++j)
     std::fill(vertex_parts_.begin() + part_vertex_start_[j],
               vertex_parts_.begin() + part_vertex_start_[j + 1], j);
+}
 
+void ContactSurface::CalcBoundingSpheres() {
   // Bounding sphere of every part (centre of its box, farthest vertex) and the largest radius.
   for (int j = 0; j < num_parts(); ++j) {
     Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
@@ -130,7 +148,9 @@ ContactSurface::ContactSurface(const std::vector<gears::TriangleMesh>& parts, do
     triangle_centers_.push_back(c);
     triangle_radii_.push_back(r);
   }
+}
 
+void ContactSurface::CalcRimFades() {
   // Rim fade of every face with a rim edge (header): a tenth of its height 2 A / |edge| across
   // the edge.
   // The outward direction of a rim edge: in the face's plane, across the edge, away from the
@@ -161,59 +181,61 @@ ContactSurface::ContactSurface(const std::vector<gears::TriangleMesh>& parts, do
           vertex_rim_fade_[v] = std::min(vertex_rim_fade_[v], face_rim_fade_[t]);
   for (double& f : vertex_rim_fade_)
     if (!std::isfinite(f)) f = 0;
+}
 
+void ContactSurface::CalcInnerReach() {
   // Inner reach of every face (header): sharp interior edges per part, then the distance of
   // each face from the nearest, capped by a quarter of the radius of curvature L / angle across
   // each edge (L: distance between the two centroids).
-  {
-    const double sharp = std::cos(10.0 * 3.14159265358979323846 / 180.0);
-    face_inner_reach_.assign(triangles_.size(), std::numeric_limits<double>::infinity());
-    for (int j = 0; j < num_parts(); ++j) {
-      std::vector<std::pair<Vec3, Vec3>> sharp_edges;
-      for (int t = part_triangle_start_[j]; t < part_triangle_start_[j + 1]; ++t)
-        for (int k = 0; k < 3; ++k) {
-          const int n = face_neighbors_[t][k];
-          if (n < 0) continue;
-          const double c = std::clamp(face_normals_[t].dot(face_normals_[n]), -1.0, 1.0);
-          if (c < sharp && t < n)
-            sharp_edges.emplace_back(vertices_[triangles_[t][k]],
-                                     vertices_[triangles_[t][(k + 1) % 3]]);
-          const double angle = std::acos(c);
-          if (angle > 0) {
-            const double L = (triangle_centers_[t] - triangle_centers_[n]).norm();
-            face_inner_reach_[t] = std::min(face_inner_reach_[t], 0.25 * L / angle);
-          }
+  const double sharp = std::cos(10.0 * 3.14159265358979323846 / 180.0);
+  face_inner_reach_.assign(triangles_.size(), std::numeric_limits<double>::infinity());
+  for (int j = 0; j < num_parts(); ++j) {
+    std::vector<std::pair<Vec3, Vec3>> sharp_edges;
+    for (int t = part_triangle_start_[j]; t < part_triangle_start_[j + 1]; ++t)
+      for (int k = 0; k < 3; ++k) {
+        const int n = face_neighbors_[t][k];
+        if (n < 0) continue;
+        const double c = std::clamp(face_normals_[t].dot(face_normals_[n]), -1.0, 1.0);
+        if (c < sharp && t < n)
+          sharp_edges.emplace_back(vertices_[triangles_[t][k]],
+                                   vertices_[triangles_[t][(k + 1) % 3]]);
+        const double angle = std::acos(c);
+        if (angle > 0) {
+          const double L = (triangle_centers_[t] - triangle_centers_[n]).norm();
+          face_inner_reach_[t] = std::min(face_inner_reach_[t], 0.25 * L / angle);
         }
-      // Distance of a triangle from an edge of its own surface (which cannot pierce it): the
-      // least of the edge against the triangle's three edges and its ends against the triangle.
-      for (int t = part_triangle_start_[j]; t < part_triangle_start_[j + 1]; ++t) {
-        const Vec3& a = vertices_[triangles_[t][0]];
-        const Vec3& b = vertices_[triangles_[t][1]];
-        const Vec3& c = vertices_[triangles_[t][2]];
-        for (const auto& [e0, e1] : sharp_edges) {
-          double d2 = std::min({SegmentDistanceSquared(e0, e1, a, b),
-                                SegmentDistanceSquared(e0, e1, b, c),
-                                SegmentDistanceSquared(e0, e1, c, a)});
-          for (const Vec3* e : {&e0, &e1})
-            d2 = std::min(d2, (*e - ClosestPointOnTriangle(*e, a, b, c).point).squaredNorm());
-          face_inner_reach_[t] = std::min(face_inner_reach_[t], std::sqrt(d2));
-        }
+      }
+    // Distance of a triangle from an edge of its own surface (which cannot pierce it): the
+    // least of the edge against the triangle's three edges and its ends against the triangle.
+    for (int t = part_triangle_start_[j]; t < part_triangle_start_[j + 1]; ++t) {
+      const Vec3& a = vertices_[triangles_[t][0]];
+      const Vec3& b = vertices_[triangles_[t][1]];
+      const Vec3& c = vertices_[triangles_[t][2]];
+      for (const auto& [e0, e1] : sharp_edges) {
+        double d2 = std::min({SegmentDistanceSquared(e0, e1, a, b),
+                              SegmentDistanceSquared(e0, e1, b, c),
+                              SegmentDistanceSquared(e0, e1, c, a)});
+        for (const Vec3* e : {&e0, &e1})
+          d2 = std::min(d2, (*e - ClosestPointOnTriangle(*e, a, b, c).point).squaredNorm());
+        face_inner_reach_[t] = std::min(face_inner_reach_[t], std::sqrt(d2));
       }
     }
   }
+}
 
-  if (tooth_ring_) {
-    if (static_cast<int>(tooth_ring_->part_angles_rad.size()) != num_parts())
-      throw std::invalid_argument("ContactSurface: the tooth ring has " +
-                                  std::to_string(tooth_ring_->part_angles_rad.size()) +
+void ContactSurface::CheckPartRing() const {
+  if (part_ring_) {
+    if (static_cast<int>(part_ring_->part_angles_rad.size()) != num_parts())
+      throw std::invalid_argument("ContactSurface: the part ring has " +
+                                  std::to_string(part_ring_->part_angles_rad.size()) +
                                   " part angles for " + std::to_string(num_parts()) + " parts");
-    if (!(tooth_ring_->inner_radius_m >= 0 &&
-          tooth_ring_->inner_radius_m < tooth_ring_->outer_radius_m))
-      throw std::invalid_argument("ContactSurface: the tooth ring needs 0 <= inner < outer radius");
+    if (!(part_ring_->inner_radius_m >= 0 &&
+          part_ring_->inner_radius_m < part_ring_->outer_radius_m))
+      throw std::invalid_argument("ContactSurface: the part ring needs 0 <= inner < outer radius");
   }
+}
 
-  culling_ = BuildCullingGeometry(*this);
-
+void ContactSurface::CalcSharedRimEdges() {
   // Rim edges next to another part: the edge's midpoint within 2 (margin + slack) of a part
   // whose sphere reaches it.
   shared_rim_edges_.assign(triangles_.size(), 0);

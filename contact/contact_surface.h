@@ -1,6 +1,6 @@
 #pragma once
-// A rigid contact surface: a triangle mesh held in its body's frame B (tooth flanks, tips and
-// fillets, or any surface), split into parts (for example one per tooth) that the broad phase
+// A rigid contact surface: a triangle mesh held in its body's frame B (any surface; for gears the
+// tooth flanks, tips and fillets), split into parts (for example one per tooth) that the broad phase
 // culls separately. Built once; everything the step needs is precomputed here:
 //   - face unit normals (right-hand rule, out of the material),
 //   - vertex area weights A_i = sum over incident triangles of area / 3 (the nodal quadrature
@@ -24,13 +24,14 @@
 // slack_m (>= 0): the search looks (margin + slack) far and keeps its pairs until the surfaces
 // have moved relative to each other by more than the slack (candidate_pairs.h); a larger slack
 // means fewer searches and more candidates per gap evaluation.
-// tooth_ring (optional): the parts are the teeth of a gear; when both surfaces of a search have
-// one, the broad phase keeps only the teeth inside the mesh zone of the two gears at their
-// current angles (candidate_pairs.h).
+// part_ring (optional): the parts lie in a ring about an axis, one after the other in angle (the
+// teeth of a gear or a spline); when both surfaces of a search have one and their axes are
+// parallel, the broad phase keeps only the parts inside the zone where the two rings' bands
+// overlap at their current angles (candidate_pairs.h).
 //
 // Usage:
 //   auto flank = std::make_shared<const ContactSurface>(
-//       std::vector{gears::MakeFlankMesh(gear, 0, true, 24, 8)}, 50e-6);
+//       std::vector<TriangleMesh>{mesh}, 50e-6);
 #include <array>
 #include <cstdint>
 #include <memory>
@@ -38,18 +39,18 @@
 #include <vector>
 
 #include "mbd/spatial.h"
-#include "models/triangle_mesh.h"
+#include "mbd/triangle_mesh.h"
 
 namespace orrery::contact {
 
 class CullingGeometry;  // candidate_pairs.cpp
 
-// A surface whose parts are the teeth of a gear (gear_contact.h fills it): where the teeth are,
-// in the gear frame G (axis z).
-struct ToothRing {
-  Transform X_BG;                    // gear frame in the body frame
-  double inner_radius_m = 0;         // the teeth lie in inner <= r <= outer (distance from G's
-  double outer_radius_m = 0;         // axis): root to tip circle (external), tip to root (ring)
+// A surface whose parts lie in a ring about an axis (a gear's teeth: the gear layer fills it,
+// models/gear_contact.h): where the parts are, in the ring's frame G (axis z).
+struct PartRing {
+  Transform X_BG;                    // ring frame in the body frame
+  double inner_radius_m = 0;         // the parts lie in inner <= r <= outer (distance from G's
+  double outer_radius_m = 0;         // axis; a gear's teeth: root to tip circle or tip to root)
   std::vector<double> part_angles_rad;  // #parts: a reference angle of every part about G's z
   double part_half_angle_rad = 0;    // every vertex of part j lies within this of its angle
 };
@@ -58,10 +59,10 @@ class ContactSurface {
  public:
   // parts: at least one non-empty mesh, vertices in the body frame (m). Throws
   // std::invalid_argument for an empty surface, a triangle index out of range, a degenerate
-  // triangle (zero area), margin_m <= 0, or a tooth ring whose angles do not match the parts or
+  // triangle (zero area), margin_m <= 0, or a part ring whose angles do not match the parts or
   // whose radii are not 0 <= inner < outer.
-  ContactSurface(const std::vector<gears::TriangleMesh>& parts, double margin_m,
-                 double slack_m = 0, std::optional<ToothRing> tooth_ring = std::nullopt);
+  ContactSurface(const std::vector<TriangleMesh>& parts, double margin_m,
+                 double slack_m = 0, std::optional<PartRing> part_ring = std::nullopt);
   ~ContactSurface();
   ContactSurface(const ContactSurface&) = delete;
   ContactSurface& operator=(const ContactSurface&) = delete;
@@ -118,11 +119,21 @@ class ContactSurface {
   // #T: a sphere around each triangle (centroid, farthest vertex), the leaf pre-check.
   const std::vector<Vec3>& triangle_centers() const { return triangle_centers_; }
   const std::vector<double>& triangle_radii() const { return triangle_radii_; }
-  const std::optional<ToothRing>& tooth_ring() const { return tooth_ring_; }
+  const std::optional<PartRing>& part_ring() const { return part_ring_; }
 
   const CullingGeometry& culling() const { return *culling_; }
 
  private:
+  // The constructor's stages, in order (contact_surface.cpp).
+  void ConcatenateParts(const std::vector<TriangleMesh>& parts);  // vertices, triangles, parts
+  void CalcFaceNormalsAndAreas();  // face and vertex normals, vertex areas, total area
+  void CalcAdjacency();            // boundary edges, neighbours, vertex faces and parts
+  void CalcBoundingSpheres();      // part spheres and boxes, triangle spheres
+  void CalcRimFades();             // rim fades and outward directions
+  void CalcInnerReach();           // inner reach of every face
+  void CheckPartRing() const;
+  void CalcSharedRimEdges();       // after the culling geometry
+
   std::vector<Vec3> vertices_;
   std::vector<std::array<int, 3>> triangles_;
   std::vector<Vec3> face_normals_;
@@ -138,7 +149,7 @@ class ContactSurface {
   std::vector<Vec3> part_centers_;
   std::vector<double> part_radii_;
   std::vector<Vec3> part_half_extents_;
-  std::optional<ToothRing> tooth_ring_;
+  std::optional<PartRing> part_ring_;
   std::vector<Vec3> triangle_centers_;
   std::vector<double> triangle_radii_;
   double margin_m_ = 0, slack_m_ = 0, total_area_ = 0, max_vertex_radius_m_ = 0;

@@ -29,7 +29,8 @@ ContactSideBuffers::ContactSideBuffers(const ContactSide& side)
 
 FlexibleContactWorkspace::FlexibleContactWorkspace(const ContactSide& a, const ContactSide& b,
                                                    const FlexibleContactSurface* modal_a,
-                                                   const FlexibleContactSurface* modal_b, int nv)
+                                                   const FlexibleContactSurface* modal_b, int nv,
+                                                   const ContactMonitor* monitor)
     : tracked(a.surface(), b.surface()),
       search(a.surface(), b.surface()),
       scratch_a(a.surface()),
@@ -37,6 +38,7 @@ FlexibleContactWorkspace::FlexibleContactWorkspace(const ContactSide& a, const C
       side_a(a),
       side_b(b),
       tangents(modal_a, modal_b, nv),
+      monitor(monitor ? monitor->MakeState() : nullptr),
       points(a.surface().num_vertices() + b.surface().num_vertices()) {
   pairs.reserve(search.suggested_capacity());
   node_faces_a.reserve(3 * pairs.capacity());
@@ -62,6 +64,13 @@ FlexibleContactElement::FlexibleContactElement(FlexibleContactElementSpec spec)
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(what + e.what());
   }
+  outputs_ = ContactOutputs({{.name = "normal_force", .unit = "N"},
+                             {.name = "friction_force", .unit = "N"},
+                             {.name = "contact_points", .unit = "1"},
+                             {.name = "max_penetration", .unit = "m"},
+                             {.name = "deformation_bound", .unit = "m"},
+                             {.name = "inflation_exceeded", .unit = "1"}},
+                            spec_.monitor.get(), spec_.record_points);
 }
 
 std::unique_ptr<ExternalForceWorkspace> FlexibleContactElement::MakeWorkspace(
@@ -87,7 +96,8 @@ std::unique_ptr<ExternalForceWorkspace> FlexibleContactElement::MakeWorkspace(
     return model.flexible_bodies[model.bodies[s.body].flexible].nf > 0 ? s.flexible.get() : nullptr;
   };
   return std::make_unique<FlexibleContactWorkspace>(spec_.a, spec_.b, modal(spec_.a),
-                                                    modal(spec_.b), model.nv);
+                                                    modal(spec_.b), model.nv,
+                                                    spec_.monitor.get());
 }
 
 template <class Fn>
@@ -210,7 +220,9 @@ void FlexibleContactElement::Evaluate(const ContactSideState& a, const ContactSi
   ws.energy = ws.power_dissipated = 0;
   ws.normal_force = ws.friction_force = ws.max_penetration = 0;
   ws.contact_points = 0;
-  if (spec_.gear) ws.gear_mesh.Start(*spec_.gear, a.X_WB, b.X_WB);
+  // The monitor reads the points when the workspace has its state (MakeWorkspace() makes it).
+  const ContactMonitor* monitor = ws.monitor ? spec_.monitor.get() : nullptr;
+  if (monitor) monitor->Start(a.X_WB, b.X_WB, *ws.monitor);
   ws.points.Clear();
   const Transform X_AW = a.X_WB.Inverse();
   // A vertex force (body frame), remembering the vertex for the modal forces and the reset.
@@ -244,10 +256,10 @@ void FlexibleContactElement::Evaluate(const ContactSideState& a, const ContactSi
     ws.friction_force += f.friction;
     ws.max_penetration = std::max(ws.max_penetration, depth);
     ++ws.contact_points;
-    if (spec_.gear) ws.gear_mesh.Add(c.node_on_a ? g.p_W : g.q_W, g.n_W, f.stiffness);
+    if (monitor) monitor->Add(c.node_on_a ? g.p_W : g.q_W, g.n_W, f.stiffness, *ws.monitor);
     if (spec_.record_points > 0) ws.points.Add(X_AW * (c.node_on_a ? g.p_W : g.q_W), f.normal);
   });
-  if (spec_.gear) ws.gear_mesh.Finish(ws.side_a.f_W);
+  if (monitor) monitor->Finish(ws.side_a.f_W, *ws.monitor);
   // Modal forces Q = sum_P Phi_P^T F_P.
   for (const auto& [side, buf] : {std::pair{&spec_.a, &ws.side_a}, std::pair{&spec_.b, &ws.side_b}}) {
     if (!side->flexible) continue;
@@ -308,23 +320,6 @@ void FlexibleContactElement::AddTangents(const Model& model, const Data& data,
   ws.tangents.Scatter(model, data, spec_.a.body, spec_.b.body, K, C);
 }
 
-std::vector<std::string> FlexibleContactElement::OutputNames() const {
-  std::vector<std::string> names = {"normal_force",    "friction_force",    "contact_points",
-                                    "max_penetration", "deformation_bound", "inflation_exceeded"};
-  AppendContactOutputs(output_options(), &names, nullptr);
-  return names;
-}
-
-std::vector<std::string> FlexibleContactElement::OutputUnits() const {
-  std::vector<std::string> units = {"N", "N", "1", "m", "m", "1"};
-  AppendContactOutputs(output_options(), nullptr, &units);
-  return units;
-}
-
-std::vector<int> FlexibleContactElement::OutputColumns() const {
-  return ContactOutputColumns(output_options(), 6);
-}
-
 void FlexibleContactElement::GetOutputs(const ExternalForceWorkspace& workspace,
                                         double* values) const {
   const auto& ws = static_cast<const FlexibleContactWorkspace&>(workspace);
@@ -334,7 +329,8 @@ void FlexibleContactElement::GetOutputs(const ExternalForceWorkspace& workspace,
   values[3] = ws.max_penetration;
   values[4] = std::max(ws.side_a.deformation_bound, ws.side_b.deformation_bound);
   values[5] = static_cast<double>(ws.inflation_exceeded);
-  WriteContactOutputs(output_options(), ws.gear_mesh, ws.points, values + 6);
+  WriteContactOutputs(spec_.monitor.get(), ws.monitor.get(), ws.points, spec_.record_points,
+                      values + 6);
 }
 
 }  // namespace orrery::contact

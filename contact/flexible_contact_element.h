@@ -30,16 +30,16 @@
 // first order): the forces above are then minus the gradient of the penalty energy, in the
 // modal coordinates too (checked by finite differences in tests/contact/
 // flexible_contact_element_test.cpp).
-// For flexible gears the penalty stands for the local contact compliance only (bending, shear
-// and foundation are in the modes): see contact/flexible_gear_mesh.h for its calibration.
+// For flexible bodies the penalty stands for the local contact compliance only (bending, shear
+// and foundation are in the modes); the gear layer calibrates it for teeth
+// (models/flexible_gear_mesh.h).
 // Evaluate() and Apply() allocate nothing once the workspace's lists have reached the scene's
 // size (tests/contact/no_allocation_test.cpp).
 //
 // Outputs (/external/<name>/...): normal_force (N), friction_force (N), contact_points,
 // max_penetration (m), deformation_bound (m, the larger side's u), inflation_exceeded (count of
-// evaluations whose u exceeded the allowance); between two gears (spec.gear) also
-// transmission_error (m), mesh_stiffness (N/m, the contact layer's), pattern_roll_min / _max
-// and pattern_axial_min / _max (m) of gear_mesh_outputs.h; with spec.record_points = n,
+// evaluations whose u exceeded the allowance); then the outputs of spec.monitor
+// (contact_monitor.h), if any; with spec.record_points = n,
 // point_positions (n x 3, side a's body frame, deformed) and point_normal_forces (n) of
 // contact_point_record.h.
 //
@@ -63,7 +63,7 @@
 #include "contact/contact_point_record.h"
 #include "contact/contact_surface.h"
 #include "contact/contact_tangents.h"
-#include "contact/gear_mesh_outputs.h"
+#include "contact/contact_monitor.h"
 #include "contact/flexible_contact_surface.h"
 #include "contact/signed_gap.h"
 #include "mbd/external_force.h"
@@ -91,9 +91,10 @@ struct FlexibleContactElementSpec {
   // displacement and every motion bound is raised by the largest vertex change since the last
   // evaluation); kCandidatePairs as described.
   ContactGapMethod gap_method = ContactGapMethod::kTracked;
-  // Two gears (gear 1 on side a): the element also reports the transmission error, the contact
-  // layer's mesh stiffness and the contact pattern (gear_mesh_outputs.h).
-  std::optional<GearMeshInfo> gear;
+  // Optional: reads the contact points of every evaluation and adds its outputs after the
+  // element's own (contact_monitor.h; for gears the contact layer's mesh stiffness:
+  // models/gear_mesh_monitor.h).
+  std::shared_ptr<const ContactMonitor> monitor;
   // > 0: the outputs also hold this many contact points per row (contact_point_record.h).
   int record_points = 0;
 };
@@ -135,10 +136,12 @@ class FlexibleContactWorkspace final : public ExternalForceWorkspace {
  public:
   // modal_a / modal_b: the flexible surfaces of sides whose bodies have modal coordinates
   // (the tangents' modal rows), nv the model's velocity count (the defaults: a workspace for
-  // Evaluate() alone, without tangents).
+  // Evaluate() alone, without tangents); monitor: the element's monitor, whose state the
+  // workspace then holds (nullptr: none).
   FlexibleContactWorkspace(const ContactSide& a, const ContactSide& b,
                            const FlexibleContactSurface* modal_a = nullptr,
-                           const FlexibleContactSurface* modal_b = nullptr, int nv = 0);
+                           const FlexibleContactSurface* modal_b = nullptr, int nv = 0,
+                           const ContactMonitor* monitor = nullptr);
 
   TrackedGaps tracked;                   // kTracked
   CandidateSearch search;                // kCandidatePairs
@@ -148,7 +151,7 @@ class FlexibleContactWorkspace final : public ExternalForceWorkspace {
   std::vector<NodeGap> gaps_a, gaps_b;  // nodes of A on B's faces, nodes of B on A's faces
   ContactSideBuffers side_a, side_b;
   ContactTangents tangents;             // AddTangents()
-  GearMeshObserver gear_mesh;           // spec.gear: its outputs of the last Evaluate()
+  std::unique_ptr<ContactMonitorState> monitor;  // spec.monitor's state of the last Evaluate()
   ContactPointRecord points;            // spec.record_points: the last Evaluate()'s points
   // Outputs of the last Evaluate().
   double normal_force = 0, friction_force = 0, max_penetration = 0;
@@ -170,9 +173,7 @@ class FlexibleContactElement final : public ExternalForceElement {
   std::unique_ptr<ExternalForceWorkspace> MakeWorkspace(const Model& model) const override;
   void Apply(const Model& model, double t, Data& data,
              ExternalForceWorkspace& workspace) const override;
-  std::vector<std::string> OutputNames() const override;
-  std::vector<std::string> OutputUnits() const override;
-  std::vector<int> OutputColumns() const override;
+  const std::vector<OutputDescription>& outputs() const override { return outputs_; }
   void GetOutputs(const ExternalForceWorkspace& workspace, double* values) const override;
   // Stiffness and damping of the penetrating nodes of the last Apply(), in the modal coordinates
   // too (contact_tangents.h).
@@ -202,11 +203,8 @@ class FlexibleContactElement final : public ExternalForceElement {
   // A side's state from the kinematics in data.
   static ContactSideState SideState(const Model& model, const Data& data, const ContactSide& side);
 
-  ContactOutputOptions output_options() const {
-    return {.gear = spec_.gear.has_value(), .record_points = spec_.record_points};
-  }
-
   FlexibleContactElementSpec spec_;
+  std::vector<OutputDescription> outputs_;
 };
 
 }  // namespace orrery::contact

@@ -339,4 +339,20 @@ void CheckElementQuality(int id, ElementType t, const ElementQuality& q, const Q
          "Jacobian ratio " + Num(q.jacobian_ratio) + " (max / min det J, limit " + Num(limits.max_jacobian_ratio) + ")");
 }
 
+void QuadFaceShape8(double xi, double eta, double N[8], double dN_dxi[8], double dN_deta[8]) {
+  static const double cx[4] = {-1, 1, 1, -1}, ce[4] = {-1, -1, 1, 1};
+  // Corners
+  for (int i = 0; i < 4; ++i) {
+    const double a = xi * cx[i], b = eta * ce[i];
+    N[i] = 0.25 * (1 + a) * (1 + b) * (a + b - 1);
+    dN_dxi[i] = 0.25 * cx[i] * (1 + b) * (2 * a + b);
+    dN_deta[i] = 0.25 * ce[i] * (1 + a) * (a + 2 * b);
+  }
+  // Midsides at eta = -1 (4), xi = 1 (5), eta = 1 (6), xi = -1 (7)
+  N[4] = 0.5 * (1 - xi * xi) * (1 - eta), dN_dxi[4] = -xi * (1 - eta), dN_deta[4] = -0.5 * (1 - xi * xi);
+  N[5] = 0.5 * (1 + xi) * (1 - eta * eta), dN_dxi[5] = 0.5 * (1 - eta * eta), dN_deta[5] = -eta * (1 + xi);
+  N[6] = 0.5 * (1 - xi * xi) * (1 + eta), dN_dxi[6] = -xi * (1 + eta), dN_deta[6] = 0.5 * (1 - xi * xi);
+  N[7] = 0.5 * (1 - xi) * (1 - eta * eta), dN_dxi[7] = -0.5 * (1 - eta * eta), dN_deta[7] = -eta * (1 - xi);
+}
+
 }  // namespace orrery::flex

@@ -53,6 +53,12 @@ Eigen::MatrixX3d NaturalNodeCoordinates(ElementType t);
 // Shape functions at natural point xi: N (NodeCount) and dN/dxi (NodeCount x 3).
 void EvalShapeFunctions(ElementType t, const Eigen::Vector3d& xi, Eigen::VectorXd& N, Eigen::MatrixX3d& dN_dxi);
 
+// The 8-node serendipity face of a hex20 element (a BoundaryFace's corners 0-3, then its midside
+// nodes 0-3 on the edges 0-1, 1-2, 2-3, 3-0; flexible_body_modes.h): shape functions N and their
+// derivatives in the face coordinates (xi, eta) in [-1, 1]^2, corners at (-1,-1), (1,-1), (1,1),
+// (-1,1) (Zienkiewicz & Taylor, The Finite Element Method vol. 1, sec. 8.6).
+void QuadFaceShape8(double xi, double eta, double N[8], double dN_dxi[8], double dN_deta[8]);
+
 // Isotropic elasticity matrix (6 x 6, Voigt order above). Throws std::invalid_argument for
 // E <= 0 or nu outside (-1, 0.5).
 Eigen::Matrix<double, 6, 6> IsotropicElasticity(double youngs_modulus_pa, double poissons_ratio);

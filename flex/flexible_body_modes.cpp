@@ -87,7 +87,7 @@ Eigen::SparseMatrix<double> ScalarMass(const Eigen::SparseMatrix<double>& M) {
 
 }  // namespace
 
-std::vector<std::array<int, 3>> BoundaryTriangles(const FeMesh& mesh, bool split_quadratic) {
+std::vector<BoundaryFace> BoundaryFaces(const FeMesh& mesh) {
   // Count every face by its corner set; remember one (element, face) per key
   struct Use {
     int count = 0, element = 0, face = 0;
@@ -107,20 +107,35 @@ std::vector<std::array<int, 3>> BoundaryTriangles(const FeMesh& mesh, bool split
       if (u.count++ == 0) u.element = ei, u.face = f;
     }
   }
-  // Triangulate the faces used once, in element order for a deterministic result
+  // The faces used once, in element order for a deterministic result
   std::vector<std::pair<int, int>> boundary;
   for (const auto& [key, u] : faces)
     if (u.count == 1) boundary.emplace_back(u.element, u.face);
   std::sort(boundary.begin(), boundary.end());
-  std::vector<std::array<int, 3>> tris;
-  tris.reserve(6 * boundary.size());
+  std::vector<BoundaryFace> out;
+  out.reserve(boundary.size());
   for (const auto& [ei, f] : boundary) {
     const FeElement& e = mesh.elements()[ei];
     const FaceDef& d = Faces(e.type)[f];
-    const int nc = d.corners;
-    auto c = [&](int j) { return e.nodes[d.c[j % nc]]; };
-    auto m = [&](int j) { return e.nodes[d.m[j % nc]]; };
-    if (split_quadratic && Quadratic(e.type)) {
+    BoundaryFace b{.element = ei, .face = f, .corners = d.corners};
+    for (int j = 0; j < d.corners; ++j) {
+      b.corner_nodes[j] = e.nodes[d.c[j]];
+      if (Quadratic(e.type)) b.midside_nodes[j] = e.nodes[d.m[j]];
+    }
+    out.push_back(b);
+  }
+  return out;
+}
+
+std::vector<std::array<int, 3>> BoundaryTriangles(const FeMesh& mesh, bool split_quadratic) {
+  const std::vector<BoundaryFace> faces = BoundaryFaces(mesh);
+  std::vector<std::array<int, 3>> tris;
+  tris.reserve(6 * faces.size());
+  for (const BoundaryFace& f : faces) {
+    const int nc = f.corners;
+    auto c = [&](int j) { return f.corner_nodes[j % nc]; };
+    auto m = [&](int j) { return f.midside_nodes[j % nc]; };
+    if (split_quadratic && f.midside_nodes[0] >= 0) {
       // Corner triangles, then the triangle / quadrilateral of the midside nodes
       for (int j = 0; j < nc; ++j) tris.push_back({c(j), m(j), m(j + nc - 1)});
       tris.push_back({m(0), m(1), m(2)});

@@ -64,8 +64,22 @@ FlexibleBodyModes MakeFlexibleBodyModes(const FeMesh& mesh, const FeSystem& syst
                                         std::span<const FeInterface> interfaces,
                                         const FlexibleBodyModesOptions& options = {});
 
-// Boundary faces of a solid mesh (faces of exactly one element, matched by their corner nodes)
-// as triangles of FE node indices, outward normals by the right-hand rule. Quadrilaterals give
+// A boundary face of a solid mesh: a face of exactly one element (faces are matched by their
+// corner nodes). Nodes are mesh node indices: the corners counter-clockwise seen from outside
+// (outward normal by the right-hand rule), the midside nodes between corner k and k + 1 (-1 for
+// linear elements). For a hex20 face, corners 0-3 and midsides 0-3 are the 8 nodes of the
+// serendipity face of fe_element.h (QuadFaceShape8) in its order.
+struct BoundaryFace {
+  int element = -1, face = -1;       // element index and its local face
+  int corners = 0;                   // 3 or 4
+  std::array<int, 4> corner_nodes{-1, -1, -1, -1};
+  std::array<int, 4> midside_nodes{-1, -1, -1, -1};
+};
+
+// The boundary faces in element order (deterministic).
+std::vector<BoundaryFace> BoundaryFaces(const FeMesh& mesh);
+
+// Boundary faces of a solid mesh (BoundaryFaces) as triangles of FE node indices, outward normals by the right-hand rule. Quadrilaterals give
 // 2 triangles; with split_quadratic a tet10 face gives 4 (corner and midside nodes) and a hex20
 // face 6 (4 corner triangles and the midside quadrilateral), else the corners only.
 std::vector<std::array<int, 3>> BoundaryTriangles(const FeMesh& mesh, bool split_quadratic = true);

@@ -3,9 +3,10 @@
 // docs/scene_format.md, "Gear model sections"):
 //   lumped_stage:  explicit lumped parameters of one planetary stage -> BuildLumpedStage
 //                  (models/lumped_planetary.h), with optional member drivers and loads;
-//   gear_train:    stages, connections, clutches, brakes, ranges, inputs and output ->
-//                  PlanetaryTrainBuilder (models/planetary_train.h), then BuildTrainModel
-//                  (models/train_dynamics.h) for the scene's range and operating point.
+//   gear_train:    stages, connections, clutches, brakes, ranges, inputs and output, drive and
+//                  dynamics read into a GearTrainDescription (gear_train_reader.h: plain data, no
+//                  physics), the flexible bodies' reduced-body files loaded, then assembled
+//                  (models/train_description.h AssembleGearTrain) for the scene's range.
 // Both fill Scene::model, Scene::kind and their part of the scene; errors are SceneErrors at the
 // key they are about ("seed.yaml:12: gear_train.stages[S1].planets: ...").
 #include "import/scene.h"

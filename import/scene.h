@@ -9,7 +9,8 @@
 //
 // A scene holds exactly one model section: bodies + joints (a generic multibody model),
 // `lumped_stage:` (a planetary stage with explicit lumped parameters, BuildLumpedStage) or
-// `gear_train:` (an N-stage planetary train from tooth counts and tooth forms, BuildTrainModel).
+// `gear_train:` (an N-stage planetary train from tooth counts and tooth forms: read into a
+// GearTrainDescription, then assembled by AssembleGearTrain, models/train_description.h).
 // For the two gear sections the scene also keeps what the analysis commands need (the train, the
 // gear range, the operating point, the options); Scene::model is then the model a run simulates.
 //
@@ -27,6 +28,7 @@
 #include "mbd/time_function.h"
 #include "models/lumped_planetary.h"
 #include "models/planetary_train.h"
+#include "models/train_description.h"
 #include "models/train_dynamics.h"
 
 namespace orrery {
@@ -55,9 +57,10 @@ struct LumpedStageScene {
   int rotation_coordinate = 0;       // spin within a member joint's velocities (0, 2 or 5)
 };
 
-// Filled by the loader for `gear_train:` scenes. Scene::model is model->model: BuildTrainModel's
-// model with the input speed drivers (and the input torque) following the scene's functions.
+// Filled by the loader for `gear_train:` scenes: the description read from the file (plain data,
+// models/train_description.h) and what was assembled from it. Scene::model is model->model.
 struct GearTrainScene {
+  gears::GearTrainDescription description;         // as read (reduced bodies loaded)
   std::shared_ptr<const gears::PlanetaryTrain> train;
   int range = 0;                                   // `range:` (default: the first range)
   std::vector<TimeFunction> input_speed_functions; // one per train input (rad/s); empty: torque in
@@ -66,11 +69,11 @@ struct GearTrainScene {
                                                    // over [0, solver.end_time]
   double input_torque_Nm = 0;                      // on train->inputs[0] (from input_torque, or
                                                    // from output_torque through the power flow)
-  std::string mesh_stiffness;                      // "c_gamma" (default), "value", "iso6336", "tvms"
-  std::string mesh_model = "lumped";               // dynamics.mesh_model: "lumped" or "contact"
+  std::string mesh_stiffness;                      // "c_gamma" (default), "value", "iso6336",
+                                                   // "tvms", "tvms_mean"
   std::vector<std::string> contact_meshes;         // contact elements ("S.sun-planet#1", ...),
                                                    // outputs under /external/<name>/
-  gears::TrainModelOptions options;                // as built (input speeds at t = 0)
+  gears::TrainModelOptions options;                // as assembled (stage face widths applied)
   std::shared_ptr<const gears::TrainModel> model;  // for `range`
 };
 

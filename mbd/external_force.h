@@ -14,7 +14,7 @@
 //   is left out of the differences (its Apply() is not called for the perturbed states) and adds
 //   its stiffness and damping at the state of its last Apply(). Tooth contact does this: a
 //   difference column costs a contact evaluation, and a perturbed modal coordinate moves every
-//   tracked tooth of a flexible gear.
+//   tracked node of a flexible surface.
 #include <memory>
 #include <string>
 #include <vector>
@@ -31,6 +31,17 @@ class ExternalForceWorkspace {
   virtual ~ExternalForceWorkspace() = default;
 };
 
+// One output of an element, recorded per output step under /external/<element>/<name>: a series
+// of `columns` values per row (a contact's total normal force: 1; its n largest contact points'
+// positions: 3 n), in SI `unit` ("N", "m", "N/m", "1").
+struct OutputDescription {
+  std::string name;
+  std::string unit = "1";
+  int columns = 1;
+};
+
+// Every method is required: an element states whether it has analytic tangents and what it
+// outputs (an empty list is an answer), so that no kind forgets either.
 class ExternalForceElement {
  public:
   virtual ~ExternalForceElement() = default;
@@ -42,32 +53,28 @@ class ExternalForceElement {
   virtual void Apply(const Model& model, double t, Data& data,
                      ExternalForceWorkspace& workspace) const = 0;
 
-  // Analytic tangents (optional; the default leaves the element to the finite differences).
-  // AddTangents() adds, at the state of the element's last Apply() (which DaeSystem::Tangents
-  // makes the base point),
+  // Analytic tangents. false: the element is left to DaeSystem::Tangents' finite differences
+  // and AddTangents() is never called. true: AddTangents() adds, at the state of the element's
+  // last Apply() (which DaeSystem::Tangents makes the base point),
   //   K (nv x nv) += -dQ/d(dq),   C (nv x nv) += -dQ/dv,
   // Q the element's generalized forces, dq a position increment in velocity space (q (+) dq).
   // Body velocities are V_WB = data.J_WB[b] v (CalcBodyJacobians, filled before the call).
   // Terms of the order of the forces times the lever changes (the turning of a force's
   // direction and point of action) may be left out: the tangents feed Newton's iteration
   // matrix, whose accuracy sets the convergence rate, not the solution.
-  virtual bool HasTangents() const { return false; }
-  virtual void AddTangents(const Model& /*model*/, const Data& /*data*/,
-                           ExternalForceWorkspace& /*workspace*/,
-                           Eigen::Ref<Eigen::MatrixXd> /*K*/,
-                           Eigen::Ref<Eigen::MatrixXd> /*C*/) const {}
+  virtual bool HasTangents() const = 0;
+  virtual void AddTangents(const Model& model, const Data& data,
+                           ExternalForceWorkspace& workspace, Eigen::Ref<Eigen::MatrixXd> K,
+                           Eigen::Ref<Eigen::MatrixXd> C) const = 0;
 
-  // Scalar outputs recorded per output step under /external/<name>/<output name> (for example a
-  // contact's total normal force and number of contact points).
-  virtual std::vector<std::string> OutputNames() const { return {}; }
-  // SI unit of each output ("N", "m", "1"); empty: all "1".
-  virtual std::vector<std::string> OutputUnits() const { return {}; }
-  // Columns of each output (empty: one each); an output with k columns is recorded as an
-  // (rows x k) series.
-  virtual std::vector<int> OutputColumns() const { return {}; }
-  // Writes the outputs' values (the sum of their columns, in order) from the workspace of the
-  // last Apply().
-  virtual void GetOutputs(const ExternalForceWorkspace& /*workspace*/, double* /*values*/) const {}
+  // The element's outputs, fixed from construction (the recorder declares them once).
+  virtual const std::vector<OutputDescription>& outputs() const = 0;
+  // Writes the outputs' values of the last Apply(), in the order of outputs(), each output's
+  // columns in turn (sum of the columns values in all).
+  virtual void GetOutputs(const ExternalForceWorkspace& workspace, double* values) const = 0;
 };
+
+// Number of values GetOutputs() writes: the sum of the outputs' columns.
+int OutputValueCount(const std::vector<OutputDescription>& outputs);
 
 }  // namespace orrery

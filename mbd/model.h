@@ -296,8 +296,17 @@ struct Driver {
 // rows (speed drivers) only a row of G. Rows are ordered: loop closures, gear constraints,
 // position drivers, speed drivers; holonomic rows come first, so Phi has the first n_holonomic
 // rows of G.
+//
+// Only ModelBuilder makes a Model, and hands it out as std::shared_ptr<const Model>: a Model can
+// be neither constructed nor copied elsewhere, so its data cannot be edited after Finalize() (a
+// variant of a model is built anew from its description, never patched).
 class Model {
  public:
+  Model(const Model&) = delete;
+  Model& operator=(const Model&) = delete;
+  Model(Model&&) = delete;
+  Model& operator=(Model&&) = delete;
+
   // Sizes.
   int nq = 0, nv = 0;
   int nbodies = 0;         // including the world (body 0)
@@ -347,6 +356,7 @@ class Model {
 
  private:
   friend class ModelBuilder;
+  Model() = default;
   std::unordered_map<std::string, BodyIndex> body_by_name_;
   std::unordered_map<std::string, FrameIndex> frame_by_name_;
   std::unordered_map<std::string, JointIndex> joint_by_name_;

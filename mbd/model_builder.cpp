@@ -88,7 +88,7 @@ FrameIndex Model::frame(const std::string& name) const { return LookUp(frame_by_
 JointIndex Model::joint(const std::string& name) const { return LookUp(joint_by_name_, "joint", name); }
 int Model::driver(const std::string& name) const { return LookUp(driver_by_name_, "driver", name); }
 
-ModelBuilder::ModelBuilder() : model_(std::make_unique<Model>()) {
+ModelBuilder::ModelBuilder() : model_(new Model()) {
   // Body 0 is the world, frame 0 its frame.
   model_->bodies.push_back(Body{"world", 0.0, Vec3::Zero(), Mat3::Zero(), -1});
   model_->body_by_name_["world"] = 0;

@@ -128,15 +128,11 @@ ResultRecorder::ResultRecorder(const Model& model, ResultFile& out)
   for (const auto& e : model.external_forces) {
     std::vector<ResultFile::SeriesId> ids;
     std::vector<int> offsets;
-    const std::vector<std::string> names = e->OutputNames(), units = e->OutputUnits();
-    const std::vector<int> columns = e->OutputColumns();
     int offset = 0;
-    for (size_t k = 0; k < names.size(); ++k) {
-      const int n = k < columns.size() ? columns[k] : 1;
-      ids.push_back(out.AddSeries("/external/" + e->name() + "/" + names[k], n,
-                                  k < units.size() ? units[k] : "1"));
+    for (const OutputDescription& o : e->outputs()) {
+      ids.push_back(out.AddSeries("/external/" + e->name() + "/" + o.name, o.columns, o.unit));
       offsets.push_back(offset);
-      offset += n;
+      offset += o.columns;
     }
     external_.push_back(std::move(ids));
     external_offsets_.push_back(std::move(offsets));

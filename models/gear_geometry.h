@@ -48,7 +48,7 @@
 
 #include <Eigen/Core>
 
-#include "models/triangle_mesh.h"
+#include "mbd/triangle_mesh.h"
 
 namespace orrery::gears {
 

@@ -72,7 +72,7 @@ using LumpedStageExtras = std::function<void(ModelBuilder&, const LumpedStage&)>
 // non-physical.
 LumpedStage BuildLumpedStage(const LumpedStageParams& params, const LumpedStageExtras& extras = {});
 
-// The example system of Lin & Parker (1999), Table 1 (../shared/validation/lin_parker_1999.md).
+// The example system of Lin & Parker (1999), Table 1 (docs/validation/lin_parker_1999.md).
 LumpedStageParams LinParker1999Example(int planets);
 
 }  // namespace orrery

@@ -3,7 +3,7 @@
 // of the potential-energy method, with root cracks and broken teeth. Feeds the `lumped` mesh
 // model (DESIGN.md, fidelity ladder). Geometry comes from gear_geometry.h.
 //
-// ISO 6336-1:2006 sec. 9 (method B), see validation/iso6336_stiffness.md:
+// ISO 6336-1:2006 sec. 9 (method B), see docs/validation/iso6336_stiffness.md:
 //   q' = C1 + C2/z_n1 + C3/z_n2 + C4 x1 + C5 x1/z_n1 + C6 x2 + C7 x2/z_n2 + C8 x1^2 + C9 x2^2
 //        [mm um / N], z_n = z / (cos^2(beta_b) cos(beta)), c'_th = 1/q',
 //   c' = c'_th C_M C_R C_B cos(beta), C_B = [1 + 0.5 (1.2 - h_fP/m_n)][1 - 0.02 (20 - alpha_n)]

@@ -47,21 +47,30 @@ const char* ModeClassName(ModeClass c) {
   return "?";
 }
 
+TrainModelOptions OperatingPointOptions(const TrainModel& tm) {
+  TrainModelOptions o = tm.options;
+  if (o.input == TrainModelOptions::Input::kTorque) o.input = TrainModelOptions::Input::kNone;
+  o.port_loads = false;
+  o.output_torque_Nm.reset();
+  o.two_sided_contact = false;
+  o.backlash_m = 0;
+  o.tooth_faults.clear();
+  for (const TrainMeshElement& e : tm.meshes) {
+    TrainMeshOverride& ov = o.meshes[tm.train->meshes[e.train_mesh].name];
+    // The stiffness as used, before the unloaded factor that the build applies again.
+    ov.stiffness_N_m = e.stiffness_N_m / (e.loaded ? 1.0 : o.unloaded_mesh_stiffness_factor);
+    ov.stiffness_table_N_m.reset();
+    ov.ste_amplitudes_m = std::vector<double>{};
+    ov.ste_phases_rad = std::vector<double>{};
+  }
+  return o;
+}
+
 TrainModes CalcTrainModes(const TrainModel& tm, const ModalOptions& options) {
   const PlanetaryTrain& train = *tm.train;
-  // Operating-point model: mean stiffness on the loaded flank, no transmission error, no loads.
-  Model lin = *tm.model;
-  lin.joint_loads.clear();
-  lin.joint_load_v_index.clear();
-  for (size_t i = 0; i < lin.gear_meshes.size(); ++i) {
-    GearMesh& g = lin.gear_meshes[i];
-    g.spec.ste_amplitudes.clear();
-    g.spec.ste_phases.clear();
-    g.spec.stiffness_table.clear();
-    g.spec.stiffness = g.k_mean;
-    g.spec.contact = tm.meshes[i].contact;
-    g.spec.backlash = 0;
-  }
+  // Operating-point model: built anew from the model's options (OperatingPointOptions).
+  const TrainModel lin_tm = BuildTrainModel(train, tm.range, OperatingPointOptions(tm));
+  const Model& lin = *lin_tm.model;
   const int nv = lin.nv;
   State op{0.0, lin.q_initial, Eigen::VectorXd::Zero(nv)};
   TrainModes r;

@@ -79,6 +79,11 @@ struct TrainModes {
 // Throws std::runtime_error if the mass matrix is not positive definite.
 TrainModes CalcTrainModes(const TrainModel& model, const ModalOptions& options = {});
 
+// The options of the operating-point model of `model` (header): its own with every lumped mesh
+// linear on its loaded flank at its mean stiffness (no table, no transmission error, no faults, no
+// backlash) and no port loads (a torque input dropped, speed drivers kept).
+TrainModelOptions OperatingPointOptions(const TrainModel& model);
+
 struct ForcedResponseOptions {
   std::vector<double> input_speeds_rad_s;  // speeds of train.inputs[0]; others in proportion
   double modal_damping_ratio = 0.04;       // seed 001

@@ -1,6 +1,6 @@
 #pragma once
 // Planetary trains of the seed papers as ready-made descriptions (see
-// /work/shared/validation/scenarios.md). Each factory returns a finalized train; member names are
+// docs/validation/scenarios.md). Each factory returns a finalized train; member names are
 // "<stage>.sun", ".ring", ".carrier". Values a paper does not give are stated per factory.
 #include <memory>
 

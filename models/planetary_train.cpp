@@ -237,7 +237,10 @@ int PlanetaryTrainBuilder::AddGear(int stage, const std::string& suffix, const T
     const double addendum = f.addendum_coefficient * f.normal_module_m;
     g.tip_radius_m = internal ? g.pitch_radius_m - addendum : g.pitch_radius_m + addendum;
   }
-  if (spec.tip_radius_m > 0) g.tip_radius_m = spec.tip_radius_m;
+  if (spec.tip_radius_m > 0) {
+    g.tip_radius_m = spec.tip_radius_m;
+    g.tip_given = true;
+  }
   train_->gears.push_back(g);
   return static_cast<int>(train_->gears.size()) - 1;
 }

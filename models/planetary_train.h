@@ -116,6 +116,7 @@ struct TrainGear {
   // Geometry in metres/radians, NaN without tooth form (tip_radius_m also set by TrainGearSpec).
   double transverse_module_m = 0, pitch_radius_m = 0, base_radius_m = 0, tip_radius_m = 0;
   double transverse_pressure_angle_rad = 0;
+  bool tip_given = false;    // tip_radius_m from TrainGearSpec (a measured outside diameter)
   int member = -1;           // central gear: index into members; planet: -1
   int planet_set = -1;       // planet: index into planet_sets; central gear: -1
   int speed_index = -1;      // index into the speed vector

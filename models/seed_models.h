@@ -1,7 +1,7 @@
 #pragma once
 // Dynamic models of the seed scenarios that tests, benchmarks and examples share.
 //
-// Seed 002 (wind-turbine stage, ../shared/validation/scenarios.md): helical 19/34/89, module
+// Seed 002 (wind-turbine stage, docs/validation/scenarios.md): helical 19/34/89, module
 // 16 mm, 20 deg, helix 7 deg, face width 330 mm, 3 planets, ring held, carrier input, sun output.
 // The paper gives no profile shifts, yet 19 + 2 x 34 != 89: the sun, planet and ring are shifted
 // by x = 0.3, 0.2, 0.27 so the stage assembles, the pin radius being the shifted sun-planet

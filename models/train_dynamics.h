@@ -1,7 +1,27 @@
 #pragma once
-// Lumped dynamic model of an N-stage planetary train in one gear range (the `lumped` rung of
-// DESIGN.md): an mbd Model built from a PlanetaryTrain (planetary_train.h), its kinematics
-// (planetary_kinematics.h) and power flow (planetary_power_flow.h).
+// The dynamic model of an N-stage planetary train in one gear range: BuildTrainModel assembles an
+// mbd Model from a PlanetaryTrain (planetary_train.h), its kinematics (planetary_kinematics.h),
+// its power flow (planetary_power_flow.h) and the options below, choosing the fidelity of every
+// mesh branch and every body on its own (DESIGN.md, "Fidelity ladder"):
+//
+//   mesh branch ("S.sun-planet#2")   kinematic   the ideal mesh, a constraint (GearConstraintSpec)
+//                                    lumped      a spring-damper on the line of action (GearMeshSpec)
+//                                    contact     tooth contact on the teeth's surfaces
+//                                                (models/train_contact_meshes.cpp)
+//   body ("S.planet1", "S.sun")      rigid       lumped mass and inertia
+//                                    flexible    a Craig-Bampton-reduced FE body (flexible_bodies)
+//
+// The stages of the assembly, in order (train_assembler.cpp reads like this list):
+//   operating point  kinematics at the input speeds and at unit input speed, power flow, the
+//                    input torque from an output torque (train_operating_point.cpp);
+//   bodies           lumped parameters of members and planet sets (train_bodies.cpp);
+//   members          central members on joints to the housing, with their bearings;
+//   planets          planets on their carriers' pins, with their bearings (train_members.cpp);
+//   meshes           per stage the loaded flanks, working pressure angles and mesh phases, then
+//                    per mesh branch its element (train_meshes.cpp: lumped and kinematic;
+//                    train_contact_meshes.cpp: contact);
+//   couplings        connections, engaged clutches and brakes (train_couplings.cpp);
+//   drives           speed drivers, input torque and port loads (train_drives.cpp).
 //
 // DOF sets (TrainDofs):
 //   torsional: every member on a revolute joint to the world, every planet on a revolute joint on
@@ -19,11 +39,17 @@
 // angle in delta (the reading consistent with Willis' eq. 1a; eq. 7d's inertia terms use the
 // relative angle, as the planet joint on the carrier does here).
 //
-// Elements: one GearMeshSpec per sun-planet, ring-planet and planet-planet mesh of every branch,
-// lines of action in the carrier frame; connections and engaged clutches as RotationalSpringSpec
-// between the members (seed 001: 1e8 N m/rad); engaged brakes as torsional springs to ground
-// (seed 001: 1e10 N m/rad); the inputs driven at a speed or loaded by a torque, the other ports
-// loaded by their power-flow torques.
+// Elements: per branch of every sun-planet, ring-planet and planet-planet mesh the element of its
+// mesh model, lines of action in the carrier frame; connections and engaged clutches as
+// RotationalSpringSpec between the members (seed 001: 1e8 N m/rad); engaged brakes as torsional
+// springs to ground (seed 001: 1e10 N m/rad); the inputs driven at a speed or loaded by a torque,
+// the other ports loaded by their power-flow torques.
+//
+// Kinematic meshes: one constraint row per branch (its multiplier is the tooth force along the
+// drive flank's normal). A stage whose planets all mesh kinematically is statically
+// indeterminate in its load sharing (n planets close n - 1 redundant loops in the torsional
+// model): kinematic meshes are accepted on the branches of one planet per stage, the others must
+// be lumped or contact (BuildTrainModel refuses redundant ones, naming them).
 //
 // Loaded flank (linear contact, seed 001 section 2.4): from the sign of the power-flow mesh load
 // (tooth torque lambda, planetary_power_flow.h). The mesh element's drive flank is the one gear a
@@ -33,7 +59,7 @@
 //
 // Mesh phasing (GearMeshSpec::phase, in mesh cycles). Phase 0 of a mesh: a tooth pair of its
 // loaded flank touches at the pitch point; the phase advances with gear a's rotation relative to
-// the carrier, Z_a th_a / 2 pi. For an external gear G of the mesh (derived in train_dynamics.cpp
+// the carrier, Z_a th_a / 2 pi. For an external gear G of the mesh (derived in train_meshes.cpp
 // from the involute: the contact point on the line of action lies r_b (chi - phi_P) +-
 // r_b (theta_b - inv alpha_w) from the pitch point, with chi a tooth centre angle):
 //   phase = eps_G [ Z_G (chi_G - phi_P,G) / 2 pi + sigma Z_G (theta_bG - inv alpha_w) / 2 pi ]
@@ -66,27 +92,33 @@
 //   rings: annulus from the pitch radius to pitch radius + `ring_rim_modules` m_n;
 //   carriers: a crude default (steel disc of the planet tip circle radius, thickness b): give the
 //             real value as an override;
-//   mesh stiffness: MESH STIFFNESS HOOK, `mesh_stiffness` (a callable; the ISO 6336 / TVMS value of
-//             mesh_stiffness.h plugs in here), else c_gamma b with `mesh_stiffness_per_face_width`;
-//             or from the gear geometry, see "Mesh stiffness from geometry" below.
+//   mesh stiffness: `mesh_stiffness_source`, per mesh `stiffness_source` (below).
 //
-// Mesh stiffness from geometry (`mesh_stiffness_source`, per mesh `stiffness_source`):
-//   kGiven:   as above (override, hook, c_gamma b).
-//   kIso6336: ISO 6336-1 c_gamma_alpha b of the mesh's GearPair (mesh_stiffness.h).
-//   kTvms:    the potential-energy TVMS of the GearPair (CalcTvms) as GearMeshSpec::stiffness_table
-//             over one mesh cycle, `tvms_samples_per_cycle` samples per cycle; with a tooth fault
-//             (`tooth_faults`) on one gear G of the mesh, over Z_G cycles (one turn of G relative
-//             to the carrier) with GearMeshSpec::phase_gear = G.
+// Mesh stiffness (`mesh_stiffness_source`, per mesh `stiffness_source`):
+//   kGiven:    the per-mesh override, else `mesh_stiffness_n_per_m` for every mesh, else c_gamma b
+//              with `mesh_stiffness_per_face_width_N_m2` (ISO 6336-1's typical 20 N/(mm um)).
+//   kIso6336:  ISO 6336-1 c_gamma_alpha b of the mesh's GearPair (mesh_stiffness.h).
+//   kTvms:     the potential-energy TVMS of the GearPair (CalcTvms) as GearMeshSpec::stiffness_table
+//              over one mesh cycle, `tvms_samples_per_cycle` samples per cycle; with a tooth fault
+//              (`tooth_faults`) on one gear G of the mesh, over Z_G cycles (one turn of G relative
+//              to the carrier) with GearMeshSpec::phase_gear = G.
+//   kTvmsMean: the mean of that TVMS, constant (linear analyses about the mean mesh).
 //   Explicit per-mesh stiffness_N_m / stiffness_table_N_m overrides win over every source.
-//   GearPair of a train mesh: gear 1 is the spec's gear a (the sun of a sun-planet mesh, the
-//   planet of a ring-planet mesh), gear 2 gear b, at the train's centre distance (pin radius);
-//   module, pressure and helix angle from the train's tooth forms; profile shift 0 unless given
-//   (TrainMemberOverride::profile_shift, ISO 21771 sign); external gears take the tooth form's
-//   addendum, ring gears `ring_addendum_coefficient` (default 0.9: a standard 1.0 m_n ring tip
-//   reaches into the root fillet of an 18-tooth planet, which GearPair rejects, seed 001); face
-//   widths, bores (bore_to_pitch_ratio) and ring rims (ring_rim_modules) as for the inertias.
-//   Helix hands: gear 1 right-hand, gear 2 left (external) or right (internal); the stiffness
-//   does not depend on the hand, and the model's helix signs are set as described above.
+//   GearPair of a train mesh (MakeTrainGearPair): gear 1 is the spec's gear a (the sun of a
+//   sun-planet mesh, the planet of a ring-planet mesh), gear 2 gear b, at the train's centre
+//   distance (pin radius); module, pressure and helix angle from the train's tooth forms; profile
+//   shift 0 unless given (TrainMemberOverride::profile_shift, ISO 21771 sign); external gears take
+//   the tooth form's addendum, ring gears `ring_addendum_coefficient` and
+//   `ring_root_fillet_coefficient` (defaults 0.85 and 0.25: a standard 1.0 m_n ring tip reaches
+//   into the root fillet of an 18-tooth planet, which GearPair rejects, seed 001; seed 003's 14/50
+//   planet-ring pair needs h_a* < 0.897 for the ring tip to stay outside the planet's interference
+//   point and rho_fP* < 0.38 for the ring's fillets to fit); face widths, bores
+//   (bore_to_pitch_ratio) and ring rims (ring_rim_modules) as for the inertias. One geometry for
+//   every level: the lumped stiffness models and tooth contact mesh the same gears. Helix hands:
+//   sun (a central external gear) right-hand, planets left, rings left (an internal pair has
+//   equal hands; the stiffness does not depend on the hand, and the model's helix signs are set
+//   as described above). A tip diameter given in the train (TrainGearSpec::tip_radius_m, a
+//   measured outside diameter) replaces the addendum's.
 //   Table phase (CalcTvms samples pair 0 from the start of the contact path, s_0; the mesh phase
 //   is 0 when a pair of the loaded flank is at the pitch point P): at mesh phase psi the TVMS is
 //   read at gear-1 cycles u = (s_P - s_0) / p_bt - b tan(beta_b) / (2 p_bt) + sigma psi, sigma = +1
@@ -100,6 +132,16 @@
 //   faulted planet (TrainToothFault::branch) numbers its teeth per mesh: the sun-side and
 //   ring-side flanks are not tied to one physical tooth (not modelled).
 //
+// Flexible bodies (`flexible_bodies`, by body name: planets "S.planet1", central members "S.sun",
+// "S.ring"): the body is the reduced body (mbd/flexible_body.h; mass and inertia from its FE
+// model instead of the lumped parameters), its frame B the reduction's reference interface (a
+// gear's bore) on the pin or on the member's joint. Lumped meshes act on the master of the
+// interface `mesh_interface` (for example an RBE3 over the root circle, so that the mesh load
+// deforms rim and web) or on B if it is empty; the mesh stiffness should then be the teeth's and
+// the contact's only (the FE body carries the rest): it is the scene's to choose. Contact meshes
+// of a flexible gear use its FE tooth surfaces (models/train_contact.h). A flexible carrier is
+// not supported (its planets' pins would need joints on its interface nodes).
+//
 // Usage:
 //   auto train = MakeSeed001AutomaticTransmission();
 //   TrainModelOptions o;
@@ -112,12 +154,14 @@
 //   o.dofs = TrainDofs::kSpatial;  o.input = TrainModelOptions::Input::kSpeed;
 //   o.input_speed_functions = {TimeFunction::Trapezoid(0, 2.094, 0, 0.2, 0.04, 0.04, 0.6)};
 //   o.mesh_stiffness_source = MeshStiffnessSource::kTvms;
-#include <functional>
+// Mixed fidelity (seed 003: planet 1 flexible in tooth contact, planets 2 and 3 lumped):
+//   o.mesh_stiffness_source = MeshStiffnessSource::kTvms;
+//   o.mesh_models["S.sun-planet#1"] = o.mesh_models["S.ring-planet#1"] = MeshModel::kContact;
+//   o.flexible_bodies["S.planet1"] = {.modes = planet_modes};
 #include <memory>
 #include <optional>
 #include <string>
 #include <unordered_map>
-#include <unordered_set>
 #include <vector>
 
 #include "mbd/data.h"
@@ -128,15 +172,18 @@
 #include "models/planetary_kinematics.h"
 #include "models/planetary_power_flow.h"
 #include "models/planetary_train.h"
+#include "models/train_contact.h"
 
 namespace orrery::gears {
 
 enum class TrainDofs { kTorsional, kPlanar, kSpatial };
 
-struct TrainModel;
+// The model of one mesh branch (the mesh rungs of DESIGN.md's fidelity ladder).
+enum class MeshModel { kKinematic, kLumped, kContact };
+const char* MeshModelName(MeshModel model);  // "kinematic", "lumped", "contact"
 
-// Where a mesh's stiffness comes from (see "Mesh stiffness from geometry" above).
-enum class MeshStiffnessSource { kGiven, kIso6336, kTvms };
+// Where a lumped mesh's stiffness comes from (header, "Mesh stiffness").
+enum class MeshStiffnessSource { kGiven, kIso6336, kTvms, kTvmsMean };
 
 // A tooth fault on one gear of the train (kTvms meshes only).
 struct TrainToothFault {
@@ -182,6 +229,13 @@ struct TrainMeshOverride {
   std::optional<MeshStiffnessSource> stiffness_source;  // replaces mesh_stiffness_source
 };
 
+// A flexible body of the train (header, "Flexible bodies").
+struct TrainFlexibleBody {
+  std::shared_ptr<const FlexibleBodyModes> modes;
+  FlexibleBodyOptions options;
+  std::string mesh_interface;  // lumped meshes act on this interface's master ("" : on B)
+};
+
 struct TrainModelOptions {
   TrainDofs dofs = TrainDofs::kTorsional;
 
@@ -200,6 +254,12 @@ struct TrainModelOptions {
   // port_loads is false.
   std::optional<TimeFunction> output_torque_Nm;
   double input_torque_Nm = 0;              // on train.inputs[0]; also sets the power flow
+  // Instead of input_torque_Nm: the steady torque on the output port (N m, sign as
+  // PlanetaryPowerFlow::port_torques_Nm), turned into the input torque by the power flow at
+  // `operating_speeds_rad_s` (one per input; empty: the input speeds at t = 0; a zero speed
+  // counts as 1 rad/s, only the ratios matter).
+  std::optional<double> output_port_torque_n_m;
+  std::vector<double> operating_speeds_rad_s;
   bool port_loads = true;
 
   // Geometry and material for derived parameters.
@@ -209,24 +269,30 @@ struct TrainModelOptions {
   double ring_rim_modules = 3.5;    // ring outer radius = pitch radius + this * m_n
   double stage_spacing_m = 0;       // axial distance between stages (spatial; 0: 3 face widths)
 
-  // Mesh stiffness. MESH STIFFNESS HOOK: when set, mesh_stiffness(train, mesh index, face width)
-  // gives the mean mesh stiffness in N/m (ISO 6336-1 c_gamma b, or the mean of the time-varying
-  // mesh stiffness of mesh_stiffness.h); else mesh_stiffness_per_face_width * b, with ISO 6336-1's
-  // typical c_gamma = 20 N/(mm um) = 2e10 N/m^2. Per-mesh overrides win over both.
-  std::function<double(const PlanetaryTrain&, int mesh, double face_width_m)> mesh_stiffness;
+  // Mesh models: the default of every mesh branch, replaced per train mesh ("S.sun-planet") or
+  // per branch ("S.sun-planet#2", 1-based) by `mesh_models` (the branch entry wins).
+  MeshModel mesh_model = MeshModel::kLumped;
+  std::unordered_map<std::string, MeshModel> mesh_models;
+
+  // Lumped mesh stiffness (header, "Mesh stiffness").
+  MeshStiffnessSource mesh_stiffness_source = MeshStiffnessSource::kGiven;
+  std::optional<double> mesh_stiffness_n_per_m;   // kGiven: every mesh (else c_gamma b)
   double mesh_stiffness_per_face_width_N_m2 = 2e10;
   double unloaded_mesh_stiffness_factor = 1e-12;  // seed 001: unloaded meshes "very small"; 1 keeps
-  MeshStiffnessSource mesh_stiffness_source = MeshStiffnessSource::kGiven;
   int tvms_samples_per_cycle = 64;                // kTvms table samples per mesh cycle
-  double ring_addendum_coefficient = 0.9;         // h_a* of ring gears in the stiffness geometry
-  GearMaterial gear_material;                     // TVMS (both gears)
+  double ring_addendum_coefficient = 0.85;        // h_a* of ring gears (every level's geometry)
+  double ring_root_fillet_coefficient = 0.25;     // rho_fP* of ring gears
+  GearMaterial gear_material;                     // TVMS, flexible contact penalty (both gears)
   Iso6336Options iso6336;                         // kIso6336
   std::vector<TrainToothFault> tooth_faults;      // kTvms meshes of the faulted gear
   double mesh_damping_ratio = 0;                  // time-domain runs (GearMeshSpec::damping_ratio)
 
-  // Contact: linear on the loaded flank (the operating point), or two-sided with backlash.
+  // Lumped contact: linear on the loaded flank (the operating point), or two-sided with backlash.
   bool two_sided_contact = false;
   double backlash_m = 0;
+
+  // Tooth contact of the `contact` meshes (models/train_contact.h).
+  TrainContactOptions contact;
 
   // Phasing: derived mesh phases (false: all 0); stage phase Gamma^(j) / 2 pi per stage.
   bool mesh_phasing = true;
@@ -246,27 +312,9 @@ struct TrainModelOptions {
   std::unordered_map<std::string, TrainMemberOverride> members;  // by member or planet-set name
   std::unordered_map<std::string, TrainMeshOverride> meshes;     // by train mesh name
 
-  // Flexible planets, by planet body name (set name and branch number, e.g. "p1"): the planet
-  // is this reduced body (mbd/flexible_body.h; mass and inertia from its FE model instead of the
-  // lumped parameters), its frame B the reduction's reference interface (the bore) on the pin.
-  // The lumped meshes act on the master of the interface `mesh_interface` (for example an RBE3
-  // over the root circle, so that the mesh load deforms rim and web) or on B if it is empty.
-  // The mesh stiffness should then be the teeth's and the contact's only (the FE body carries
-  // the rest); it is the scene's to choose.
-  struct FlexiblePlanet {
-    std::shared_ptr<const FlexibleBodyModes> modes;
-    FlexibleBodyOptions options;
-    std::string mesh_interface;
-  };
-  std::unordered_map<std::string, FlexiblePlanet> flexible_planets;
-
-  // Meshes modelled outside models/ (the `contact` mesh model, contact/train_contact.h): train
-  // mesh names ("S1.sun-planet") that get no lumped GearMeshSpec on any branch (TrainModel::meshes
-  // then lists only the lumped ones), and a hook called with the builder after every other
-  // element, before Finalize(); the TrainModel passed has its joints, parameters and kinematics
-  // (model is still null).
-  std::unordered_set<std::string> meshes_without_element;
-  std::function<void(ModelBuilder&, const TrainModel&)> before_finalize;
+  // Flexible bodies, by body name: planets by set name and branch number ("S.planet1"), central
+  // members by member name ("S.sun", "S.ring").
+  std::unordered_map<std::string, TrainFlexibleBody> flexible_bodies;
 };
 
 // Resolved lumped parameters of a member or planet set (filled by BuildTrainModel).
@@ -292,21 +340,43 @@ struct TrainMeshElement {
   int faulted_gear = -1;         // train gear index of a faulted gear of this mesh, or -1
 };
 
+// One GearConstraintSpec of the model (a kinematic mesh branch).
+struct TrainKinematicMesh {
+  int train_mesh = -1, branch = -1, stage = -1;
+  int model_constraint = -1;     // index into Model::gear_constraints
+  double working_pressure_angle_rad = 0;
+};
+
+// What models a mesh branch: `index` into TrainModel::meshes (lumped), ::contacts (contact) or
+// ::kinematic_meshes (kinematic).
+struct TrainMeshBranch {
+  int train_mesh = -1, branch = -1;
+  MeshModel model = MeshModel::kLumped;
+  int index = -1;
+};
+
 // Filled by BuildTrainModel.
 struct TrainModel {
   std::shared_ptr<const Model> model;
   std::shared_ptr<const PlanetaryTrain> train;  // a copy of the train it was built from
   int range = -1;
+  TrainModelOptions options;            // as built (a variant is built from them, not patched)
   TrainDofs dofs = TrainDofs::kTorsional;
   PlanetaryKinematics kinematics;       // at options.input_speeds_rad_s
   PlanetaryKinematics unit_kinematics;  // inputs scaled so that train.inputs[0] turns at 1 rad/s
                                         // (+1 on every input if all given speeds are 0)
   PlanetaryPowerFlow power_flow;        // at input_torque_Nm (1 N m if 0: signs only)
+  double input_torque_Nm = 0;           // as used (given, or from output_port_torque_n_m)
   std::vector<JointIndex> member_joints;             // (members)
   std::vector<std::vector<JointIndex>> planet_joints;  // (planet sets) x (branches)
+  std::vector<BodyIndex> member_bodies;              // (members)
+  std::vector<std::vector<BodyIndex>> planet_bodies;   // (planet sets) x (branches)
   std::vector<TrainBodyParams> member_params;        // (members)
   std::vector<TrainBodyParams> planet_params;        // (planet sets)
-  std::vector<TrainMeshElement> meshes;              // (model meshes), in Model order
+  std::vector<TrainMeshElement> meshes;              // lumped branches, in Model order
+  std::vector<TrainContactMesh> contacts;            // contact branches (models/train_contact.h)
+  std::vector<TrainKinematicMesh> kinematic_meshes;  // kinematic branches, in Model order
+  std::vector<TrainMeshBranch> branches;             // every mesh branch, stage by stage
   std::vector<std::vector<int>> planet_bearings;     // (planet sets) x (branches): index into
                                                      // Model::bearings (spatial) or of the x spring
                                                      // in Model::coordinate_springs (planar); -1
@@ -315,15 +385,24 @@ struct TrainModel {
 };
 
 // Builds the model of `train` in gear range `range`. Throws std::invalid_argument naming the
-// member, mesh or option that is missing or non-physical (e.g. a gear without tooth form and no
-// base radius override, an override key that names nothing), std::runtime_error from the
-// kinematics or power flow (an indeterminate range).
+// member, mesh, body or option that is missing or non-physical (e.g. a gear without tooth form
+// and no base radius override, an override key that names nothing, a mesh model key that names
+// no mesh or branch, redundant kinematic meshes), std::runtime_error from the kinematics or power
+// flow (an indeterminate range).
 TrainModel BuildTrainModel(const PlanetaryTrain& train, int range, const TrainModelOptions& options);
 
-// GearPair of train mesh `mesh` with the geometry described above ("Mesh stiffness from
-// geometry"). Throws std::invalid_argument naming the mesh if a gear has no tooth form or
-// GearPair rejects the geometry (with GearPair's reason).
+// The mesh model of branch `branch` (0-based) of train mesh `mesh` under `options`.
+MeshModel MeshModelOf(const PlanetaryTrain& train, int mesh, int branch,
+                      const TrainModelOptions& options);
+
+// GearPair of train mesh `mesh` with the geometry described above ("Mesh stiffness"). Throws
+// std::invalid_argument naming the mesh if a gear has no tooth form or GearPair rejects the
+// geometry (with GearPair's reason).
 GearPair MakeTrainGearPair(const PlanetaryTrain& train, int mesh, const TrainModelOptions& options);
+
+// TVMS options of that pair: the blank radii BuildTrainModel derives its bodies from (bore of an
+// external gear, rim of a ring), the train's gear material.
+TvmsOptions MakeTrainTvmsOptions(const PlanetaryTrain& train, int mesh, const TrainModelOptions& options);
 
 // Static equilibrium at time `guess.t` with the velocities of `guess` held (accelerations 0, so
 // centrifugal terms at a constant speed are balanced): Newton's method on the free coordinates

@@ -48,7 +48,7 @@ int main() {
               modes->frequencies_hz.back());
 
   // Attach it and build the stage.
-  TrainModelOptions::FlexiblePlanet& flexible = options.flexible_planets["S.planet1"];
+  TrainFlexibleBody& flexible = options.flexible_bodies["S.planet1"];
   flexible.modes = modes;
   flexible.options.damping_ratios = {0.02};
   flexible.options.record_surface = true;

@@ -9,11 +9,13 @@
 
 #include <gtest/gtest.h>
 
-#include "contact/gear_contact.h"
+#include "models/gear_contact.h"
 #include "models/gear_geometry.h"
 
 namespace orrery::contact {
 namespace {
+
+using namespace orrery::gears;  // gear surfaces as the workload
 
 TEST(ContactPointRecord, LargestFirstThenNaN) {
   ContactPointRecord r(8);
@@ -46,14 +48,13 @@ TEST(ContactPointRecord, GearElementRecordsItsLargestPointsOnGearOne) {
   // Gear 1 (on body 1) turned: its body frame is not the world's.
   o.X_B1G1 = Transform(AxisAngle(Vec3::UnitZ(), 0.3), Vec3::Zero());
   const ContactElement element(MakeGearContactSpec("mesh", pair, 1, 2, o));
-  const std::vector<std::string> names = element.OutputNames();
-  const std::vector<int> columns = element.OutputColumns();
-  ASSERT_EQ(names.size(), columns.size());
-  ASSERT_EQ(names[names.size() - 2], "point_positions");
-  EXPECT_EQ(columns[columns.size() - 2], 30);
-  EXPECT_EQ(columns.back(), 10);
-  int total = 0;
-  for (int c : columns) total += c;
+  const std::vector<OutputDescription>& outputs = element.outputs();
+  ASSERT_GE(outputs.size(), 2u);
+  ASSERT_EQ(outputs[outputs.size() - 2].name, "point_positions");
+  EXPECT_EQ(outputs[outputs.size() - 2].columns, 30);
+  EXPECT_EQ(outputs.back().name, "point_normal_forces");
+  EXPECT_EQ(outputs.back().columns, 10);
+  const int total = OutputValueCount(outputs);
   ContactWorkspace ws(*element.spec().surface_a, *element.spec().surface_b);
   // Gear 1 pressed 3 um ahead of its kinematic angle at roll 0 (gear 1's frame turned by 0.3
   // in its body, so the body is turned back by 0.3).

@@ -1,5 +1,5 @@
 // Mesh-zone broad phase of gear surfaces (candidate_pairs.h, stage 1a; tooth rings from
-// contact/gear_contact.h). Oracle: the same tooth meshes without tooth rings (sphere broad phase
+// models/gear_contact.h). Oracle: the same tooth meshes without tooth rings (sphere broad phase
 // only) must give exactly the same candidate triangle pairs at every pose, for an external
 // pair and an internal (planet-ring) pair, each at many roll angles and with the flanks pressed,
 // while the zone keeps fewer tooth pairs (or the test could not fail on the count).
@@ -12,10 +12,12 @@
 #include <gtest/gtest.h>
 
 #include "contact/candidate_pairs.h"
-#include "contact/gear_contact.h"
+#include "models/gear_contact.h"
 
 namespace orrery::contact {
 namespace {
+
+using namespace orrery::gears;  // gear surfaces as the workload
 
 constexpr double kPi = 3.14159265358979323846;
 
@@ -27,13 +29,13 @@ struct Surfaces {
 Surfaces Make(const gears::Gear& gear, const GearContactOptions& o) {
   Surfaces s;
   s.zoned = MakeGearContactSurface(gear, o, {}, Transform());
-  std::vector<gears::TriangleMesh> parts;
+  std::vector<TriangleMesh> parts;
   for (int t = 0; t < gear.teeth(); ++t)
     parts.push_back(gears::MakeToothSurfaceMesh(
         gear, t, {.root = o.root_intervals, .fillet = o.fillet_intervals,
                   .involute = o.involute_intervals, .tip = o.tip_intervals}, o.face_intervals));
   s.plain = std::make_shared<const ContactSurface>(parts, o.margin_m, o.slack_m);
-  EXPECT_TRUE(s.zoned->tooth_ring().has_value());
+  EXPECT_TRUE(s.zoned->part_ring().has_value());
   return s;
 }
 

@@ -14,7 +14,7 @@
 #include <string>
 
 #include "contact/flexible_contact_element.h"
-#include "contact/gear_contact.h"
+#include "models/gear_contact.h"
 #include "flex/box_mesher.h"
 #include "flex/craig_bampton.h"
 #include "flex/fe_assembly.h"
@@ -31,6 +31,8 @@
 
 namespace orrery::contact {
 namespace {
+
+using namespace orrery::gears;  // gear surfaces as the workload
 
 // Allocations of one call, with no warm-up call (the tests size their workspaces first).
 template <class F>
@@ -140,7 +142,7 @@ TEST(ContactNoAllocation, FlexibleContactEvaluation) {
   const std::vector<flex::FeInterface> ifs = {flex::MakeInterface(mesh, "ZMAX", flex::InterfaceKind::kRbe2)};
   const auto modes = std::make_shared<const FlexibleBodyModes>(flex::MakeFlexibleBodyModes(
       mesh, sys, flex::ReduceCraigBampton(mesh, sys, ifs, {.num_modes = 12}), ifs));
-  gears::TriangleMesh plane;
+  TriangleMesh plane;
   plane.vertices = {Vec3(-0.03, -0.03, 0), Vec3(0.03, -0.03, 0), Vec3(0.03, 0.03, 0), Vec3(-0.03, 0.03, 0)};
   plane.triangles = {{0, 1, 2}, {0, 2, 3}};
   ModelBuilder b;

@@ -13,11 +13,13 @@
 
 #include <gtest/gtest.h>
 
-#include "contact/gear_contact.h"
+#include "models/gear_contact.h"
 #include "models/gear_geometry.h"
 
 namespace orrery::contact {
 namespace {
+
+using namespace orrery::gears;  // gear surfaces as the workload
 
 constexpr double kPi = 3.14159265358979323846;
 

@@ -199,7 +199,7 @@ TEST(GearScene, GearTrainErrorsNameFileLineKey) {
   }
 }
 
-// dynamics.mesh_model: contact (contact/train_contact.h through the scene): seed 003's stage with
+// dynamics.mesh_model: contact (models/train_contact.h through the scene): seed 003's stage with
 // tooth contact on its six mesh branches runs its 5 ms, the contact outputs are recorded per
 // branch, and in the mean over the last half (after the load taken up at t = 0 has rung down to
 // a few percent) the meshes balance the driven members' power-flow torques: sun
@@ -210,7 +210,7 @@ TEST(GearScene, GearTrainErrorsNameFileLineKey) {
 TEST(GearScene, ContactMeshModelRunsSeed003WithTorqueBalanceInTheMean) {
   const Scene scene = LoadScene(ScenePath("seed003_contact_stage.yaml"));
   ASSERT_EQ(scene.kind, SceneKind::kGearTrain);
-  EXPECT_EQ(scene.gear_train->mesh_model, "contact");
+  EXPECT_EQ(scene.gear_train->options.mesh_model, gears::MeshModel::kContact);
   const std::vector<std::string> expected{"S.sun-planet#1", "S.sun-planet#2", "S.sun-planet#3",
                                           "S.ring-planet#1", "S.ring-planet#2", "S.ring-planet#3"};
   ASSERT_EQ(scene.gear_train->contact_meshes, expected);
@@ -279,10 +279,10 @@ output: {interval: 0.001}
 )";
   auto with = [&](const std::string& dynamics) { return head.substr(0, head.find("solver")) + "  dynamics: " + dynamics + "\n" + head.substr(head.find("solver")); };
   EXPECT_EQ(ErrorOf(with("{mesh_model: contact}")), "");
-  EXPECT_NE(ErrorOf(with("{tooth_contact: {hunt_crossley: 1}}")).find("tooth_contact needs 'mesh_model: contact'"),
+  EXPECT_NE(ErrorOf(with("{tooth_contact: {hunt_crossley: 1}}")).find("tooth_contact needs a contact mesh"),
             std::string::npos);
   EXPECT_NE(ErrorOf(with("{mesh_model: rigid}")).find("mesh_model"), std::string::npos);
-  EXPECT_NE(ErrorOf(with("{mesh_model: contact, tooth_contact: {meshes: [S.sun-planat]}}")).find("no mesh named 'S.sun-planat'"),
+  EXPECT_NE(ErrorOf(with("{meshes: {S.sun-planat: {model: contact}}}")).find("no mesh named 'S.sun-planat'"),
             std::string::npos);
   EXPECT_NE(ErrorOf(with("{mesh_model: contact, tooth_contact: {missing_teeth: [{gear: S.planet, branch: 4, teeth: [0]}]}}"))
                 .find("must be in 1..3"),
@@ -310,10 +310,10 @@ output: {interval: 0.001}
             std::string::npos);
   const Scene r = LoadSceneFromString(with("{mesh_model: contact, tooth_contact: {record_points: 4}}"), "t.yaml");
   const auto& e = *r.model->external_forces[0];
-  const std::vector<std::string> names = e.OutputNames();
-  ASSERT_EQ(names.back(), "point_normal_forces");
-  EXPECT_EQ(e.OutputColumns().back(), 4);
-  EXPECT_EQ(e.OutputColumns()[names.size() - 2], 12);
+  const std::vector<OutputDescription>& outputs = e.outputs();
+  ASSERT_EQ(outputs.back().name, "point_normal_forces");
+  EXPECT_EQ(outputs.back().columns, 4);
+  EXPECT_EQ(outputs[outputs.size() - 2].columns, 12);
 }
 
 // A flexible planet in tooth contact whose reduced body is not the train's planet (15 teeth for
@@ -344,7 +344,7 @@ gear_train:
   output_torque: -6000
   dynamics:
     mesh_model: contact
-    flexible_planets:
+    flexible_bodies:
       S.planet1: {reduced_body: planet15.h5, reduce_input: planet15.yaml}
 solver: {end_time: 0.001}
 output: {interval: 0.001}
@@ -360,7 +360,7 @@ output: {interval: 0.001}
     error = e.what();
   }
   EXPECT_NE(error.find("flexible planet 'S.planet1'"), std::string::npos) << error;
-  EXPECT_NE(error.find("more teeth than the train's planet (14)"), std::string::npos) << error;
+  EXPECT_NE(error.find("more teeth than the train's gear (14)"), std::string::npos) << error;
   EXPECT_NE(error.find("scene.yaml"), std::string::npos) << error;
 }
 

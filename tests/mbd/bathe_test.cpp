@@ -1,5 +1,5 @@
 // Time-integrator check on the 2-DOF system of Bathe, "Finite Element Procedures", examples
-// 9.3/9.4 (/work/shared/validation/bathe_2dof.md), built as a multibody model:
+// 9.3/9.4 (docs/validation/bathe_2dof.md), built as a multibody model:
 //   M = diag(2, 1), K = [[6, -2], [-2, 4]], C = 0, R = (0, 10), U(0) = U'(0) = 0.
 // Two bodies slide along x on prismatic joints to the world; a coordinate spring (k = 4) on joint 1,
 // a point-to-point spring (k = 2) between the bodies, a coordinate spring (k = 2) on joint 2 and a

@@ -101,7 +101,7 @@ TEST(FlexiblePlanet, RunsOnTheCarrierPinThroughLumpedMeshes) {
   int dof = 0;
   const auto modes = ReducedPlanet(*train, o, &mass, &dof);
   const TrainModel rigid = BuildTrainModel(*train, 0, o);
-  TrainModelOptions::FlexiblePlanet& planet = o.flexible_planets["S.planet1"];
+  TrainFlexibleBody& planet = o.flexible_bodies["S.planet1"];
   planet.modes = modes;
   planet.options.damping_ratios = {0.02};
   planet.mesh_interface = "rim";

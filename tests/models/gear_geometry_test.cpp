@@ -58,7 +58,7 @@ GearSpec Spec(int z, double m, double alpha_deg, double x = 0, bool internal = f
   return s;
 }
 
-// Seed 001 gears (validation/scenarios.md): module 1.5 mm, 21.3 deg, 30 mm face width.
+// Seed 001 gears (docs/validation/scenarios.md): module 1.5 mm, 21.3 deg, 30 mm face width.
 GearSpec Seed001(int z, bool internal = false) {
   GearSpec s = Spec(z, 1.5e-3, 21.3, 0, internal);
   s.face_width_m = 0.030;

@@ -1,5 +1,5 @@
 // Lin & Parker (1999) planar planetary model: natural frequencies for N = 3, 4, 5 planets against
-// the published Table 2 (../shared/validation/lin_parker_1999.md), their multiplicities, and the
+// the published Table 2 (docs/validation/lin_parker_1999.md), their multiplicities, and the
 // mode-class properties proved in the paper.
 #include <gtest/gtest.h>
 

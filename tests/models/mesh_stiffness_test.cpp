@@ -1,8 +1,8 @@
 // Mesh stiffness: ISO 6336-1 method B and the potential-energy TVMS.
 //
 // Oracles:
-// - ISO 6336-1 method B evaluated by hand below for seed 001 (validation/iso6336_stiffness.md,
-//   validation/scenarios.md), and the standard's "typical" c' of 12-18 N/(mm um);
+// - ISO 6336-1 method B evaluated by hand below for seed 001 (docs/validation/iso6336_stiffness.md,
+//   docs/validation/scenarios.md), and the standard's "typical" c' of 12-18 N/(mm um);
 // - closed-form cantilever compliances of a rectangular tooth (Timoshenko beam: bending
 //   F d^3 / (3 E I) with the axial-load moment, shear 1.2 F d / (G A), axial F d / (E A));
 // - Tian's (2004) closed-form integrals in the involute angle for the involute tooth, evaluated
@@ -73,7 +73,7 @@ TEST(Iso6336, HandCalculationSeed001) {
   EXPECT_NEAR(a.c_gamma_beta, 0.85 * a.c_gamma_alpha, 1e-12);
   // SI: N/(mm um) * 30 mm = N/um; 1 N/um = 1e6 N/m.
   EXPECT_NEAR(a.c_gamma_alpha_n_per_m, a.c_gamma_alpha * 30 * 1e6, 1e-6 * a.c_gamma_alpha_n_per_m);
-  // Typical range of c' (ISO 6336-1, validation/iso6336_stiffness.md): 12-18 N/(mm um).
+  // Typical range of c' (ISO 6336-1, docs/validation/iso6336_stiffness.md): 12-18 N/(mm um).
   EXPECT_GT(a.c_single, 12.0);
   EXPECT_LT(b.c_single, 18.0);
   std::printf("ISO 6336 seed 001: sun-planet c' %.3f, c_ga %.3f N/(mm um) = %.1f N/um (paper 437); "

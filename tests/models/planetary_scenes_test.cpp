@@ -1,5 +1,5 @@
 // The seed trains of models/planetary_scenes.cpp against the papers
-// (/work/shared/validation/scenarios.md) and against hand calculations written out here:
+// (docs/validation/scenarios.md) and against hand calculations written out here:
 // - seed 000 Table 1 stage ratios 4.8 and 4.381 (printed to 3 decimals: +-5e-4), closed forms
 //   1 + Z_r/Z_s;
 // - seed 002: w_s / w_c = 1 + 89/19;

@@ -1,4 +1,4 @@
-// Seed 002 (Huang & Chen 2014, wind-turbine planetary stage; validation/scenarios.md) in the time
+// Seed 002 (Huang & Chen 2014, wind-turbine planetary stage; docs/validation/scenarios.md) in the time
 // domain: spatial lumped train (train_dynamics.h) with TVMS meshes, carrier driven through the
 // speed profile of Fig. 3, sun loaded by the power-flow torque of 3e5 N m on the carrier.
 // Oracles: the published trends (smaller alpha1 -> larger peak sun-planet, ring-planet and

@@ -37,9 +37,10 @@ std::shared_ptr<const PlanetaryTrain> Stage001() {
   return std::move(b).Finalize();
 }
 
-GearSpec Spec(int z, bool internal, double addendum = 1.0) {
+GearSpec Spec(int z, bool internal, double addendum = 1.0, double fillet = 0.38) {
   return GearSpec{.teeth = z, .normal_module_m = 0.0015, .normal_pressure_angle_rad = kAlpha,
-                  .addendum_coef = addendum, .face_width_m = 0.030, .internal = internal};
+                  .addendum_coef = addendum, .root_fillet_coef = fillet, .face_width_m = 0.030,
+                  .internal = internal};
 }
 
 TrainModelOptions Options(MeshStiffnessSource source) {
@@ -53,14 +54,15 @@ TrainModelOptions Options(MeshStiffnessSource source) {
 }
 
 // ISO 6336 c_gamma_alpha b and the TVMS mean of the train's meshes equal those of the pairs
-// built by hand (sun-planet; planet-ring with the documented 0.9 m_n ring addendum), and the
+// built by hand (sun-planet; planet-ring with the documented ring defaults: addendum 0.85 m_n,
+// rack fillet 0.25 m_n, the geometry every mesh level shares), and the
 // model's mean stiffness (mbd's k_mean of the table) equals the TVMS mean: the table resamples
 // the TVMS at shifted points, which keeps the mean of a periodic linear interpolant exactly.
 TEST(TrainMeshStiffness, IsoAndTvmsMeansMatchHandBuiltPairs) {
   const auto train = Stage001();
   const GearPair sp(Gear(Spec(34, false)), Gear(Spec(18, false)));
-  const GearPair rp(Gear(Spec(18, false)), Gear(Spec(70, true, 0.9)));
-  // A standard ring tip reaches the planet's fillet: the reason for the 0.9 default.
+  const GearPair rp(Gear(Spec(18, false)), Gear(Spec(70, true, 0.85, 0.25)));
+  // A standard ring tip reaches the planet's fillet: the reason for a shorter ring addendum.
   EXPECT_THROW(GearPair(Gear(Spec(18, false)), Gear(Spec(70, true))), std::invalid_argument);
   const TrainModel iso = BuildTrainModel(*train, 0, Options(MeshStiffnessSource::kIso6336));
   const TrainModel tv = BuildTrainModel(*train, 0, Options(MeshStiffnessSource::kTvms));

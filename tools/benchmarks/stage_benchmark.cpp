@@ -112,7 +112,7 @@ void KinematicsThenSunMesh(benchmark::State& state, bool apply) {
     benchmark::DoNotOptimize(data.V_WB.data());
   }
   if (!apply) return;
-  std::vector<double> out(m.external_forces[e]->OutputNames().size());
+  std::vector<double> out(OutputValueCount(m.external_forces[e]->outputs()));
   m.external_forces[e]->GetOutputs(*data.external[e], out.data());
   state.counters["normal_force_N"] = out[0];
   state.counters["contact_points"] = out[2];

@@ -4,9 +4,8 @@
 #include <exception>
 #include <stdexcept>
 
-#include "contact/flexible_gear_mesh.h"
+#include "models/flexible_gear_mesh.h"
 #include "import/scene.h"
-#include "import/train_mesh_geometry.h"
 #include "models/mesh_stiffness.h"
 #include "tools/cli/error_message.h"
 #include "tools/cli/json_writer.h"
@@ -24,19 +23,19 @@ int FlexibleMeshStiffnessCommand(const MeshStiffnessArgs& args, std::ostream& ou
     const GearTrainScene& gt = *scene.gear_train;
     const int mesh = gt.train->MeshIndex(args.mesh);
     // The pair and the oracles of the lumped models.
-    const gears::GearPair pair = MakeTrainMeshPair(*gt.train, mesh, gt.options);
+    const gears::GearPair pair = gears::MakeTrainGearPair(*gt.train, mesh, gt.options);
     const gears::Iso6336Stiffness iso = gears::CalcIso6336Stiffness(pair);
-    const gears::TvmsOptions tvms_options = TrainMeshTvmsOptions(*gt.train, mesh, gt.options);
+    const gears::TvmsOptions tvms_options = gears::MakeTrainTvmsOptions(*gt.train, mesh, gt.options);
     const gears::Tvms tvms = gears::CalcTvms(pair, tvms_options);
     // Flexible gears on the lumped models' blanks.
-    contact::FlexibleGearMeshOptions o;
+    gears::FlexibleGearMeshOptions o;
     o.bore_radius1_m = tvms_options.bore_radius1_m;
     o.bore_radius2_m = tvms_options.rim_radius2_m;
     o.fe.flank_divisions *= fe_level, o.fe.tooth_divisions *= fe_level;
     o.fe.fillet_divisions *= fe_level, o.fe.root_layer_divisions *= fe_level;
     o.fe.rim_divisions *= fe_level, o.fe.face_divisions *= fe_level;
-    const contact::FlexibleMeshSweep sweep =
-        contact::SweepFlexibleGearMesh(pair, o, args.load_n, args.points);
+    const gears::FlexibleMeshSweep sweep =
+        gears::SweepFlexibleGearMesh(pair, o, args.load_n, args.points);
 
     if (args.json) {
       JsonWriter w(out);
@@ -73,7 +72,7 @@ int FlexibleMeshStiffnessCommand(const MeshStiffnessArgs& args, std::ostream& ou
     out << line;
     out << "roll rad     TE um   k N/um  points teeth (path)  contact on gear 1 (roll distance, mm)\n";
     for (size_t i = 0; i < sweep.points.size(); ++i) {
-      const contact::MeshSweepPoint& p = sweep.points[i];
+      const gears::MeshSweepPoint& p = sweep.points[i];
       std::snprintf(line, sizeof line, "%8.5f %9.4f %8.1f %7d %5d (%d)  ", p.roll_angle_rad,
                     p.transmission_error_m * 1e6, p.stiffness_n_per_m * 1e-6, p.contact_points,
                     p.teeth_in_contact, sweep.predicted_pairs[i]);

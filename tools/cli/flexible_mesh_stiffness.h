@@ -1,7 +1,7 @@
 #pragma once
 // `orrery mesh-stiffness SCENE --mesh NAME --flexible [--load N] [--points K] [--json]`: the
 // quasi-static mesh sweep of mesh_stiffness_command.h with both gears FLEXIBLE
-// (contact/flexible_gear_mesh.h SweepFlexibleGearMesh): each gear meshed with hex20 elements,
+// (models/flexible_gear_mesh.h SweepFlexibleGearMesh): each gear meshed with hex20 elements,
 // held at its bore (radius: the lumped models' blank, TrainMeshTvmsOptions), reduced to the
 // static attachment modes of the loaded flanks through the mesh zone; analytic flanks embedded in
 // the FE faces carry the contact; the penalty is the Hertzian line-contact stiffness of the

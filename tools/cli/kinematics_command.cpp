@@ -10,7 +10,6 @@
 #include <stdexcept>
 
 #include "import/scene.h"
-#include "import/train_mesh_geometry.h"
 #include "models/mesh_stiffness.h"
 #include "models/planetary_kinematics.h"
 #include "models/planetary_power_flow.h"
@@ -87,7 +86,7 @@ int GearTrainReport(const Scene& scene, const KinematicsArgs& args, std::ostream
     r.gear_1 = t.gears[internal ? m.gear_b : m.gear_a].name;
     r.gear_2 = t.gears[internal ? m.gear_a : m.gear_b].name;
     try {
-      const gears::GearPair pair = MakeTrainMeshPair(t, mi, g.options);
+      const gears::GearPair pair = gears::MakeTrainGearPair(t, mi, g.options);
       r.base_radius_1_m = pair.gear1().base_radius_m();
       r.base_radius_2_m = pair.gear2().base_radius_m();
       r.contact_ratio = pair.transverse_contact_ratio();
@@ -99,7 +98,7 @@ int GearTrainReport(const Scene& scene, const KinematicsArgs& args, std::ostream
       r.c_prime = iso.c_single;
       r.c_gamma_alpha = iso.c_gamma_alpha;
       r.c_gamma_beta = iso.c_gamma_beta;
-      const gears::Tvms tvms = gears::CalcTvms(pair, TrainMeshTvmsOptions(t, mi, g.options));
+      const gears::Tvms tvms = gears::CalcTvms(pair, gears::MakeTrainTvmsOptions(t, mi, g.options));
       r.tvms_mean = tvms.mean_n_per_m;
       r.tvms_min = tvms.min_n_per_m;
       r.tvms_max = tvms.max_n_per_m;

@@ -4,9 +4,8 @@
 #include <exception>
 #include <stdexcept>
 
-#include "contact/gear_contact.h"
+#include "models/gear_contact.h"
 #include "import/scene.h"
-#include "import/train_mesh_geometry.h"
 #include "models/mesh_stiffness.h"
 #include "tools/cli/error_message.h"
 #include "tools/cli/flexible_mesh_stiffness.h"
@@ -14,10 +13,10 @@
 
 namespace orrery::cli {
 
-void WriteSweepPoints(JsonWriter& w, const std::vector<contact::MeshSweepPoint>& points) {
+void WriteSweepPoints(JsonWriter& w, const std::vector<gears::MeshSweepPoint>& points) {
   auto array = [&](const char* key, auto value) {
     w.Key(key).BeginArray();
-    for (const contact::MeshSweepPoint& p : points) w.Number(value(p));
+    for (const gears::MeshSweepPoint& p : points) w.Number(value(p));
     w.EndArray();
   };
   array("roll_angle_rad", [](const auto& p) { return p.roll_angle_rad; });
@@ -38,14 +37,14 @@ int MeshStiffnessCommand(const MeshStiffnessArgs& args, std::ostream& out, std::
     const GearTrainScene& gt = *scene.gear_train;
     const int mesh = gt.train->MeshIndex(args.mesh);
     // The pair and the oracles of the lumped models.
-    const gears::GearPair pair = MakeTrainMeshPair(*gt.train, mesh, gt.options);
+    const gears::GearPair pair = gears::MakeTrainGearPair(*gt.train, mesh, gt.options);
     const gears::Iso6336Stiffness iso = gears::CalcIso6336Stiffness(pair);
     const gears::Tvms tvms =
-        gears::CalcTvms(pair, TrainMeshTvmsOptions(*gt.train, mesh, gt.options));
+        gears::CalcTvms(pair, gears::MakeTrainTvmsOptions(*gt.train, mesh, gt.options));
     // Rigid tooth contact calibrated at the load, swept over one mesh period.
-    contact::GearContactOptions options;
+    gears::GearContactOptions options;
     options.calibration_load_n = args.load_n;
-    const contact::MeshSweep sweep = contact::SweepGearMesh(pair, options, args.load_n, args.points);
+    const gears::MeshSweep sweep = gears::SweepGearMesh(pair, options, args.load_n, args.points);
 
     if (args.json) {
       JsonWriter w(out);
@@ -66,7 +65,7 @@ int MeshStiffnessCommand(const MeshStiffnessArgs& args, std::ostream& out, std::
                   scene.name.c_str(), args.mesh.c_str(), args.load_n);
     out << line;
     out << "roll rad     TE um   k N/um  points teeth  contact on gear 1 (roll distance, mm)\n";
-    for (const contact::MeshSweepPoint& p : sweep.points) {
+    for (const gears::MeshSweepPoint& p : sweep.points) {
       std::snprintf(line, sizeof line, "%8.5f %9.4f %8.1f %7d %5d ", p.roll_angle_rad,
                     p.transmission_error_m * 1e6, p.stiffness_n_per_m * 1e-6, p.contact_points,
                     p.teeth_in_contact);

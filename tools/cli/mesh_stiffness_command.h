@@ -1,7 +1,7 @@
 #pragma once
 // `orrery mesh-stiffness SCENE --mesh NAME [--load N] [--points K] [--json]`: quasi-static mesh
 // stiffness and transmission error of one gear mesh of a gear_train scene with rigid tooth
-// contact (the `contact` mesh model, contact/gear_contact.h SweepGearMesh):
+// contact (the `contact` mesh model, models/gear_contact.h SweepGearMesh):
 //   - the mesh's GearPair as the lumped models see it (import/train_mesh_geometry.h: gear 1 the
 //     sun of a sun-planet mesh, the planet of a ring-planet mesh);
 //   - tooth surfaces and penalty from GearContactOptions' defaults, calibrated so that one tooth
@@ -24,7 +24,7 @@
 #include <string>
 #include <vector>
 
-#include "contact/gear_contact.h"
+#include "models/gear_contact.h"
 #include "tools/cli/json_writer.h"
 
 namespace orrery::cli {
@@ -46,6 +46,6 @@ int MeshStiffnessCommand(const MeshStiffnessArgs& args, std::ostream& out, std::
 // The per-point arrays of a sweep's JSON (roll_angle_rad, transmission_error_m,
 // stiffness_n_per_m, normal_force_n, contact_points, teeth_in_contact); shared by the rigid and
 // the flexible sweep.
-void WriteSweepPoints(JsonWriter& w, const std::vector<contact::MeshSweepPoint>& points);
+void WriteSweepPoints(JsonWriter& w, const std::vector<gears::MeshSweepPoint>& points);
 
 }  // namespace orrery::cli

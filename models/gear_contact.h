@@ -1,5 +1,5 @@
 #pragma once
-// Tooth contact of a gear pair (models/gear_geometry.h GearPair) as a ContactElement: the
+// Tooth contact of a gear pair (models/gear_geometry.h GearPair) as a contact::ContactElement: the
 // `contact` mesh model built from the gears' own geometry, and the quasi-static mesh sweep that
 // measures its transmission error and mesh stiffness.
 //
@@ -34,8 +34,8 @@
 // Usage:
 //   gears::GearPair pair(gears::Gear(sun), gears::Gear(planet));
 //   GearContactOptions o;
-//   ContactElementSpec spec = MakeGearContactSpec("sun_planet", pair, sun_body, planet_body, o);
-//   builder.AddExternalForce(std::make_shared<ContactElement>(spec));
+//   contact::ContactElementSpec spec = MakeGearContactSpec("sun_planet", pair, sun_body, planet_body, o);
+//   builder.AddExternalForce(std::make_shared<contact::ContactElement>(spec));
 //   MeshSweep sweep = SweepGearMesh(pair, o, /*load_n=*/1429, /*points=*/40);
 #include <memory>
 #include <optional>
@@ -44,8 +44,9 @@
 
 #include "contact/contact_element.h"
 #include "models/gear_geometry.h"
+#include "models/gear_mesh_monitor.h"
 
-namespace orrery::contact {
+namespace orrery::gears {
 
 struct GearContactOptions {
   // Surface resolution. Faceting study (seed 001's 18/34 sun-planet pair, m = 1.5 mm, 21.3 deg,
@@ -93,7 +94,7 @@ GearContactCalibration CalibrateGearContact(const gears::GearPair& pair,
 
 // The surface of one gear (gear frame, then X_BG), one part per present tooth. Throws
 // std::invalid_argument for a missing-tooth index out of range or no tooth left.
-std::shared_ptr<const ContactSurface> MakeGearContactSurface(const gears::Gear& gear,
+std::shared_ptr<const contact::ContactSurface> MakeGearContactSurface(const gears::Gear& gear,
                                                              const GearContactOptions& options,
                                                              const std::vector<int>& missing,
                                                              const Transform& X_BG);
@@ -108,7 +109,7 @@ gears::GearPair WithNormalBacklash(const gears::GearPair& pair, double normal_ba
 
 // The element's spec: body1 carries gear 1, body2 gear 2; law from CalibrateGearContact() of the
 // pair with options.normal_backlash_m (WithNormalBacklash).
-ContactElementSpec MakeGearContactSpec(const std::string& name, const gears::GearPair& pair,
+contact::ContactElementSpec MakeGearContactSpec(const std::string& name, const gears::GearPair& pair,
                                        BodyIndex body1, BodyIndex body2,
                                        const GearContactOptions& options);
 
@@ -158,4 +159,4 @@ struct MeshSweep {
 MeshSweep SweepGearMesh(const gears::GearPair& pair, const GearContactOptions& options,
                         double load_n, int points);
 
-}  // namespace orrery::contact
+}  // namespace orrery::gears

@@ -1,4 +1,4 @@
-// Tooth contact on every mesh of a 3-planet stage (contact/train_contact.h), quasi-static.
+// Tooth contact on every mesh of a 3-planet stage (models/train_contact.h), quasi-static.
 // The ring is braked, the carrier held, a torque T on the sun; the equilibrium (sun angle and the
 // three planet angles) is solved on the model's own contact elements, evaluated at the poses the
 // model's kinematics gives. Oracles:
@@ -21,23 +21,25 @@
 #include <gtest/gtest.h>
 
 #include "contact/contact_element.h"
-#include "contact/train_contact.h"
+#include "models/train_dynamics.h"
 #include "mbd/data.h"
 #include "mbd/kinematics.h"
 #include "models/planetary_train.h"
 
-namespace orrery::contact {
+namespace orrery::gears {
 namespace {
+
+using namespace orrery::contact;  // the engine the gear layer builds on
 
 constexpr double kPi = 3.14159265358979323846;
 
 struct Stage {
   std::shared_ptr<const gears::PlanetaryTrain> train;
-  TrainContactModel model;
+  gears::TrainModel model;
 };
 
 Stage MakeStage(int zs, int zp, int zr, int involute_intervals,
-                double ring_addendum_coefficient = TrainContactOptions{}.ring_addendum_coefficient) {
+                double ring_addendum_coefficient = gears::TrainModelOptions{}.ring_addendum_coefficient) {
   gears::PlanetaryTrainBuilder b;
   b.AddSinglePlanetStage({.name = "S", .sun = {zs}, .planet = {zp}, .ring = {zr}, .num_planets = 3,
                           .tooth_form = gears::ToothForm{.normal_module_m = 4e-3,
@@ -52,14 +54,16 @@ Stage MakeStage(int zs, int zp, int zr, int involute_intervals,
   o.face_width_m = 0.04;
   o.input = gears::TrainModelOptions::Input::kNone;
   o.port_loads = false;
+  o.ring_addendum_coefficient = ring_addendum_coefficient;
   TrainContactOptions c;
   c.gear.involute_intervals = involute_intervals;
   // Backlash, so that each planet is not squeezed between both ring flanks (zero backlash loads
   // the coast flank too, and the ring-mesh force no longer equals the sun-mesh force).
   c.normal_backlash_m = 20e-6;
-  c.ring_addendum_coefficient = ring_addendum_coefficient;
   c.gear.margin_m = 100e-6;  // the brackets below press up to ~60 um
-  s.model = BuildTrainContactModel(*s.train, s.train->RangeIndex("r"), o, c);
+  o.mesh_model = gears::MeshModel::kContact;
+  o.contact = c;
+  s.model = gears::BuildTrainModel(*s.train, s.train->RangeIndex("r"), o);
   return s;
 }
 
@@ -94,8 +98,8 @@ struct Equilibrium {
 
 // Solves the equilibrium under sun torque T; returns the forces there.
 Equilibrium Solve(const Stage& s, double T) {
-  const Model& m = *s.model.train_model.model;
-  const gears::TrainModel& tm = s.model.train_model;
+  const Model& m = *s.model.model;
+  const gears::TrainModel& tm = s.model;
   Data data(m);
   Eigen::VectorXd q = Eigen::VectorXd::Zero(m.nq);
   int sun_member = -1;
@@ -143,7 +147,7 @@ Equilibrium Solve(const Stage& s, double T) {
   Equilibrium e;
   e.sun_moment = axial_moment(sun_body);
   for (size_t k = 0; k < m.external_forces.size(); ++k) {
-    std::vector<double> out(m.external_forces[k]->OutputNames().size());
+    std::vector<double> out(OutputValueCount(m.external_forces[k]->outputs()));
     m.external_forces[k]->GetOutputs(*data.external[k], out.data());
     e.mesh_normal_force.push_back(out[0]);
   }
@@ -182,7 +186,7 @@ void CheckBalance(const Stage& s, double T, int intervals, bool expect_equal_sha
   for (size_t k = 0; k < s.model.contacts.size(); ++k) {
     const TrainContactMesh& c = s.model.contacts[k];
     const bool internal = s.train->meshes[c.train_mesh].kind == gears::MeshKind::kInternal;
-    tol = std::max(tol, FacetTolerance(MakeTrainContactPair(*s.train, c.train_mesh, o, {}), intervals));
+    tol = std::max(tol, FacetTolerance(gears::MakeTrainGearPair(*s.train, c.train_mesh, o), intervals));
     if (internal) {
       ring_force[c.branch] = e.mesh_normal_force[k];
     } else {
@@ -220,4 +224,4 @@ TEST(PlanetaryContactTest, TorqueBalanceOfSeed003Stage) {
 }
 
 }  // namespace
-}  // namespace orrery::contact
+}  // namespace orrery::gears

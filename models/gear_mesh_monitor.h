@@ -1,7 +1,8 @@
 #pragma once
-// What a tooth contact between two gears reports beyond its forces (ContactElement and
-// FlexibleContactElement with a GearMeshInfo): the transmission error, the instantaneous mesh
-// stiffness and the contact pattern, per evaluation.
+// What a tooth contact between two gears reports beyond its forces: the transmission error, the
+// instantaneous mesh stiffness and the contact pattern, per evaluation. GearMeshMonitor is the
+// gear layer's ContactMonitor (contact/contact_monitor.h): a contact element (ContactElement,
+// FlexibleContactElement) with one in its spec adds these outputs after its own.
 //
 // Transmission error, in the conventions of SweepGearMesh (gear_contact.h): in the frame F with
 // its origin on gear 1's axis, z along it and x towards gear 2's axis (external pair) or away
@@ -38,10 +39,13 @@
 // frame), NaN without contact.
 #include <array>
 #include <limits>
+#include <memory>
+#include <vector>
 
+#include "contact/contact_monitor.h"
 #include "mbd/spatial.h"
 
-namespace orrery::contact {
+namespace orrery::gears {
 
 // The gears of a contact: frames (z: axis) on the bodies of sides a (gear 1) and b (gear 2).
 struct GearMeshInfo {
@@ -60,34 +64,32 @@ struct GearMeshOutputs {
   double pattern_axial_min_m = kNaN, pattern_axial_max_m = kNaN;
 };
 
-// The output names and units, in the order WriteGearMeshOutputs writes them.
-inline constexpr std::array<const char*, 7> kGearMeshOutputNames = {
-    "transmission_error", "line_of_action_force", "mesh_stiffness",   "pattern_roll_min",
-    "pattern_roll_max",   "pattern_axial_min",    "pattern_axial_max"};
-inline constexpr std::array<const char*, 7> kGearMeshOutputUnits = {"m", "N", "N/m", "m",
-                                                                    "m", "m", "m"};
-
-// Accumulates one evaluation's outputs: Start with the gear poses, Add each penetrating node.
-class GearMeshObserver {
+// The outputs above, as a contact element records them: transmission_error (m),
+// line_of_action_force (N), mesh_stiffness (N/m), pattern_roll_min / _max, pattern_axial_min /
+// _max (m).
+class GearMeshMonitor final : public contact::ContactMonitor {
  public:
-  void Start(const GearMeshInfo& info, const Transform& X_WA, const Transform& X_WB);
-  // A penetrating node: its point on gear 1 (world: the node itself when it is gear 1's, else
-  // its closest point on gear 1's face), the normal n_W and the normal stiffness k (N/m).
-  void Add(const Vec3& p1_W, const Vec3& n_W, double k);
-  // The spatial force of the contact on gear 1's body (world origin).
-  void Finish(const Vec6& f1_W);
-  const GearMeshOutputs& outputs() const { return out_; }
+  explicit GearMeshMonitor(const GearMeshInfo& info);
+
+  const GearMeshInfo& info() const { return info_; }
+  const std::vector<OutputDescription>& outputs() const override { return outputs_; }
+  std::unique_ptr<contact::ContactMonitorState> MakeState() const override;
+  void Start(const Transform& X_WA, const Transform& X_WB,
+             contact::ContactMonitorState& state) const override;
+  void Add(const Vec3& p_a_W, const Vec3& n_W, double k,
+           contact::ContactMonitorState& state) const override;
+  void Finish(const Vec6& f_A_W, contact::ContactMonitorState& state) const override;
+  void Write(const contact::ContactMonitorState& state, double* values) const override;
+
+  // The outputs of the last Finish held in a state of this monitor.
+  static const GearMeshOutputs& Outputs(const contact::ContactMonitorState& state);
 
  private:
-  GearMeshOutputs out_;
-  Transform X_G1W_;  // gear 1 frame from world
-  double base_radius1_m_ = 0;
+  GearMeshInfo info_;
+  std::vector<OutputDescription> outputs_;
 };
 
-// The transmission error of the header at these poses (m).
+// The transmission error of the header at these poses of the bodies of sides a and b (m).
 double GearTransmissionError(const GearMeshInfo& info, const Transform& X_WA, const Transform& X_WB);
 
-// Writes the outputs in the order of kGearMeshOutputNames.
-void WriteGearMeshOutputs(const GearMeshOutputs& o, double* values);
-
-}  // namespace orrery::contact
+}  // namespace orrery::gears

@@ -1,4 +1,4 @@
-#include "contact/gear_contact.h"
+#include "models/gear_contact.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,10 @@
 
 #include "models/mesh_stiffness.h"
 
-namespace orrery::contact {
+namespace orrery::gears {
+
+// The general contact engine this layer builds on.
+using namespace orrery::contact;
 
 namespace {
 
@@ -57,15 +60,15 @@ std::shared_ptr<const ContactSurface> MakeGearContactSurface(const gears::Gear& 
                                      .fillet = options.fillet_intervals,
                                      .involute = options.involute_intervals,
                                      .tip = options.tip_intervals};
-  std::vector<gears::TriangleMesh> parts;
+  std::vector<TriangleMesh> parts;
   // The tooth ring of the mesh-zone test: tooth t about angle 2 pi t / z, radial band and half
   // angle measured on the vertices (gear frame).
-  ToothRing ring;
+  PartRing ring;
   ring.X_BG = X_BG;
   ring.inner_radius_m = 1e300;
   for (int t = 0; t < gear.teeth(); ++t) {
     if (std::find(missing.begin(), missing.end(), t) != missing.end()) continue;
-    gears::TriangleMesh m = gears::MakeToothSurfaceMesh(gear, t, res, options.face_intervals);
+    TriangleMesh m = gears::MakeToothSurfaceMesh(gear, t, res, options.face_intervals);
     const double angle = 2 * kPi * t / gear.teeth();
     for (const Vec3& v : m.vertices) {
       const double r = std::hypot(v.x(), v.y());
@@ -126,11 +129,12 @@ ContactElementSpec MakeGearContactSpec(const std::string& name, const gears::Gea
               .hunt_crossley_s_per_m = options.hunt_crossley_s_per_m,
               .friction_coefficient = options.friction_coefficient,
               .slip_velocity_m_s = options.slip_velocity_m_s};
-  spec.gear = GearMeshInfo{.X_AG1 = options.X_B1G1, .X_BG2 = options.X_B2G2,
-                           .base_radius1_m = pair.gear1().base_radius_m(),
-                           .base_radius2_m = pair.gear2().base_radius_m(),
-                           .teeth1 = pair.gear1().teeth(), .teeth2 = pair.gear2().teeth(),
-                           .internal = pair.internal()};
+  spec.monitor = std::make_shared<const GearMeshMonitor>(
+      GearMeshInfo{.X_AG1 = options.X_B1G1, .X_BG2 = options.X_B2G2,
+                   .base_radius1_m = pair.gear1().base_radius_m(),
+                   .base_radius2_m = pair.gear2().base_radius_m(),
+                   .teeth1 = pair.gear1().teeth(), .teeth2 = pair.gear2().teeth(),
+                   .internal = pair.internal()});
   spec.record_points = options.record_points;
   return spec;
 }
@@ -246,4 +250,4 @@ void ContactPattern::Add(int tooth, const Vec3& p_W) {
   point_.pattern_max_m[k] = std::max(point_.pattern_max_m[k], s);
 }
 
-}  // namespace orrery::contact
+}  // namespace orrery::gears

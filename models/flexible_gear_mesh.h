@@ -59,12 +59,12 @@
 //   FlexibleMeshSweep s = SweepFlexibleGearMesh(pair, o, /*load_n=*/1429, /*points=*/20);
 #include <vector>
 
-#include "contact/gear_contact.h"
+#include "models/gear_contact.h"
 #include "mbd/flexible_body.h"
 #include "models/gear_fe_mesh.h"
 #include "models/mesh_stiffness.h"
 
-namespace orrery::contact {
+namespace orrery::gears {
 
 struct FlexibleGearMeshOptions {
   // FE mesh of both gears (bore radii below). Default: coarse hex20 that a CI test affords.
@@ -76,7 +76,7 @@ struct FlexibleGearMeshOptions {
   double bore_radius1_m = 0, bore_radius2_m = 0;
   int teeth_each_side = 2;          // teeth with attachment modes: -n..n around the mesh
   // Contact surface: the analytic flanks and tips embedded in the FE surface
-  // (FlexibleContactSurface's embedded form) with these resolutions (the rigid faceting study of
+  // (contact::FlexibleContactSurface's embedded form) with these resolutions (the rigid faceting study of
   // gear_contact.h: 100 involute intervals keep the false TE under 0.1 um), or the FE surface.
   bool embedded_flanks = true;
   // Across the face: this many intervals per FE element layer, so that a line load reaches the
@@ -99,7 +99,7 @@ struct FlexibleGearBody {
   // With options.embedded_flanks: the analytic loaded flank and tip of each of those teeth (one
   // part per tooth, gear frame) and their shapes (3 #V x nf) from the serendipity shape functions
   // of the FE faces they lie on.
-  std::vector<gears::TriangleMesh> fine_parts;
+  std::vector<TriangleMesh> fine_parts;
   Eigen::MatrixXd fine_shapes;
   int fe_nodes = 0;
   double reduce_seconds = 0;
@@ -158,4 +158,4 @@ FlexibleMeshSweep SweepFlexibleGearMesh(const gears::GearPair& pair,
                                         const FlexibleGearMeshOptions& options, double load_n,
                                         int points);
 
-}  // namespace orrery::contact
+}  // namespace orrery::gears

@@ -1,4 +1,4 @@
-// Mesh outputs of a gear contact element (contact/gear_mesh_outputs.cpp) against independent
+// Mesh outputs of a gear contact element (models/gear_mesh_monitor.cpp) against independent
 // measures of the same quantities:
 //   - transmission error: the quasi-static sweep (SweepGearMesh) sets TE itself, turning gear 1
 //     by TE / r_b1 off its kinematic angle; the element reads it back from the poses alone, also
@@ -11,18 +11,20 @@
 //   - pattern: the sweep's own per-tooth extents along the line of action (its ContactPattern,
 //     points on gear 1's surface) have the element's as their envelope; the face width bounds
 //     it axially.
-#include "contact/gear_mesh_outputs.h"
+#include "models/gear_mesh_monitor.h"
 
 #include <cmath>
 #include <vector>
 
 #include <gtest/gtest.h>
 
-#include "contact/gear_contact.h"
+#include "models/gear_contact.h"
 #include "models/gear_geometry.h"
 
-namespace orrery::contact {
+namespace orrery::gears {
 namespace {
+
+using namespace orrery::contact;  // the engine the gear layer builds on
 
 constexpr double kPi = 3.14159265358979323846;
 
@@ -52,15 +54,16 @@ void CheckPair(const gears::GearPair& pair, double load_n) {
   GearContactOptions o;
   o.involute_intervals = 40;
   const ContactElement element(MakeGearContactSpec("mesh", pair, 1, 2, o));
-  ASSERT_TRUE(element.spec().gear.has_value());
-  const GearMeshInfo& info = *element.spec().gear;
+  const auto* monitor = dynamic_cast<const GearMeshMonitor*>(element.spec().monitor.get());
+  ASSERT_NE(monitor, nullptr);
+  const GearMeshInfo& info = monitor->info();
   const MeshSweep sweep = SweepGearMesh(pair, o, load_n, 6);
   const double z1 = pair.gear1().teeth(), z2 = pair.gear2().teeth();
   const double rb1 = pair.gear1().base_radius_m(), a = pair.center_distance_m();
   const Vec3 p2 = pair.internal() ? Vec3(-a, 0, 0) : Vec3(a, 0, 0);
   // A rigid motion of the whole pair (must not change the TE).
   const Transform moved(AxisAngle(Vec3(0.3, -0.2, 1).normalized(), 0.7), Vec3(0.1, -0.4, 2.0));
-  ContactWorkspace ws(*element.spec().surface_a, *element.spec().surface_b);
+  ContactWorkspace ws(*element.spec().surface_a, *element.spec().surface_b, 0, monitor);
   for (const MeshSweepPoint& pt : sweep.points) {
     const double theta2 = pair.internal() ? kPi / z2 + z1 / z2 * pt.roll_angle_rad
                                           : kPi + kPi / z2 - z1 / z2 * pt.roll_angle_rad;
@@ -85,7 +88,7 @@ void CheckPair(const gears::GearPair& pair, double load_n) {
     const double h = 1e-4 * te;
     const double k_fd = (line_force(te + h) - line_force(te - h)) / (2 * h);
     line_force(te);
-    const GearMeshOutputs& out = ws.gear_mesh.outputs();
+    const GearMeshOutputs& out = GearMeshMonitor::Outputs(*ws.monitor);
     EXPECT_NEAR(out.transmission_error_m, te, 1e-12);
     // The sweep balanced the load's moment F r_b1 with the contact's (to its tolerance).
     EXPECT_NEAR(out.line_of_action_force_n, load_n, 1e-6 * load_n);
@@ -109,16 +112,17 @@ void CheckPair(const gears::GearPair& pair, double load_n) {
   }
 }
 
-TEST(GearMeshOutputs, ExternalPairAgainstTheSweep) { CheckPair(ExternalPair(), 1429); }
+TEST(GearMeshMonitor, ExternalPairAgainstTheSweep) { CheckPair(ExternalPair(), 1429); }
 
-TEST(GearMeshOutputs, InternalPairAgainstTheSweep) { CheckPair(InternalPair(), 8000); }
+TEST(GearMeshMonitor, InternalPairAgainstTheSweep) { CheckPair(InternalPair(), 8000); }
 
-TEST(GearMeshOutputs, NoContactLeavesThePatternUnset) {
+TEST(GearMeshMonitor, NoContactLeavesThePatternUnset) {
   const gears::GearPair pair = ExternalPair();
   GearContactOptions o;
   o.involute_intervals = 16;
   const ContactElement element(MakeGearContactSpec("mesh", pair, 1, 2, o));
-  ContactWorkspace ws(*element.spec().surface_a, *element.spec().surface_b);
+  ContactWorkspace ws(*element.spec().surface_a, *element.spec().surface_b, 0,
+                      element.spec().monitor.get());
   // Gear 1 ahead by 5 um along the line of action, gear 2 pulled out by 1 mm: the flanks are
   // apart, the angles unchanged.
   const double rb1 = pair.gear1().base_radius_m();
@@ -130,10 +134,11 @@ TEST(GearMeshOutputs, NoContactLeavesThePatternUnset) {
   double e = 0, p = 0;
   element.CalcForces(Vec6::Zero(), Vec6::Zero(), ws, &f1, &f2, &e, &p);
   EXPECT_EQ(ws.contact_points, 0);
-  EXPECT_NEAR(ws.gear_mesh.outputs().transmission_error_m, 5e-6, 1e-12);
-  EXPECT_EQ(ws.gear_mesh.outputs().mesh_stiffness_n_per_m, 0);
-  EXPECT_TRUE(std::isnan(ws.gear_mesh.outputs().pattern_roll_min_m));
+  const GearMeshOutputs& out = GearMeshMonitor::Outputs(*ws.monitor);
+  EXPECT_NEAR(out.transmission_error_m, 5e-6, 1e-12);
+  EXPECT_EQ(out.mesh_stiffness_n_per_m, 0);
+  EXPECT_TRUE(std::isnan(out.pattern_roll_min_m));
 }
 
 }  // namespace
-}  // namespace orrery::contact
+}  // namespace orrery::gears

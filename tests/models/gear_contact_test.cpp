@@ -1,4 +1,4 @@
-// Gear contact from gear geometry (contact/gear_contact.h) on seed 001's 18/34 sun-planet pair
+// Gear contact from gear geometry (models/gear_contact.h) on seed 001's 18/34 sun-planet pair
 // (m = 1.5 mm, 21.3 deg, b = 30 mm).
 //   Faceting: a perfect rigid involute pair under light load (50 N) has no transmission error
 //   apart from the load sharing; the flat facets add a false TE that vanishes as the flanks are
@@ -6,7 +6,7 @@
 //   of its TE minus the reference's). The default resolution must stay under 0.1 um (DESIGN.md,
 //   "Tooth contact"), and a coarse one (24) must not, or the test could not fail.
 //   Calibration: k_A from the closed form of the header reproduces delta_ref = F / (c' b).
-#include "contact/gear_contact.h"
+#include "models/gear_contact.h"
 
 #include <algorithm>
 #include <cmath>
@@ -16,8 +16,10 @@
 
 #include "models/mesh_stiffness.h"
 
-namespace orrery::contact {
+namespace orrery::gears {
 namespace {
+
+using namespace orrery::contact;  // the engine the gear layer builds on
 
 gears::GearPair Seed001SunPlanet() {
   const double deg = 3.14159265358979323846 / 180;
@@ -70,4 +72,4 @@ TEST(GearContactTest, PenaltyCalibrationFollowsTheLineContactClosedForm) {
 }
 
 }  // namespace
-}  // namespace orrery::contact
+}  // namespace orrery::gears

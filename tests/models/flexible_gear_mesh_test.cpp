@@ -1,4 +1,4 @@
-// Quasi-static mesh stiffness with flexible (FE-reduced) gears (contact/flexible_gear_mesh.cpp),
+// Quasi-static mesh stiffness with flexible (FE-reduced) gears (models/flexible_gear_mesh.cpp),
 // seed 001's sun-planet pair (34/18, m = 1.5 mm, 21.3 deg, b = 30 mm; standard addenda here, so
 // eps_alpha = 1.557) at 1429 N, on the default (coarse, CI) hex20 meshes. Oracles:
 //   - the path of contact of the gear geometry: the number of tooth pairs on the unloaded path
@@ -13,11 +13,13 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include "contact/flexible_gear_mesh.h"
+#include "models/flexible_gear_mesh.h"
 #include "models/mesh_stiffness.h"
 
-namespace orrery::contact {
+namespace orrery::gears {
 namespace {
+
+using namespace orrery::contact;  // the engine the gear layer builds on
 
 constexpr double kDeg = 3.14159265358979323846 / 180;
 
@@ -90,4 +92,4 @@ TEST(FlexibleGearMesh, Seed001SunPlanetZonesAndStiffness) {
 }
 
 }  // namespace
-}  // namespace orrery::contact
+}  // namespace orrery::gears

@@ -1,4 +1,4 @@
-// A broken tooth in a running spur pair with tooth contact (contact/gear_contact.h: a tooth left
+// A broken tooth in a running spur pair with tooth contact (models/gear_contact.h: a tooth left
 // out of the wheel's surface). Seed 001's 18/34 pair (m 1.5 mm, 21.3 deg, b 30 mm, contact ratio
 // about 1.5) with 20 um normal backlash: the pinion driven at constant speed, the wheel braked by
 // a torque that gives 1000 N along the line of action, generalized-alpha at a fixed step. The
@@ -27,15 +27,17 @@
 #include <gtest/gtest.h>
 
 #include "contact/contact_element.h"
-#include "contact/gear_contact.h"
+#include "models/gear_contact.h"
 #include "mbd/data.h"
 #include "mbd/integrator.h"
 #include "mbd/kinematics.h"
 #include "mbd/model.h"
 #include "mbd/state.h"
 
-namespace orrery::contact {
+namespace orrery::gears {
 namespace {
+
+using namespace orrery::contact;  // the engine the gear layer builds on
 
 constexpr double kPi = 3.14159265358979323846;
 
@@ -62,8 +64,7 @@ class ObservedContact final : public ExternalForceElement {
     obs_->node_evaluations = std::max(obs_->node_evaluations, s.node_evaluations);
     ++obs_->calls;
   }
-  std::vector<std::string> OutputNames() const override { return element_.OutputNames(); }
-  std::vector<std::string> OutputUnits() const override { return element_.OutputUnits(); }
+  const std::vector<OutputDescription>& outputs() const override { return element_.outputs(); }
   void GetOutputs(const ExternalForceWorkspace& ws, double* values) const override {
     element_.GetOutputs(ws, values);
   }
@@ -257,4 +258,4 @@ TEST(BrokenTooth, LoadMovesToTheNeighboursWithoutPenetratingOrLosingContact) {
 }
 
 }  // namespace
-}  // namespace orrery::contact
+}  // namespace orrery::gears

@@ -1,5 +1,5 @@
 // Seed 003's planetary stage with tooth contact on every mesh and planet 1 a Craig-Bampton-reduced
-// FE gear (contact/train_contact.h, "Flexible planets"): sun and ring driven at 10 and 80.6 rad/s,
+// FE gear (models/train_contact.h, "Flexible planets"): sun and ring driven at 10 and 80.6 rad/s,
 // the carrier loaded by 6000 N m (ramped in smoothly), generalized-alpha at 5 us.
 // Oracles (Newton's laws and the stage's power flow, not the contact code):
 //   - planet 1's moment balance: its sun-mesh and ring-mesh forces act on the same base radius,
@@ -26,7 +26,7 @@
 #include <gtest/gtest.h>
 
 #include "contact/flexible_contact_element.h"
-#include "contact/train_contact.h"
+#include "models/train_dynamics.h"
 #include "flex/craig_bampton.h"
 #include "flex/fe_assembly.h"
 #include "flex/fe_interface.h"
@@ -40,8 +40,10 @@
 #include "models/planetary_power_flow.h"
 #include "models/planetary_train.h"
 
-namespace orrery::contact {
+namespace orrery::gears {
 namespace {
+
+using namespace orrery::contact;  // the engine the gear layer builds on
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kModule = 4e-3, kAlpha = 22.5 * kPi / 180, kWidth = 0.04;
@@ -70,7 +72,7 @@ std::shared_ptr<const FlexibleBodyModes> ReducePlanet(int modes) {
 
 struct Stage {
   std::shared_ptr<const gears::PlanetaryTrain> train;
-  TrainContactModel model;
+  gears::TrainModel model;
   std::shared_ptr<const FlexibleBodyModes> planet;
 };
 
@@ -98,7 +100,7 @@ Stage MakeStage(const std::shared_ptr<const FlexibleBodyModes>& planet, double r
   o.port_loads = false;
   o.output_torque_Nm = TimeFunction::SmoothStep(0, ramp_s, 0, -kCarrierTorque);
   if (planet) {
-    auto& p = o.flexible_planets["S.planet1"];
+    auto& p = o.flexible_bodies["S.planet1"];
     p.modes = planet;
     p.options.damping_ratios = {0.02};
   }
@@ -108,7 +110,9 @@ Stage MakeStage(const std::shared_ptr<const FlexibleBodyModes>& planet, double r
   c.gear.hunt_crossley_s_per_m = 0.5;
   c.gear.margin_m = 100e-6;
   c.flexible.face_intervals = 2;  // vertex rows on the element layers: CI speed
-  s.model = BuildTrainContactModel(*s.train, range, o, c);
+  o.mesh_model = gears::MeshModel::kContact;
+  o.contact = c;
+  s.model = gears::BuildTrainModel(*s.train, range, o);
   return s;
 }
 
@@ -132,7 +136,7 @@ double FacetTolerance(const Stage& s, int intervals) {
   for (int mi = 0; mi < static_cast<int>(s.train->meshes.size()); ++mi) {
     gears::TrainModelOptions o;
     o.face_width_m = kWidth;
-    const gears::GearPair pair = MakeTrainContactPair(*s.train, mi, o, {});
+    const gears::GearPair pair = gears::MakeTrainGearPair(*s.train, mi, o);
     for (const gears::Gear* g : {&pair.gear1(), &pair.gear2()}) {
       const double rb = g->base_radius_m();
       auto roll = [&](double r) { return std::sqrt(r * r - rb * rb) / rb; };
@@ -161,8 +165,8 @@ constexpr double kStep = 5e-6, kRamp = 0.5e-3;
 
 StageRun Simulate(const Stage& s) {
   const auto wall0 = std::chrono::steady_clock::now();
-  const Model& m = *s.model.train_model.model;
-  const gears::TrainModel& tm = s.model.train_model;
+  const Model& m = *s.model.model;
+  const gears::TrainModel& tm = s.model;
   IntegratorOptions io;
   io.kind = IntegratorKind::kGeneralizedAlpha;
   io.step = kStep;
@@ -209,13 +213,14 @@ StageRun Simulate(const Stage& s) {
     for (int k = 0; k < 6; ++k) {
       const int e = s.model.contacts[k].external_force;
       double out[16];  // 13 outputs of a flexible gear contact
+      const std::vector<OutputDescription>& outputs = m.external_forces[e]->outputs();
+      ASSERT_LE(OutputValueCount(outputs), 16);
       m.external_forces[e]->GetOutputs(*data.external[e], out);
       force[k][i] = out[0];
       if (s.model.contacts[k].flexible_side) {
-        const auto names = m.external_forces[e]->OutputNames();
-        for (size_t j = 0; j < names.size(); ++j) {
-          if (names[j] == "deformation_bound") r.max_bound_m = std::max(r.max_bound_m, out[j]);
-          if (names[j] == "inflation_exceeded") r.exceeded = std::max(r.exceeded, static_cast<long>(out[j]));
+        for (size_t j = 0; j < outputs.size(); ++j) {
+          if (outputs[j].name == "deformation_bound") r.max_bound_m = std::max(r.max_bound_m, out[j]);
+          if (outputs[j].name == "inflation_exceeded") r.exceeded = std::max(r.exceeded, static_cast<long>(out[j]));
         }
       }
     }
@@ -332,11 +337,11 @@ TEST(FlexibleTrainContact, FlexiblePlanetCarriesItsShare) {
   // contact ratios between 1 and 2, so rho lies between its values for n = 1 and n = 2: the
   // simulated q must lie between the two predictions (widened by the facet and quadrature
   // tolerances of the means).
-  const gears::Gear planet_gear = MakeTrainContactPair(*flexible.train, 0, [] {
+  const gears::Gear planet_gear = gears::MakeTrainGearPair(*flexible.train, 0, [] {
     gears::TrainModelOptions o;
     o.face_width_m = kWidth;
     return o;
-  }(), {}).gear2();
+  }()).gear2();
   const double c_modal = ModalPitchCompliance(*planet, planet_gear);
   auto branch_compliance = [&](const Stage& s, double F, double n) {
     double c = 0;
@@ -369,4 +374,4 @@ TEST(FlexibleTrainContact, FlexiblePlanetCarriesItsShare) {
 }
 
 }  // namespace
-}  // namespace orrery::contact
+}  // namespace orrery::gears

@@ -1,4 +1,4 @@
-#include "contact/flexible_gear_mesh.h"
+#include "models/flexible_gear_mesh.h"
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -12,13 +12,17 @@
 
 #include "contact/flexible_contact_element.h"
 #include "flex/fe_assembly.h"
+#include "flex/fe_element.h"
 #include "flex/fe_interface.h"
 #include "flex/flexible_body_modes.h"
 #include "flex/geometric_stiffness.h"
 #include "contact/triangle_geometry.h"
 #include "models/mesh_stiffness.h"
 
-namespace orrery::contact {
+namespace orrery::gears {
+
+// The general contact engine this layer builds on.
+using namespace orrery::contact;
 
 namespace {
 
@@ -37,47 +41,23 @@ int ToothOf(const Vec3& p, int z) {
   return ((k % z) + z) % z;
 }
 
-// 8-node serendipity face: corners 0-3 at (xi, eta) = (-1,-1), (1,-1), (1,1), (-1,1), midsides
-// 4-7 on the edges 0-1, 1-2, 2-3, 3-0. Shape functions and their derivatives.
-void Serendipity(double x, double e, double N[8], double Nx[8], double Ne[8]) {
-  static const double cx[4] = {-1, 1, 1, -1}, ce[4] = {-1, -1, 1, 1};
-  for (int i = 0; i < 4; ++i) {
-    const double a = x * cx[i], b = e * ce[i];
-    N[i] = 0.25 * (1 + a) * (1 + b) * (a + b - 1);
-    Nx[i] = 0.25 * cx[i] * (1 + b) * (2 * a + b);
-    Ne[i] = 0.25 * ce[i] * (1 + a) * (a + 2 * b);
-  }
-  // Midsides at eta = -1 (4), xi = 1 (5), eta = 1 (6), xi = -1 (7).
-  N[4] = 0.5 * (1 - x * x) * (1 - e), Nx[4] = -x * (1 - e), Ne[4] = -0.5 * (1 - x * x);
-  N[5] = 0.5 * (1 + x) * (1 - e * e), Nx[5] = 0.5 * (1 - e * e), Ne[5] = -e * (1 + x);
-  N[6] = 0.5 * (1 - x * x) * (1 + e), Nx[6] = -x * (1 + e), Ne[6] = 0.5 * (1 - x * x);
-  N[7] = 0.5 * (1 - x) * (1 - e * e), Nx[7] = -0.5 * (1 - e * e), Ne[7] = -e * (1 - x);
-}
-
-// Boundary faces of a hex20 mesh as 8 node indices in the order of Serendipity() (CalculiX
-// hex20: corners 0-7, midsides 8-11 (0-1, 1-2, 2-3, 3-0), 12-15 (4-5, 5-6, 6-7, 7-4), 16-19 (0-4,
-// 1-5, 2-6, 3-7)).
+// Boundary faces of a hex20 mesh as 8 node indices (corners, then midsides: the node order of
+// flex::QuadFaceShape8), in the order of their sorted corner nodes.
 std::vector<std::array<int, 8>> BoundaryFaces8(const flex::FeMesh& mesh) {
-  static const int faces[6][8] = {{0, 3, 2, 1, 11, 10, 9, 8},     {4, 5, 6, 7, 12, 13, 14, 15},
-                                  {0, 1, 5, 4, 8, 17, 12, 16},    {1, 2, 6, 5, 9, 18, 13, 17},
-                                  {2, 3, 7, 6, 10, 19, 14, 18},   {3, 0, 4, 7, 11, 16, 15, 19}};
-  std::map<std::array<int, 4>, std::pair<int, std::array<int, 8>>> count;
-  for (const flex::FeElement& el : mesh.elements()) {
+  for (const flex::FeElement& el : mesh.elements())
     if (el.type != flex::ElementType::kHex20)
       throw std::invalid_argument("flexible gear mesh: embedded flanks need hex20 elements");
-    for (const auto& f : faces) {
-      std::array<int, 8> nodes;
-      for (int k = 0; k < 8; ++k) nodes[k] = el.nodes[f[k]];
-      std::array<int, 4> key = {nodes[0], nodes[1], nodes[2], nodes[3]};
-      std::sort(key.begin(), key.end());
-      auto& entry = count[key];
-      ++entry.first;
-      entry.second = nodes;
-    }
+  std::vector<std::pair<std::array<int, 4>, std::array<int, 8>>> keyed;
+  for (const flex::BoundaryFace& f : flex::BoundaryFaces(mesh)) {
+    std::array<int, 8> nodes;
+    for (int k = 0; k < 4; ++k) nodes[k] = f.corner_nodes[k], nodes[4 + k] = f.midside_nodes[k];
+    std::array<int, 4> key = f.corner_nodes;
+    std::sort(key.begin(), key.end());
+    keyed.emplace_back(key, nodes);
   }
+  std::sort(keyed.begin(), keyed.end());
   std::vector<std::array<int, 8>> out;
-  for (const auto& [key, entry] : count)
-    if (entry.first == 1) out.push_back(entry.second);
+  for (const auto& [key, nodes] : keyed) out.push_back(nodes);
   return out;
 }
 
@@ -217,7 +197,7 @@ FlexibleGearBody ReduceGearForContact(const gears::Gear& gear, bool second,
     auto project = [&](const std::array<int, 8>& f, const Vec3& v, double* xi, double* eta) {
       double x = 0, e = 0, N[8], Nx[8], Ne[8];
       for (int it = 0; it < 30; ++it) {
-        Serendipity(x, e, N, Nx, Ne);
+        flex::QuadFaceShape8(x, e, N, Nx, Ne);
         Vec3 p = Vec3::Zero(), px = Vec3::Zero(), pe = Vec3::Zero();
         for (int k = 0; k < 8; ++k) {
           const Vec3 xk = mesh.positions()[f[k]];
@@ -230,7 +210,7 @@ FlexibleGearBody ReduceGearForContact(const gears::Gear& gear, bool second,
         x = std::clamp(x + d(0), -1.5, 1.5), e = std::clamp(e + d(1), -1.5, 1.5);
         if (d.norm() < 1e-13) break;
       }
-      Serendipity(x, e, N, Nx, Ne);
+      flex::QuadFaceShape8(x, e, N, Nx, Ne);
       Vec3 p = Vec3::Zero();
       for (int k = 0; k < 8; ++k) p += N[k] * mesh.positions()[f[k]];
       *xi = x, *eta = e;
@@ -245,7 +225,7 @@ FlexibleGearBody ReduceGearForContact(const gears::Gear& gear, bool second,
     std::vector<Eigen::MatrixXd> part_shapes;
     int total = 0;
     for (int k : body.teeth) {
-      const gears::TriangleMesh full = gears::MakeToothSurfaceMesh(gear, k, res, options.face_intervals_per_element * spec.face_divisions);
+      const TriangleMesh full = gears::MakeToothSurfaceMesh(gear, k, res, options.face_intervals_per_element * spec.face_divisions);
       // Each vertex on its FE face (closest within the tolerance), or none.
       const int nv = static_cast<int>(full.vertices.size());
       std::vector<int> face_of(nv, -1);
@@ -258,7 +238,7 @@ FlexibleGearBody ReduceGearForContact(const gears::Gear& gear, bool second,
           if (d <= best) best = d, face_of[v] = f, local[v] = {x, e};
         }
       }
-      gears::TriangleMesh part;
+      TriangleMesh part;
       std::vector<int> index(nv, -1), used;
       for (const auto& t : full.triangles) {
         if (face_of[t[0]] < 0 || face_of[t[1]] < 0 || face_of[t[2]] < 0) continue;
@@ -277,7 +257,7 @@ FlexibleGearBody ReduceGearForContact(const gears::Gear& gear, bool second,
       Eigen::MatrixXd S = Eigen::MatrixXd::Zero(3 * used.size(), modes->nf);
       for (size_t i = 0; i < used.size(); ++i) {
         double N[8], Nx[8], Ne[8];
-        Serendipity(local[used[i]](0), local[used[i]](1), N, Nx, Ne);
+        flex::QuadFaceShape8(local[used[i]](0), local[used[i]](1), N, Nx, Ne);
         const auto& f = faces[face_of[used[i]]];
         for (int c = 0; c < 8; ++c)
           S.middleRows(3 * i, 3) += N[c] * modes->nodes[node_of[f[c]]].translation_shapes;
@@ -543,4 +523,4 @@ FlexibleMeshSweep SweepFlexibleGearMesh(const gears::GearPair& pair,
   return sweep;
 }
 
-}  // namespace orrery::contact
+}  // namespace orrery::gears

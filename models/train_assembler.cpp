@@ -1,0 +1,205 @@
+// BuildTrainModel: the table of contents of a train's assembly (train_dynamics.h), and what the
+// stages share (train_assembly.h).
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "models/train_assembly.h"
+
+namespace orrery::gears {
+namespace {
+
+// Names in the options that name nothing are errors, not silently ignored settings.
+void CheckOptionNames(const PlanetaryTrain& train, const TrainModelOptions& o) {
+  for (const auto& [name, ov] : o.members)
+    if (!train.member_by_name.count(name) && !train.planet_set_by_name.count(name))
+      FailTrain("member override '" + name + "' names no member or planet set");
+  for (const auto& [name, ov] : o.meshes)
+    if (!train.mesh_by_name.count(name)) FailTrain("mesh override '" + name + "' names no mesh");
+  for (const auto& [key, model] : o.mesh_models) {
+    const std::string mesh = key.substr(0, key.find('#'));
+    if (!train.mesh_by_name.count(mesh))
+      FailTrain("mesh model '" + key + "' names no mesh (write 'S.sun-planet' or 'S.sun-planet#2')");
+    if (key.size() == mesh.size()) continue;
+    const Stage& st = train.stages[train.meshes[train.MeshIndex(mesh)].stage];
+    const std::string branch = key.substr(mesh.size() + 1);
+    const bool digits = !branch.empty() && std::all_of(branch.begin(), branch.end(), ::isdigit);
+    if (!digits || std::stoi(branch) < 1 || std::stoi(branch) > st.num_planets)
+      FailTrain("mesh model '" + key + "': branch must be 1.." + std::to_string(st.num_planets));
+  }
+  for (const auto& [name, body] : o.flexible_bodies) {
+    bool found = train.member_by_name.count(name) > 0;
+    for (size_t s = 0; s < train.planet_sets.size(); ++s)
+      for (size_t i = 0; i < train.planet_sets[s].angles_rad.size(); ++i)
+        found = found || train.planet_sets[s].name + std::to_string(i + 1) == name;
+    if (!found) FailTrain("flexible body '" + name + "': no planet or member of that name in the train");
+    if (!body.modes) FailTrain("flexible body '" + name + "': no reduced body (modes) given");
+    const auto member = train.member_by_name.find(name);
+    if (member != train.member_by_name.end() && train.members[member->second].kind == MemberKind::kCarrier)
+      FailTrain("flexible body '" + name + "': a flexible carrier is not supported (its planets' "
+                "pins would need joints on its interface nodes); keep it rigid");
+  }
+}
+
+// Other option values that make no model.
+void CheckOptionValues(const PlanetaryTrain& train, const TrainModelOptions& o) {
+  const int num_inputs = static_cast<int>(train.inputs.size());
+  if (!o.input_speeds_rad_s.empty() && static_cast<int>(o.input_speeds_rad_s.size()) != num_inputs)
+    FailTrain("input_speeds_rad_s needs one speed per train input (" + std::to_string(num_inputs) + ")");
+  if (!o.input_speed_functions.empty()) {
+    if (static_cast<int>(o.input_speed_functions.size()) != num_inputs)
+      FailTrain("input_speed_functions needs one function per train input (" + std::to_string(num_inputs) + ")");
+    if (!o.input_speeds_rad_s.empty()) FailTrain("give input_speeds_rad_s or input_speed_functions, not both");
+    if (o.input != TrainModelOptions::Input::kSpeed) FailTrain("input_speed_functions need Input::kSpeed");
+  }
+  if (!o.operating_speeds_rad_s.empty() && static_cast<int>(o.operating_speeds_rad_s.size()) != num_inputs)
+    FailTrain("operating_speeds_rad_s needs one speed per train input (" + std::to_string(num_inputs) + ")");
+  if (o.output_port_torque_n_m && o.input_torque_Nm != 0)
+    FailTrain("give input_torque_Nm or output_port_torque_n_m, not both");
+  if (o.two_sided_contact && !(o.backlash_m >= 0)) FailTrain("backlash must be >= 0");
+  if (o.tvms_samples_per_cycle < 2) FailTrain("tvms_samples_per_cycle must be >= 2");
+  if (o.mesh_stiffness_n_per_m && !(*o.mesh_stiffness_n_per_m > 0))
+    FailTrain("mesh_stiffness_n_per_m must be > 0");
+}
+
+// Train gear index of every tooth fault, checked.
+std::vector<int> FaultGears(const PlanetaryTrain& train, const TrainModelOptions& o) {
+  std::vector<int> gears;
+  for (const TrainToothFault& f : o.tooth_faults) {
+    int g = -1;
+    for (int k = 0; k < static_cast<int>(train.gears.size()); ++k)
+      if (train.gears[k].name == f.gear) g = k;
+    if (g < 0) FailTrain("tooth fault on '" + f.gear + "': no such gear");
+    const TrainGear& tg = train.gears[g];
+    if (tg.planet_set >= 0 && (f.branch < 0 || f.branch >= static_cast<int>(train.planet_sets[tg.planet_set].angles_rad.size())))
+      FailTrain("tooth fault on '" + f.gear + "': branch " + std::to_string(f.branch) + " out of range");
+    if (f.fault.tooth < 0 || f.fault.tooth >= tg.teeth)
+      FailTrain("tooth fault on '" + f.gear + "': tooth " + std::to_string(f.fault.tooth) + " out of range");
+    gears.push_back(g);
+  }
+  return gears;
+}
+
+}  // namespace
+
+void FailTrain(const std::string& what) { throw std::invalid_argument("train model: " + what); }
+
+double Frac(double x) {
+  const double f = x - std::floor(x);
+  return f >= 1.0 ? 0.0 : f;
+}
+
+const char* MeshModelName(MeshModel model) {
+  switch (model) {
+    case MeshModel::kKinematic: return "kinematic";
+    case MeshModel::kLumped: return "lumped";
+    case MeshModel::kContact: return "contact";
+  }
+  return "?";
+}
+
+MeshModel MeshModelOf(const PlanetaryTrain& train, int mesh, int branch, const TrainModelOptions& o) {
+  const std::string& name = train.meshes.at(mesh).name;
+  if (const auto it = o.mesh_models.find(name + "#" + std::to_string(branch + 1)); it != o.mesh_models.end())
+    return it->second;
+  if (const auto it = o.mesh_models.find(name); it != o.mesh_models.end()) return it->second;
+  return o.mesh_model;
+}
+
+TrainAssembly::TrainAssembly(const PlanetaryTrain& t, int r, const TrainModelOptions& options)
+    : train(t), range(r), o(options) {
+  if (range < 0 || range >= static_cast<int>(train.ranges.size()))
+    FailTrain("gear range index " + std::to_string(range) + " out of range");
+  CheckOptionNames(train, o);
+  CheckOptionValues(train, o);
+  fault_gear = FaultGears(train, o);
+  torsional = o.dofs == TrainDofs::kTorsional;
+  spatial = o.dofs == TrainDofs::kSpatial;
+  joint_type = torsional ? JointType::kRevolute : spatial ? JointType::kFree : JointType::kPlanar;
+  rot = torsional ? 0 : spatial ? 5 : 2;
+  tm.train = std::make_shared<const PlanetaryTrain>(train);
+  tm.range = range;
+  tm.options = options;
+  tm.dofs = o.dofs;
+  tm.rotation_coordinate = rot;
+}
+
+Eigen::VectorXd TrainAssembly::JointVelocity(double w) const {
+  Eigen::VectorXd v = Eigen::VectorXd::Zero(torsional ? 1 : spatial ? 6 : 3);
+  v(rot) = w;
+  return v;
+}
+
+std::string TrainAssembly::PlanetName(int set, int branch) const {
+  return train.planet_sets[set].name + std::to_string(branch + 1);
+}
+
+std::string TrainAssembly::GearBodyName(int gear, int branch) const {
+  const TrainGear& g = train.gears[gear];
+  return g.planet_set < 0 ? train.members[g.member].name : PlanetName(g.planet_set, branch);
+}
+
+BodyIndex TrainAssembly::GearBody(int gear, int branch) const {
+  const TrainGear& g = train.gears[gear];
+  return g.planet_set < 0 ? tm.member_bodies[g.member] : tm.planet_bodies[g.planet_set][branch];
+}
+
+JointIndex TrainAssembly::GearJoint(int gear, int branch) const {
+  const TrainGear& g = train.gears[gear];
+  return g.planet_set < 0 ? tm.member_joints[g.member] : tm.planet_joints[g.planet_set][branch];
+}
+
+FrameIndex TrainAssembly::GearMeshFrame(int gear, int branch) const {
+  const TrainGear& g = train.gears[gear];
+  return g.planet_set < 0 ? member_mesh_frame[g.member] : planet_mesh_frame[g.planet_set][branch];
+}
+
+const TrainBodyParams& TrainAssembly::GearParams(int gear) const {
+  const TrainGear& g = train.gears[gear];
+  return g.planet_set < 0 ? tm.member_params[g.member] : tm.planet_params[g.planet_set];
+}
+
+const TrainMemberOverride& TrainAssembly::Override(const std::string& name) const {
+  static const TrainMemberOverride kNone;
+  const auto it = o.members.find(name);
+  return it == o.members.end() ? kNone : it->second;
+}
+
+const TrainFlexibleBody* TrainAssembly::Flexible(const std::string& body_name) const {
+  const auto it = o.flexible_bodies.find(body_name);
+  return it == o.flexible_bodies.end() ? nullptr : &it->second;
+}
+
+Vec3 TrainGearCentre(const PlanetaryTrain& train, int g, int branch) {
+  const TrainGear& gear = train.gears[g];
+  if (gear.planet_set < 0) return Vec3::Zero();
+  const PlanetSet& ps = train.planet_sets[gear.planet_set];
+  const double psi = ps.angles_rad[branch];
+  return ps.center_radius_m * Vec3(std::cos(psi), std::sin(psi), 0);
+}
+
+std::pair<int, int> TrainSpecGears(const TrainMesh& m) {
+  if (m.kind == MeshKind::kInternal) return {m.gear_b, m.gear_a};
+  return {m.gear_a, m.gear_b};
+}
+
+const std::string& TrainGearOwnerName(const PlanetaryTrain& train, int g) {
+  const TrainGear& gear = train.gears[g];
+  return gear.planet_set < 0 ? train.members[gear.member].name : train.planet_sets[gear.planet_set].name;
+}
+
+TrainModel BuildTrainModel(const PlanetaryTrain& train, int range, const TrainModelOptions& options) {
+  TrainAssembly a(train, range, options);
+  ResolveOperatingPoint(a);
+  ResolveBodyParameters(a);
+  AddMembers(a);
+  AddPlanets(a);
+  AddMeshes(a);
+  AddCouplings(a);
+  AddDrives(a);
+  a.tm.model = std::move(a.b).Finalize();
+  CheckKinematicMeshes(a.tm);
+  return std::move(a.tm);
+}
+
+}  // namespace orrery::gears

@@ -1,0 +1,317 @@
+// The contact branches of BuildTrainModel's mesh stage (models/train_contact.h): per branch a
+// ContactElement between the rigid gear surfaces, or a FlexibleContactElement where a gear of the
+// branch is a flexible body (its analytic flanks embedded in its FE tooth surface).
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <memory>
+#include <numbers>
+#include <stdexcept>
+
+#include "contact/flexible_contact_element.h"
+#include "contact/triangle_geometry.h"
+#include "models/flexible_gear_mesh.h"
+#include "models/gear_fe_mesh.h"
+#include "models/train_assembly.h"
+
+namespace orrery::gears {
+
+using contact::ContactElement;
+using contact::ContactSide;
+using contact::FlexibleContactElement;
+using contact::FlexibleContactElementSpec;
+using contact::FlexibleContactSurface;
+using contact::FlexibleContactSurfaceSpec;
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+// (gear 1, gear 2) of a mesh: the external central gear or the planet first.
+std::pair<int, int> PairGears(const TrainMesh& m) {
+  if (m.kind == MeshKind::kInternal) return {m.gear_b, m.gear_a};
+  return {m.gear_a, m.gear_b};
+}
+
+// "flexible planet 'S.planet1': " or "flexible gear 'S.sun': ".
+std::string FlexibleWhat(const TrainAssembly& a, int gear, const std::string& body) {
+  return std::string(a.train.gears[gear].planet_set >= 0 ? "flexible planet '" : "flexible gear '") + body + "': ";
+}
+
+// The FE triangles of a reduced gear's tooth node sets (all of them: the surface must be whole),
+// the sets, and the lowest z of their nodes in B.
+struct ToothFaces {
+  struct Tri {
+    Vec3 a, b, c, centre;
+    double radius;
+  };
+  std::vector<std::string> sets;
+  std::vector<Tri> tris;
+  double z0 = 1e300;
+};
+
+ToothFaces ReducedToothFaces(const std::string& what, const FlexibleBodyModes& m, int z) {
+  ToothFaces f;
+  for (int k = 0; k < z; ++k)
+    for (const char* part : {"FLANK_PLUS", "FLANK_MINUS", "FILLET_PLUS", "FILLET_MINUS", "TIP"})
+      f.sets.push_back(ToothSetName(k, part));
+  f.sets.push_back("ROOT");
+  for (const std::string& set : f.sets)
+    if (!m.node_sets.count(set))
+      FailTrain(what + "its reduced body has no node set '" + set + "' (a gear of " + std::to_string(z) +
+                " teeth from the gear mesher, reduced with its surface nodes exported, has them)");
+  if (m.node_sets.count(ToothSetName(z, "TIP")))
+    FailTrain(what + "its reduced body has more teeth than the train's gear (" + std::to_string(z) + ")");
+  std::vector<char> allowed(m.nodes.size(), 0);
+  for (const std::string& set : f.sets)
+    for (int i : m.node_sets.at(set)) {
+      allowed[i] = 1;
+      f.z0 = std::min(f.z0, m.nodes[i].position.z());
+    }
+  for (const auto& t : m.surface_triangles) {
+    if (!allowed[t[0]] || !allowed[t[1]] || !allowed[t[2]]) continue;
+    ToothFaces::Tri tr{m.nodes[t[0]].position, m.nodes[t[1]].position, m.nodes[t[2]].position, Vec3::Zero(), 0};
+    tr.centre = (tr.a + tr.b + tr.c) / 3;
+    tr.radius = std::max({(tr.a - tr.centre).norm(), (tr.b - tr.centre).norm(), (tr.c - tr.centre).norm()});
+    f.tris.push_back(tr);
+  }
+  if (f.tris.empty()) FailTrain(what + "its reduced body has no surface triangles on the tooth node sets");
+  return f;
+}
+
+// Tooth t's analytic outline placed by X_BG, keeping the triangles whose vertices lie on the FE
+// faces; an involute or tip vertex off them is an error.
+TriangleMesh EmbeddedTooth(const std::string& what, const Gear& gear, int t, const ToothFaces& faces,
+                           const Transform& X_BG, const TrainContactOptions& c) {
+  const double tol = c.flexible.embed_tolerance_m;
+  auto distance = [&](const Vec3& v) {
+    double best = 1e300;
+    for (const ToothFaces::Tri& tr : faces.tris) {
+      if ((v - tr.centre).norm() - tr.radius > std::min(best, tol)) continue;
+      best = std::min(best, (contact::ClosestPointOnTriangle(v, tr.a, tr.b, tr.c).point - v).norm());
+    }
+    return best;
+  };
+  const ProfileResolution res{.root = c.gear.root_intervals, .fillet = c.gear.fillet_intervals,
+                              .involute = c.gear.involute_intervals, .tip = c.gear.tip_intervals};
+  const TriangleMesh full = MakeToothSurfaceMesh(gear, t, res, c.flexible.face_intervals);
+  const int nv = static_cast<int>(full.vertices.size());
+  std::vector<char> on(nv);
+  for (int v = 0; v < nv; ++v) {
+    const double d = distance(X_BG * full.vertices[v]);
+    on[v] = d <= tol;
+    if (!on[v] && std::hypot(full.vertices[v].x(), full.vertices[v].y()) > gear.form_radius_m() + 1e-9)
+      FailTrain(what + "tooth " + std::to_string(t) + ": a flank or tip point lies " + std::to_string(d) +
+                " m from the FE surface (embed tolerance " + std::to_string(tol) +
+                " m): does the reduce input's gear match the train's?");
+  }
+  TriangleMesh part;
+  std::vector<int> index(nv, -1);
+  for (const auto& tri : full.triangles) {
+    if (!on[tri[0]] || !on[tri[1]] || !on[tri[2]]) continue;
+    std::array<int, 3> out;
+    for (int k = 0; k < 3; ++k) {
+      if (index[tri[k]] < 0) {
+        index[tri[k]] = static_cast<int>(part.vertices.size());
+        part.vertices.push_back(X_BG * full.vertices[tri[k]]);
+      }
+      out[k] = index[tri[k]];
+    }
+    part.triangles.push_back(out);
+  }
+  return part;
+}
+
+// The contact surface of a flexible gear (train_contact.h): its analytic tooth outlines turned by
+// rot_B about B's z and shifted by the FE teeth's lowest z, embedded in the FE surface of its
+// tooth node sets; *z0 receives that z.
+std::shared_ptr<const FlexibleContactSurface> FlexibleGearSurface(
+    const std::string& what, const Gear& gear, const std::shared_ptr<const FlexibleBodyModes>& modes,
+    double rot_B, const std::vector<int>& missing, const TrainContactOptions& c, double* z0) {
+  const ToothFaces faces = ReducedToothFaces(what, *modes, gear.teeth());
+  *z0 = faces.z0;
+  const Transform X_BG(AxisAngle(Vec3::UnitZ(), rot_B), Vec3(0, 0, faces.z0));
+  std::vector<TriangleMesh> parts;
+  for (int t = 0; t < gear.teeth(); ++t) {
+    if (std::find(missing.begin(), missing.end(), t) != missing.end()) continue;
+    TriangleMesh part = EmbeddedTooth(what, gear, t, faces, X_BG, c);
+    if (!part.triangles.empty()) parts.push_back(std::move(part));
+  }
+  if (parts.empty()) FailTrain(what + "no tooth left");
+  const FlexibleContactSurfaceSpec spec{.node_sets = faces.sets, .gap_margin_m = c.gear.margin_m,
+                                        .deformation_allowance_m = c.flexible.deformation_allowance_m,
+                                        .slack_m = c.gear.slack_m};
+  try {
+    return std::make_shared<const FlexibleContactSurface>(modes, parts, spec, c.flexible.embed_tolerance_m);
+  } catch (const std::invalid_argument& e) {
+    FailTrain(what + e.what());
+  }
+}
+
+// Teeth of train gear g removed on branch `branch` (missing_teeth).
+std::vector<int> MissingTeeth(const TrainAssembly& a, int g, int branch) {
+  std::vector<int> teeth;
+  for (const auto& mt : a.o.contact.missing_teeth)
+    if (mt.gear == a.train.gears[g].name && (a.train.gears[g].planet_set < 0 || mt.branch == branch))
+      teeth.insert(teeth.end(), mt.teeth.begin(), mt.teeth.end());
+  return teeth;
+}
+
+// Gear frames in the body frames (train_contact.h, "Gear frames and tooth phasing").
+void PlaceGearFrames(const TrainAssembly& a, const TrainMesh& m, int g1, int g2, int branch, TrainContactMesh* e) {
+  const PlanetaryTrain& train = a.train;
+  const bool internal = m.kind == MeshKind::kInternal;
+  const int planet_gear = internal ? g1 : g2;
+  const PlanetSet& ps = train.planet_sets[train.gears[planet_gear].planet_set];
+  const double zp = train.gears[planet_gear].teeth;
+  // The sun of the stage for the planet phasing of a ring mesh.
+  double z_sun = internal ? 0 : train.gears[g1].teeth;
+  if (internal)
+    for (const TrainMesh& other : train.meshes)
+      if (other.stage == m.stage && other.kind == MeshKind::kExternal && other.gear_b == planet_gear &&
+          train.gears[other.gear_a].planet_set < 0)
+        z_sun = train.gears[other.gear_a].teeth;
+  const double psi = ps.angles_rad[branch];
+  const double planet_rot = kPi + kPi / zp + z_sun / zp * psi;
+  if (internal) {
+    e->rotation1_rad = planet_rot;
+    e->rotation2_rad = psi + kPi / train.gears[g2].teeth + zp / train.gears[g2].teeth * planet_rot;
+  } else {
+    e->rotation1_rad = 0;
+    e->rotation2_rad = planet_rot;
+  }
+}
+
+// The surface of a flexible gear, made once per body (its branches share it); its joint starts at
+// the gear frame's offset from a whole number of pitches (a planet's delta, train_contact.h).
+std::pair<std::shared_ptr<const FlexibleContactSurface>, double> FlexibleSurfaceOf(
+    TrainAssembly& a, int gear, int branch, const Gear& geometry, double rotation, double* delta) {
+  const std::string body = a.GearBodyName(gear, branch);
+  const double pitch = 2 * kPi / geometry.teeth();
+  const double whole = pitch * std::round(rotation / pitch);
+  *delta = rotation - whole;
+  auto [it, made] = a.flexible_surfaces.try_emplace(body);
+  if (!made) return it->second;
+  double z0 = 0;
+  it->second.first = FlexibleGearSurface(FlexibleWhat(a, gear, body), geometry, a.Flexible(body)->modes, whole,
+                                         MissingTeeth(a, gear, branch), a.o.contact, &z0);
+  it->second.second = z0;
+  if (*delta == 0) return it->second;
+  const JointIndex j = a.GearJoint(gear, branch);
+  const JointSpec& js = a.b.draft().joints[j].spec;
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(JointNq(js.type));
+  if (js.type == JointType::kRevolute) {
+    q(0) = *delta;
+  } else if (js.type == JointType::kPlanar) {
+    q(2) = *delta;
+  } else if (js.type == JointType::kFree) {
+    q(3) = std::cos(*delta / 2), q(6) = std::sin(*delta / 2);
+  } else {
+    FailTrain("flexible body '" + body + "': joint type " + JointTypeName(js.type) + " not supported");
+  }
+  a.b.SetJointPosition(j, q);
+  return it->second;
+}
+
+// A rigid partner's share of the penalty (its own tooth compliance: bore or ring rim).
+double PartnerRim(const TrainAssembly& a, int gear, const Gear& geometry) {
+  const TrainGear& rg = a.train.gears[gear];
+  const TrainMemberOverride& ov = a.Override(TrainGearOwnerName(a.train, gear));
+  const double r_ref = geometry.reference_radius_m();
+  return rg.internal ? ov.outer_radius_m.value_or(r_ref + a.o.ring_rim_modules * rg.tooth_form.normal_module_m)
+                     : ov.bore_radius_m.value_or(a.o.bore_to_pitch_ratio * r_ref);
+}
+
+// A branch with a flexible gear: FlexibleContactElement (train_contact.h, "Flexible gears").
+void AddFlexibleContact(TrainAssembly& a, const TrainMesh& m, int g1, int g2, int branch, const GearPair& pair,
+                        const GearContactOptions& go, TrainContactMesh& e) {
+  const bool flex1 = a.Flexible(a.GearBodyName(g1, branch)) != nullptr;
+  const bool flex2 = a.Flexible(a.GearBodyName(g2, branch)) != nullptr;
+  e.flexible_side = (flex1 ? 1 : 0) + (flex2 ? 2 : 0);
+  // Each side: its surface and its gear frame in its body.
+  std::array<ContactSide, 2> sides;
+  std::array<Transform, 2> X_BG;
+  double z0 = 0;
+  const std::array<int, 2> gear{g1, g2};
+  const std::array<bool, 2> flexible{flex1, flex2};
+  const std::array<double, 2> rotation{e.rotation1_rad, e.rotation2_rad};
+  for (int s = 0; s < 2; ++s) {
+    if (!flexible[s]) continue;
+    double delta = 0;
+    const auto [surface, z] = FlexibleSurfaceOf(a, gear[s], branch, s == 0 ? pair.gear1() : pair.gear2(),
+                                                rotation[s], &delta);
+    if (a.train.gears[gear[s]].planet_set >= 0) e.planet_initial_angle_rad = delta;
+    sides[s] = ContactSide{.body = s == 0 ? e.body1 : e.body2, .flexible = surface};
+    X_BG[s] = Transform(AxisAngle(Vec3::UnitZ(), rotation[s] - delta), Vec3(0, 0, z));
+    z0 = z;
+  }
+  FlexiblePairPenalty penalty;
+  for (int s = 0; s < 2; ++s) {
+    if (flexible[s]) continue;
+    // The rigid side: the rigid builder's surface, shifted by the flexible gear's z0.
+    const Gear& geometry = s == 0 ? pair.gear1() : pair.gear2();
+    X_BG[s] = Transform(AxisAngle(Vec3::UnitZ(), rotation[s]), Vec3(0, 0, z0));
+    sides[s] = ContactSide{.body = s == 0 ? e.body1 : e.body2,
+                           .rigid = MakeGearContactSurface(geometry, go, MissingTeeth(a, gear[s], branch), X_BG[s])};
+    (s == 0 ? penalty.rigid1 : penalty.rigid2) = true;
+    (s == 0 ? penalty.rim_radius1_m : penalty.rim_radius2_m) = PartnerRim(a, gear[s], geometry);
+  }
+  try {
+    e.calibration = CalibrateFlexibleGearContact(pair, a.o.gear_material, go.calibration_load_n, penalty);
+  } catch (const std::invalid_argument& err) {
+    FailTrain("mesh '" + e.name + "': " + err.what());
+  }
+  FlexibleContactElementSpec spec{
+      .name = e.name, .a = sides[0], .b = sides[1],
+      .law = {.stiffness_per_area = e.calibration.stiffness_per_area,
+              .hunt_crossley_s_per_m = go.hunt_crossley_s_per_m,
+              .friction_coefficient = go.friction_coefficient,
+              .slip_velocity_m_s = go.slip_velocity_m_s}};
+  spec.monitor = std::make_shared<const GearMeshMonitor>(
+      GearMeshInfo{.X_AG1 = X_BG[0], .X_BG2 = X_BG[1], .base_radius1_m = e.base_radius1_m,
+                   .base_radius2_m = e.base_radius2_m, .teeth1 = pair.gear1().teeth(),
+                   .teeth2 = pair.gear2().teeth(), .internal = m.kind == MeshKind::kInternal});
+  spec.record_points = go.record_points;
+  a.b.AddExternalForce(std::make_shared<FlexibleContactElement>(std::move(spec)));
+}
+
+}  // namespace
+
+void AddContactMesh(TrainAssembly& a, int mesh, int branch, const GearPair& unthinned) {
+  const TrainMesh& m = a.train.meshes[mesh];
+  const auto [g1, g2] = PairGears(m);
+  const bool internal = m.kind == MeshKind::kInternal;
+  TrainContactMesh e;
+  e.name = m.name + "#" + std::to_string(branch + 1);
+  e.train_mesh = mesh;
+  e.branch = branch;
+  e.body1 = a.GearBody(g1, branch);
+  e.body2 = a.GearBody(g2, branch);
+  PlaceGearFrames(a, m, g1, g2, branch, &e);
+  GearContactOptions go = a.o.contact.gear;
+  go.X_B1G1 = Transform(AxisAngle(Vec3::UnitZ(), e.rotation1_rad), Vec3::Zero());
+  go.X_B2G2 = Transform(AxisAngle(Vec3::UnitZ(), e.rotation2_rad), Vec3::Zero());
+  go.missing_teeth1 = MissingTeeth(a, g1, branch);
+  go.missing_teeth2 = MissingTeeth(a, g2, branch);
+  go.normal_backlash_m = a.o.contact.normal_backlash_m;
+  go.backlash_share1 = internal ? 0.0 : 1.0;  // the central gear takes the thinning
+  const GearPair pair = WithNormalBacklash(unthinned, go.normal_backlash_m, go.backlash_share1);
+  e.base_radius1_m = pair.gear1().base_radius_m();
+  e.base_radius2_m = pair.gear2().base_radius_m();
+  e.base_helix_angle_rad = pair.gear1().base_helix_angle_rad();
+  e.transverse_pressure_angle_rad = pair.working_pressure_angle_rad();
+  e.external_force = static_cast<int>(a.b.draft().external_forces.size());
+  if (a.Flexible(a.GearBodyName(g1, branch)) || a.Flexible(a.GearBodyName(g2, branch))) {
+    AddFlexibleContact(a, m, g1, g2, branch, pair, go, e);
+  } else {
+    e.calibration = CalibrateGearContact(pair, go);
+    go.normal_backlash_m = 0;  // already in `pair`
+    a.b.AddExternalForce(std::make_shared<ContactElement>(MakeGearContactSpec(e.name, pair, e.body1, e.body2, go)));
+  }
+  a.tm.branches.push_back({.train_mesh = mesh, .branch = branch, .model = MeshModel::kContact,
+                           .index = static_cast<int>(a.tm.contacts.size())});
+  a.tm.contacts.push_back(e);
+}
+
+}  // namespace orrery::gears
