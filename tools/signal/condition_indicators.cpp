@@ -31,6 +31,14 @@ std::pair<double, double> CentralMoments(std::span<const double> x) {
   return {m2 / n, m4 / n};
 }
 
+// A difference or residual signal at rounding level: nothing but regular components
+bool Negligible(std::span<const double> part, std::span<const double> tsa) {
+  double part_ms = 0, tsa_ms = 0;
+  for (double v : part) part_ms += v * v;
+  for (double v : tsa) tsa_ms += v * v;
+  return !(part_ms > 1e-20 * tsa_ms);
+}
+
 void CheckOrders(std::span<const double> tsa, int mesh_order) {
   if (tsa.size() < 4) throw std::invalid_argument("condition indicators: the TSA needs at least 4 samples");
   if (mesh_order < 1)
@@ -117,12 +125,16 @@ double Fm0(std::span<const double> tsa, int mesh_order) {
 }
 
 double Fm4(std::span<const double> tsa, const RegularComponents& regular) {
-  return Kurtosis(DifferenceSignal(tsa, regular));
+  const std::vector<double> d = DifferenceSignal(tsa, regular);
+  if (Negligible(d, tsa)) return std::numeric_limits<double>::quiet_NaN();
+  return Kurtosis(d);
 }
 
 double Na4(std::span<const double> tsa, const RegularComponents& regular,
            std::span<const double> earlier_residual_variances) {
-  const auto [m2, m4] = CentralMoments(ResidualSignal(tsa, regular));
+  const std::vector<double> r = ResidualSignal(tsa, regular);
+  if (Negligible(r, tsa)) return std::numeric_limits<double>::quiet_NaN();
+  const auto [m2, m4] = CentralMoments(r);
   // Residual variance averaged over the trend's runs, this one included
   double variance = m2;
   for (double v : earlier_residual_variances) variance += v;

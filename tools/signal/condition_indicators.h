@@ -57,6 +57,8 @@ std::vector<double> DifferenceSignal(std::span<const double> tsa, const RegularC
 // (1/N) sum (r_i - r̄)^2 of the residual signal: a run's contribution to NA4's denominator.
 double ResidualVariance(std::span<const double> tsa, const RegularComponents& regular);
 
+// FM4 and NA4 are NaN when the difference (residual) signal's RMS is below 1e-10 of the TSA's:
+// the TSA holds nothing but regular components, and a kurtosis of rounding errors means nothing.
 double Fm0(std::span<const double> tsa, int mesh_order);
 double Fm4(std::span<const double> tsa, const RegularComponents& regular);
 // `earlier_residual_variances`: ResidualVariance of runs 1 .. M-1 of the trend (same S); empty

@@ -99,7 +99,8 @@ int DefaultSamplesPerRevolution(std::span<const double> angle_rad) {
   const int block = std::min(16, n - 1);
   double min_step = std::numeric_limits<double>::infinity();
   for (int i = 0; i + block < n; i += block) min_step = std::min(min_step, (theta[i + block] - theta[i]) / block);
-  const double needed = std::ceil(kTwoPi / min_step);
+  // (a relative 1e-9 below, so that an exact 2π / step is not rounded up by its last bit)
+  const double needed = std::ceil(kTwoPi / min_step * (1 - 1e-9));
   constexpr double kMax = 1 << 20;
   if (!(needed <= kMax))
     throw std::invalid_argument("reference angle: the member turns too slowly for order analysis (" +

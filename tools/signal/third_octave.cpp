@@ -21,8 +21,8 @@ double NominalThirdOctaveHz(int index) {
 
 std::vector<OctaveBand> ThirdOctaveLevels(std::span<const double> x, double sample_rate_hz,
                                           const ThirdOctaveOptions& options) {
-  const int n = static_cast<int>(x.size());
-  if (n < 16) throw std::invalid_argument("ThirdOctaveLevels: need at least 16 samples, got " + std::to_string(n));
+  if (x.size() < 16) throw std::invalid_argument("ThirdOctaveLevels: need at least 16 samples, got " + std::to_string(x.size()));
+  const int n = FastFftLength(static_cast<int>(x.size()));
   if (!(sample_rate_hz > 0) || !std::isfinite(sample_rate_hz))
     throw std::invalid_argument("ThirdOctaveLevels: sample rate must be positive, got " + std::to_string(sample_rate_hz));
   if (!(options.reference > 0)) throw std::invalid_argument("ThirdOctaveLevels: the reference value must be positive");

@@ -10,8 +10,9 @@
 //   nominal mid-band frequency (the name of the band; IEC 61260-1 Annex E, ISO 266): the
 //   preferred numbers 10, 12.5, 16, 20, 25, 31.5, 40, 50, 63, 80 times a power of ten.
 //
-// Band RMS: the mean is removed, the whole record is Hann-windowed and transformed, and the
-// one-sided power spectral density (the periodogram, welch_psd.h's scaling with one segment) is
+// Band RMS: of the first FastFftLength(N) samples (fft.h; no record length makes the transform
+// slow), the mean is removed, the record is Hann-windowed and transformed, and the one-sided
+// power spectral density (the periodogram, welch_psd.h's scaling with one segment) is
 // integrated over the band, bins at the edges weighted by the fraction of their width
 // [(j - 1/2) Δf, (j + 1/2) Δf] inside the band. This is the ideal (brick-wall) band filter, which
 // the IEC 61260 filter classes approximate; a sine inside a band gives a / sqrt(2) in it, up to

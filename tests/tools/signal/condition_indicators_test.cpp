@@ -104,6 +104,19 @@ TEST(ConditionIndicators, Na4NormalizesByTheTrendsResidualVariance) {
   EXPECT_LT(Na4(tsa_f.values, regular), na4);
 }
 
+TEST(ConditionIndicators, PureAmplitudeModulationLeavesNoDifferenceSignal) {
+  // (1 + 0.3 cos θ) cos 28θ: only the mesh order and its first-order sidebands, so the difference
+  // signal is rounding noise and FM4 undefined; the residual 0.3 cos θ cos 28θ is a product of
+  // cosines of unrelated orders, kurtosis (3/8)^2 / (1/2)^4 = 9/4
+  std::vector<double> tsa(kS);
+  for (int j = 0; j < kS; ++j) {
+    const double theta = kTwoPi * j / kS;
+    tsa[j] = (1 + 0.3 * std::cos(theta)) * std::cos(28 * theta);
+  }
+  EXPECT_TRUE(std::isnan(Fm4(tsa, {.mesh_order = 28})));
+  EXPECT_NEAR(Na4(tsa, {.mesh_order = 28}), 2.25, 1e-9);
+}
+
 TEST(ConditionIndicators, RejectsMeshOrdersTheTsaCannotHold) {
   const std::vector<double> tsa(64, 0.0);
   EXPECT_THROW(Fm4(tsa, {.mesh_order = 32}), std::invalid_argument);
