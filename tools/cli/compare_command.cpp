@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstdio>
 #include <exception>
-#include <fstream>
 #include <limits>
 #include <numbers>
 
@@ -12,6 +11,7 @@
 #include "tools/cli/error_message.h"
 #include "tools/cli/json_writer.h"
 #include "tools/cli/plot_script.h"
+#include "tools/cli/signal_plots.h"
 #include "tools/signal/condition_indicators.h"
 #include "tools/signal/fft.h"
 #include "tools/signal/sideband_energy_ratio.h"
@@ -226,30 +226,13 @@ void WriteJson(const Comparison& c, std::ostream& out) {
 
 void Plot(const Comparison& c, const std::string& png) {
   const RecordedSignal& s = c.faulty.signal;
-  TemporaryFile data(".json");
-  {
-    std::ofstream file(data.path());
-    JsonWriter w(file);
-    w.BeginObject();
-    w.Key("title").String("Healthy and faulty: " + s.path + " [" + s.column_name + "]");
-    w.Key("x_label").String("frequency (Hz)");
-    w.Key("y_label").String("amplitude" + (s.unit.empty() ? std::string() : " (" + s.unit + ")") + ", " +
-                            std::string(WindowName(c.faulty.spectrum.window)) + " window");
-    w.Key("x").BeginArray();
-    for (double f : c.faulty.spectrum.frequency) w.Number(f);
-    w.EndArray().Key("healthy").BeginArray();
-    for (double a : c.healthy.spectrum.amplitude) w.Number(a);
-    w.EndArray().Key("faulty").BeginArray();
-    for (double a : c.faulty.spectrum.amplitude) w.Number(a);
-    w.EndArray();
-    w.Key("mesh").BeginObject().Key("name").String(c.mesh.name).Key("x").Number(c.mesh.frequency_hz).EndObject();
-    w.Key("modulation").BeginObject().Key("name").String(c.modulation.name).Key("x").Number(c.modulation.frequency_hz).EndObject();
-    w.Key("harmonics").Int(c.faulty.ser.harmonics).Key("sidebands").Int(c.faulty.ser.sidebands);
-    w.Key("ser").BeginObject().Key("healthy").Number(c.healthy.ser.ratio).Key("faulty").Number(c.faulty.ser.ratio);
-    w.Key("ratio").Number(c.ser_ratio).EndObject();
-    w.EndObject();
-  }
-  RunPlotScript("overlay_plot.py", {"--data", data.path(), "--out", png});
+  const PlotLabels labels{.title = "Healthy and faulty: " + s.path + " [" + s.column_name + "]",
+                          .x_label = "frequency (Hz)",
+                          .y_label = "amplitude" + (s.unit.empty() ? std::string() : " (" + s.unit + ")") + ", " +
+                                     std::string(WindowName(c.faulty.spectrum.window)) + " window"};
+  const SerSummary ser{.healthy = c.healthy.ser.ratio, .faulty = c.faulty.ser.ratio, .ratio = c.ser_ratio,
+                       .harmonics = c.faulty.ser.harmonics, .sidebands = c.faulty.ser.sidebands};
+  PlotOverlay(labels, c.healthy.spectrum, c.faulty.spectrum, c.mesh, c.modulation, ser, png);
 }
 
 }  // namespace

@@ -3,13 +3,13 @@
 #include <cmath>
 #include <cstdio>
 #include <exception>
-#include <fstream>
 #include <limits>
 
 #include "mbd/hdf5_reader.h"
 #include "tools/cli/error_message.h"
 #include "tools/cli/json_writer.h"
 #include "tools/cli/plot_script.h"
+#include "tools/cli/signal_plots.h"
 #include "tools/signal/signal_io.h"
 #include "tools/signal/third_octave.h"
 
@@ -50,18 +50,10 @@ void WriteJson(const RecordedSignal& s, const std::vector<OctaveBand>& bands, do
 }
 
 void Plot(const RecordedSignal& s, const std::vector<OctaveBand>& bands, double reference, const std::string& png) {
-  TemporaryFile data(".json");
-  {
-    std::ofstream file(data.path());
-    JsonWriter w(file);
-    w.BeginObject();
-    w.Key("title").String("One-third-octave levels of " + s.path + " [" + s.column_name + "]");
-    w.Key("y_label").String("level (dB re " + Fmt("%g", reference) + (s.unit.empty() ? "" : " " + s.unit) + ")");
-    w.Key("bands").BeginArray();
-    for (const OctaveBand& b : bands) w.BeginObject().Key("nominal_hz").Number(b.nominal_hz).Key("level_db").Number(b.level_db).EndObject();
-    w.EndArray().EndObject();
-  }
-  RunPlotScript("octave_plot.py", {"--data", data.path(), "--out", png});
+  const PlotLabels labels{.title = "One-third-octave levels of " + s.path + " [" + s.column_name + "]",
+                          .x_label = "one-third-octave band, nominal mid-band frequency (Hz)",
+                          .y_label = "level (dB re " + Fmt("%g", reference) + (s.unit.empty() ? "" : " " + s.unit) + ")"};
+  PlotOctaveBands(labels, bands, png);
 }
 
 }  // namespace

@@ -1,13 +1,12 @@
 #include "tools/cli/plot_command.h"
 
 #include <exception>
-#include <fstream>
 #include <limits>
 
 #include "mbd/hdf5_reader.h"
 #include "tools/cli/error_message.h"
-#include "tools/cli/json_writer.h"
 #include "tools/cli/plot_script.h"
+#include "tools/cli/signal_plots.h"
 #include "tools/signal/signal_io.h"
 
 namespace orrery::cli {
@@ -18,20 +17,10 @@ using namespace orrery::signal;
 void PlotSignal(const PlotArgs& args) {
   Hdf5Reader file(args.path);
   const RecordedSignal s = ReadSignal(file, args.signal, args.column, args.t0.value_or(-std::numeric_limits<double>::infinity()));
-  TemporaryFile data(".json");
-  {
-    std::ofstream f(data.path());
-    JsonWriter w(f);
-    w.BeginObject();
-    w.Key("title").String(s.path + " [" + s.column_name + "] of " + s.file);
-    w.Key("y_label").String(s.column_name + (s.unit.empty() ? "" : " (" + s.unit + ")"));
-    w.Key("time").BeginArray();
-    for (double t : s.time_s) w.Number(t);
-    w.EndArray().Key("values").BeginArray();
-    for (double v : s.values) w.Number(v);
-    w.EndArray().EndObject();
-  }
-  RunPlotScript("time_signal_plot.py", {"--data", data.path(), "--out", args.png});
+  PlotTimeSignal({.title = s.path + " [" + s.column_name + "] of " + s.file,
+                  .x_label = "time (s)",
+                  .y_label = s.column_name + (s.unit.empty() ? "" : " (" + s.unit + ")")},
+                 s, args.png);
 }
 
 void PlotStress(const PlotArgs& args) {
@@ -39,7 +28,7 @@ void PlotStress(const PlotArgs& args) {
   Hdf5Reader file(args.path);
   if (!file.IsDataset(args.stress)) throw std::runtime_error(args.path + ": " + args.stress + ": no such dataset");
   if (!file.IsDataset("/time")) throw std::runtime_error(args.path + ": /time: no such dataset (not a result file?)");
-  RunPlotScript("stress_plot.py", {"--h5", args.path, "--dataset", args.stress, "--out", args.png});
+  PlotHotSpotStress(args.path, args.stress, args.png);
 }
 
 }  // namespace

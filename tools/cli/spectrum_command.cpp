@@ -3,7 +3,6 @@
 #include <cmath>
 #include <cstdio>
 #include <exception>
-#include <fstream>
 #include <limits>
 #include <numbers>
 
@@ -11,6 +10,7 @@
 #include "tools/cli/error_message.h"
 #include "tools/cli/json_writer.h"
 #include "tools/cli/plot_script.h"
+#include "tools/cli/signal_plots.h"
 #include "tools/signal/fft.h"
 #include "tools/signal/order_resample.h"
 #include "tools/signal/peaks.h"
@@ -132,28 +132,12 @@ void WriteJson(const SpectrumResult& r, std::ostream& out) {
 
 void Plot(const SpectrumResult& r, const std::string& png) {
   const RecordedSignal& s = r.signal;
-  TemporaryFile data(".json");
-  {
-    std::ofstream f(data.path());
-    JsonWriter w(f);
-    const std::string unit = s.unit.empty() ? "" : " (" + s.unit + ")";
-    w.BeginObject();
-    w.Key("title").String((r.orders ? "Order spectrum of " : "Amplitude spectrum of ") + s.path + " [" + s.column_name + "]");
-    w.Key("x_label").String(r.orders ? "order of " + r.reference : "frequency (Hz)");
-    w.Key("y_label").String("amplitude" + unit + ", " + std::string(WindowName(r.spectrum.window)) + " window");
-    w.Key("x").BeginArray();
-    for (double f : r.spectrum.frequency) w.Number(f);
-    w.EndArray().Key("amplitude").BeginArray();
-    for (double a : r.spectrum.amplitude) w.Number(a);
-    w.EndArray().Key("peaks").BeginArray();
-    for (const Peak& p : r.peaks)
-      w.BeginObject().Key("x").Number(p.frequency).Key("amplitude").Number(p.amplitude).Key("label").String(p.label).EndObject();
-    w.EndArray().Key("lines").BeginArray();
-    for (const KinematicLine& line : r.lines)
-      w.BeginObject().Key("name").String(line.name).Key("x").Number(line.frequency_hz).Key("kind").String(LineKindName(line.kind)).EndObject();
-    w.EndArray().EndObject();
-  }
-  RunPlotScript("spectrum_plot.py", {"--data", data.path(), "--out", png});
+  const PlotLabels labels{
+      .title = (r.orders ? "Order spectrum of " : "Amplitude spectrum of ") + s.path + " [" + s.column_name + "]",
+      .x_label = r.orders ? "order of " + r.reference : "frequency (Hz)",
+      .y_label = "amplitude" + (s.unit.empty() ? std::string() : " (" + s.unit + ")") + ", " +
+                 std::string(WindowName(r.spectrum.window)) + " window"};
+  PlotSpectrum(labels, r.spectrum, r.peaks, r.lines, png);
 }
 
 }  // namespace

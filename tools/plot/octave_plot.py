@@ -2,7 +2,7 @@
 """One-third-octave band levels as bars.
 
 Usage: octave_plot.py --data OCTAVE.json --out OCTAVE.png
-Data (written by `orrery octave --png`): title, y_label, bands [{nominal_hz, level_db}].
+Data (written by `orrery octave --png`): title, x_label, y_label, bands [{nominal_hz, level_db}].
 """
 import argparse
 
@@ -31,7 +31,7 @@ def main():
     ax.set_xticks(range(len(bands)))
     ax.set_xticklabels([nominal(b["nominal_hz"]) for b in bands], rotation=90, fontsize=8)
     ax.set_title(d.get("title", "One-third-octave band levels"))
-    ax.set_xlabel("one-third-octave band, nominal mid-band frequency (Hz)")
+    ax.set_xlabel(d.get("x_label", "one-third-octave band, nominal mid-band frequency (Hz)"))
     ax.set_ylabel(d.get("y_label", "level (dB)"))
     ax.grid(True, axis="y", lw=0.3, alpha=0.5)
     fig.tight_layout()

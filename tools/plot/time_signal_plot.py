@@ -2,7 +2,7 @@
 """A recorded signal over time.
 
 Usage: time_signal_plot.py --data SIGNAL.json --out SIGNAL.png
-Data (written by `orrery plot --signal`): title, y_label, time, values.
+Data (written by `orrery plot --signal`): title, x_label, y_label, time, values.
 """
 import argparse
 
@@ -20,7 +20,7 @@ def main():
     fig, ax = plt.subplots(figsize=(11, 4.5))
     ax.plot(d["time"], orrery_plot.finite(d["values"]), lw=0.6, color="tab:blue")
     ax.set_title(d.get("title", "Signal"))
-    ax.set_xlabel("time (s)")
+    ax.set_xlabel(d.get("x_label", "time (s)"))
     ax.set_ylabel(d.get("y_label", "value"))
     ax.grid(True, lw=0.3, alpha=0.5)
     fig.tight_layout()
