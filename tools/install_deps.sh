@@ -8,6 +8,10 @@ packages=(
   libeigen3-dev libspectra-dev libfcl-dev libassimp-dev libsundials-dev libhdf5-dev hdf5-tools
   libsuitesparse-dev libyaml-cpp-dev libcli11-dev libgtest-dev libgmock-dev libbenchmark-dev
   calculix-ccx
+  # FFT for tools/signal (KissFFT, BSD; FFTW's GPL does not fit the project's licence)
+  libkissfft-dev
+  # Plots of `orrery spectrum | compare | octave --png` (tools/plot/*.py, Debian's python3)
+  python3 python3-numpy python3-matplotlib python3-h5py
   # Optimized single-threaded BLAS/LAPACK: Debian's alternatives then point libblas.so.3 at it,
   # which CHOLMOD's supernodal factorization and the Lanczos solves use (a 100k-DOF gear
   # reduction: 49 s instead of 72 s on this project's 2-core machine).

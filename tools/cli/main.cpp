@@ -11,6 +11,12 @@
 //                 [--modes N] [--cutoff-hz F] [--json]
 //   orrery mesh-stiffness SCENE --mesh NAME [--load N] [--points K] [--json] [--set key=value ...]
 //                         [--flexible [--fe-level L]]
+//   orrery spectrum OUT.h5 --signal PATH [--column C] [--window hann|flattop|rect] [--order MEMBER]
+//                   [--t0 T] [--peaks N] [--json] [--png FILE]
+//   orrery compare HEALTHY.h5 FAULTY.h5 --signal PATH [--column C] [--t0 T] [--window W] [--tsa MEMBER]
+//                  [--mesh NAME] [--modulation NAME] [--json] [--png FILE]
+//   orrery octave OUT.h5 --signal PATH [--column C] [--t0 T] [--reference A0] [--json] [--png FILE]
+//   orrery plot OUT.h5 (--signal PATH [--column C] [--t0 T] | --stress PATH) --png FILE
 //   orrery --version
 //
 // Exit codes: 0 success, 1 runtime failure, 2 bad usage, 128 + signal when interrupted.
@@ -18,20 +24,25 @@
 
 #include <cmath>
 #include <exception>
+#include <optional>
 #include <iostream>
 #include <string>
 #include <vector>
 
 #include <CLI/CLI.hpp>
 
+#include "tools/cli/compare_command.h"
 #include "tools/cli/error_message.h"
 #include "tools/cli/fe_modes_command.h"
 #include "tools/cli/inspect_command.h"
 #include "tools/cli/kinematics_command.h"
 #include "tools/cli/mesh_stiffness_command.h"
 #include "tools/cli/modes_command.h"
+#include "tools/cli/octave_command.h"
+#include "tools/cli/plot_command.h"
 #include "tools/cli/reduce_command.h"
 #include "tools/cli/run_command.h"
+#include "tools/cli/spectrum_command.h"
 
 namespace {
 
@@ -57,6 +68,97 @@ CLI::Validator PositiveNumber(const std::string& what, const std::string& label)
 }
 const CLI::Validator kPositiveSeconds = PositiveNumber("a number of seconds", "SECONDS > 0");
 const CLI::Validator kPositiveValue = PositiveNumber("a number", "VALUE > 0");
+
+// The signal-analysis commands (spectrum, compare, octave, plot): arguments, options, dispatch.
+struct SignalCommands {
+  SpectrumArgs spectrum_args;
+  CompareArgs compare_args;
+  OctaveArgs octave_args;
+  PlotArgs plot_args;
+  double spectrum_t0 = 0, compare_t0 = 0, octave_t0 = 0, plot_t0 = 0;
+  CLI::App *spectrum = nullptr, *compare = nullptr, *octave = nullptr, *plot = nullptr;
+  CLI::Option *spectrum_t0_option = nullptr, *compare_t0_option = nullptr, *octave_t0_option = nullptr;
+  CLI::Option *plot_t0_option = nullptr, *reference_option = nullptr;
+
+  void Add(CLI::App& app) {
+    AddSpectrum(app);
+    AddCompare(app);
+    AddOctave(app);
+    AddPlot(app);
+  }
+
+  void AddSpectrum(CLI::App& app) {
+    spectrum = app.add_subcommand("spectrum", "Amplitude spectrum of a recorded signal, peaks labelled with kinematic lines");
+    spectrum->add_option("file", spectrum_args.path, "Result file (HDF5)")->required();
+    spectrum->add_option("--signal", spectrum_args.signal, "Dataset, e.g. /bodies/S.planet1/angular_acceleration")->required();
+    spectrum->add_option("--column", spectrum_args.column, "Column: 0-based index or name (default: the first)");
+    spectrum->add_option("--window", spectrum_args.window, "Window (default hann)")->check(CLI::IsMember({"hann", "flattop", "rect"}));
+    spectrum->add_option("--order", spectrum_args.order_member, "Order spectrum over the angle of this joint (or angle dataset)");
+    spectrum_t0_option = spectrum->add_option("--t0", spectrum_t0, "Start of the record (s)");
+    spectrum->add_option("--peaks", spectrum_args.max_peaks, "Largest peaks listed (default 20)")->check(CLI::Range(0, 100000));
+    spectrum->add_flag("--json", spectrum_args.json, "Write JSON to stdout");
+    spectrum->add_option("--png", spectrum_args.png, "Also draw the spectrum into this PNG file");
+  }
+
+  void AddCompare(CLI::App& app) {
+    compare = app.add_subcommand("compare", "Healthy against faulty run: sideband energy ratio and condition indicators");
+    compare->add_option("healthy", compare_args.healthy, "Result file of the healthy run")->required();
+    compare->add_option("faulty", compare_args.faulty, "Result file of the faulty run")->required();
+    compare->add_option("--signal", compare_args.signal, "Dataset, e.g. /bodies/S.planet1/angular_acceleration")->required();
+    compare->add_option("--column", compare_args.column, "Column: 0-based index or name (default: the first)");
+    compare_t0_option = compare->add_option("--t0", compare_t0, "Start of the records (s)");
+    compare->add_option("--window", compare_args.window, "Window (default hann)")->check(CLI::IsMember({"hann", "flattop", "rect"}));
+    compare->add_option("--tsa", compare_args.tsa_member, "Indicators on the TSA over this joint's (or angle dataset's) revolutions");
+    compare->add_option("--mesh", compare_args.mesh, "Mesh line (default: the first of kind mesh)");
+    compare->add_option("--modulation", compare_args.modulation, "Sideband line (default: the first of kind fault)");
+    compare->add_flag("--json", compare_args.json, "Write JSON to stdout");
+    compare->add_option("--png", compare_args.png, "Also draw both spectra into this PNG file");
+  }
+
+  void AddOctave(CLI::App& app) {
+    octave = app.add_subcommand("octave", "One-third-octave band levels of a recorded signal");
+    octave->add_option("file", octave_args.path, "Result file (HDF5)")->required();
+    octave->add_option("--signal", octave_args.signal, "Dataset, e.g. /bodies/S.ring/linear_acceleration")->required();
+    octave->add_option("--column", octave_args.column, "Column: 0-based index or name (default: the first)");
+    octave_t0_option = octave->add_option("--t0", octave_t0, "Start of the record (s)");
+    reference_option =
+        octave->add_option("--reference", octave_args.reference, "Reference value a0 (default 1e-6, m/s^2)")->check(kPositiveValue);
+    octave->add_flag("--json", octave_args.json, "Write JSON to stdout");
+    octave->add_option("--png", octave_args.png, "Also draw the levels into this PNG file");
+  }
+
+  void AddPlot(CLI::App& app) {
+    plot = app.add_subcommand("plot", "Plot a recorded signal or a flexible body's hot-spot stress over time");
+    plot->add_option("file", plot_args.path, "Result file (HDF5)")->required();
+    plot->add_option("--signal", plot_args.signal, "Dataset to plot over time");
+    plot->add_option("--column", plot_args.column, "Column of --signal: 0-based index or name");
+    plot_t0_option = plot->add_option("--t0", plot_t0, "Start of the record (s)");
+    plot->add_option("--stress", plot_args.stress, "Hot-spot stress dataset, e.g. /flexible_bodies/S.planet1/von_mises_max");
+    plot->add_option("--png", plot_args.png, "PNG file to write")->required();
+  }
+
+  // The exit code of the command that was parsed, if it is one of these
+  std::optional<int> Dispatch() {
+    if (spectrum->parsed()) {
+      if (spectrum_t0_option->count() > 0) spectrum_args.t0 = spectrum_t0;
+      return SpectrumCommand(spectrum_args, std::cout, std::cerr);
+    }
+    if (compare->parsed()) {
+      if (compare_t0_option->count() > 0) compare_args.t0 = compare_t0;
+      return CompareCommand(compare_args, std::cout, std::cerr);
+    }
+    if (octave->parsed()) {
+      if (octave_t0_option->count() > 0) octave_args.t0 = octave_t0;
+      octave_args.reference_given = reference_option->count() > 0;
+      return OctaveCommand(octave_args, std::cout, std::cerr);
+    }
+    if (plot->parsed()) {
+      if (plot_t0_option->count() > 0) plot_args.t0 = plot_t0;
+      return PlotCommand(plot_args, std::cout, std::cerr);
+    }
+    return std::nullopt;
+  }
+};
 
 int Main(int argc, char** argv) {
   CLI::App app{"Orrery: multibody dynamics engine", "orrery"};
@@ -149,6 +251,10 @@ int Main(int argc, char** argv) {
                              "With --flexible: FE mesh refinement factor (default 1, coarse)")
       ->check(CLI::Range(1, 8));
 
+  // orrery spectrum, compare, octave, plot
+  SignalCommands signal_commands;
+  signal_commands.Add(app);
+
   // Parse: help and version go to stdout, any other problem is one line on stderr
   try {
     app.parse(argc, argv);
@@ -159,7 +265,7 @@ int Main(int argc, char** argv) {
     const std::vector<std::string> stray = app.remaining();
     if (app.get_subcommands().empty() && !stray.empty() && !stray.front().empty())
       reason = stray.front().front() == '-' ? "unknown option '" + stray.front() + "'"
-                                            : "unknown command '" + stray.front() + "' (expected run, inspect, kinematics, modes, fe-modes, reduce or mesh-stiffness)";
+                                            : "unknown command '" + stray.front() + "' (expected run, inspect, kinematics, modes, fe-modes, reduce, mesh-stiffness, spectrum, compare, octave or plot)";
     ReportError(std::cerr, reason + "; see orrery --help");
     return kExitUsage;
   }
@@ -175,6 +281,7 @@ int Main(int argc, char** argv) {
   if (fe_modes->parsed()) return FeModesCommand(fe_args, std::cout, std::cerr);
   if (reduce->parsed()) return ReduceCommand(reduce_args, std::cout, std::cerr);
   if (mesh_stiffness->parsed()) return MeshStiffnessCommand(ms_args, std::cout, std::cerr);
+  if (const std::optional<int> code = signal_commands.Dispatch()) return *code;
   return InspectCommand(inspect_args, std::cout, std::cerr);
 }
 
