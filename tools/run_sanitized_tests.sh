@@ -9,7 +9,7 @@
 #   on a fresh 2-core machine).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-SUITES=(mbd flex contact)
+SUITES=(mbd contact)
 suites=("$@")
 [ ${#suites[@]} -gt 0 ] || suites=("${SUITES[@]}")
 build=build-asan

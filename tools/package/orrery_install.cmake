@@ -26,8 +26,50 @@ set(kOrreryPackageOf
   "^MPI::"         "MPI"
   "^Threads::"     "Threads")
 
-# Headers that include a private dependency's headers: used inside their folder only.
-set(kOrreryInternalHeaders mbd/hdf5_handle.h import/scene_reader.h)
+# Headers of private dependencies (third-party libraries each folder keeps to its .cpp files). A
+# project header that includes one, directly or through another project header, is internal to
+# its folder and not installed (mbd/hdf5_handle.h, import/scene_reader.h, ...).
+set(kOrreryPrivateIncludes "^yaml-cpp/" "^hdf5" "^H5" "^fcl/" "^sundials/" "^idas/" "^nvector/"
+    "^sunmatrix/" "^sunlinsol/" "^Spectra/" "^cholmod" "^suitesparse/" "^assimp/" "^CLI/"
+    "^kissfft" "^gmsh" "^mpi")
+
+# The headers among `headers` (paths relative to the source root) that users may include.
+function(_orrery_public_headers out)
+  set(headers ${ARGN})
+  set(internal "")
+  set(changed TRUE)
+  while(changed)
+    set(changed FALSE)
+    foreach(h ${headers})
+      if(h IN_LIST internal)
+        continue()
+      endif()
+      file(STRINGS ${PROJECT_SOURCE_DIR}/${h} includes REGEX "^[ \t]*#[ \t]*include[ \t]*[<\"]")
+      foreach(line ${includes})
+        string(REGEX REPLACE "^[ \t]*#[ \t]*include[ \t]*[<\"]([^>\"]+)[>\"].*" "\\1" inc "${line}")
+        set(private FALSE)
+        if(inc IN_LIST internal)
+          set(private TRUE)
+        endif()
+        foreach(pattern ${kOrreryPrivateIncludes})
+          if(inc MATCHES "${pattern}")
+            set(private TRUE)
+          endif()
+        endforeach()
+        if(private)
+          list(APPEND internal ${h})
+          set(changed TRUE)
+          break()
+        endif()
+      endforeach()
+    endforeach()
+  endwhile()
+  list(REMOVE_ITEM headers ${internal})
+  set(${out} ${headers} PARENT_SCOPE)
+  if(internal)
+    message(STATUS "Orrery package: internal headers, not installed: ${internal}")
+  endif()
+endfunction()
 
 # The find_package arguments for imported target `target` (error if unknown).
 function(_orrery_package_of target out)
@@ -130,6 +172,7 @@ function(orrery_install_package)
   endforeach()
 
   set(packages "")
+  set(all_headers "")
   foreach(t ${targets})
     string(REPLACE "orrery_" "" folder ${t})
     set_target_properties(${t} PROPERTIES EXPORT_NAME ${folder})
@@ -139,8 +182,7 @@ function(orrery_install_package)
                  "$<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>")
     install(TARGETS ${t} EXPORT OrreryTargets ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
     file(GLOB headers RELATIVE ${PROJECT_SOURCE_DIR} ${PROJECT_SOURCE_DIR}/${folder}/*.h)
-    list(REMOVE_ITEM headers ${kOrreryInternalHeaders})
-    install(FILES ${headers} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/${folder})
+    list(APPEND all_headers ${headers})
     # Packages of the imported targets it links (publicly or, being static, privately).
     get_target_property(libs ${t} LINK_LIBRARIES)
     foreach(l ${libs})
@@ -154,6 +196,11 @@ function(orrery_install_package)
     endforeach()
   endforeach()
   list(REMOVE_DUPLICATES packages)
+  _orrery_public_headers(public_headers ${all_headers})
+  foreach(h ${public_headers})
+    get_filename_component(dir ${h} DIRECTORY)
+    install(FILES ${PROJECT_SOURCE_DIR}/${h} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/${dir})
+  endforeach()
 
   # Orrery::orrery: every folder library (`orrery` itself is the CLI program's name).
   add_library(orrery_all INTERFACE)
@@ -168,6 +215,12 @@ function(orrery_install_package)
   install(EXPORT OrreryTargets NAMESPACE Orrery:: DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/Orrery)
   set(ORRERY_FIND_DEPENDENCIES "")
   foreach(p ${packages})
+    if(p MATCHES "^HDF5 ")
+      # FindHDF5 compiles a C test program: C must be enabled in the user's project.
+      string(APPEND ORRERY_FIND_DEPENDENCIES
+             "get_property(_orrery_languages GLOBAL PROPERTY ENABLED_LANGUAGES)\n"
+             "if(NOT \"C\" IN_LIST _orrery_languages)\n  enable_language(C)\nendif()\n")
+    endif()
     string(APPEND ORRERY_FIND_DEPENDENCIES "find_dependency(${p})\n")
   endforeach()
   configure_package_config_file(${CMAKE_CURRENT_FUNCTION_LIST_DIR}/OrreryConfig.cmake.in
@@ -189,12 +242,6 @@ function(orrery_install_package)
     foreach(f ${flags})
       string(APPEND ORRERY_PC_PRIVATE " ${f}")
     endforeach()
-  endforeach()
-  get_target_property(definitions orrery_mbd INTERFACE_COMPILE_DEFINITIONS)
-  set(ORRERY_PC_CFLAGS "")
-  foreach(d ${definitions})
-    string(REPLACE "\"" "\\\"" d "${d}")
-    string(APPEND ORRERY_PC_CFLAGS " -D${d}")
   endforeach()
   # Relocatable: the prefix is found from the .pc file's own place (cmake --install --prefix P).
   file(RELATIVE_PATH ORRERY_PC_PREFIX_FROM_PCDIR "/root/${CMAKE_INSTALL_LIBDIR}/pkgconfig" "/root")

@@ -40,6 +40,8 @@ bodies:
 joints:
   - {name: hinge, type: revolute, parent: world, child: rod, axis: [0, 0, 1],
      initial_position: 0.01}
+solver: {integrator: ida, end_time: 1.0}
+output: {interval: 1e-3}
 )";
 
 double FinalAngle(const orrery::Model& model, double end_time, const std::string& h5) {
