@@ -23,10 +23,13 @@ constexpr double kInertiaCm = 0.083358;  // rod of 1 m about its centre, kg m^2
 std::shared_ptr<const orrery::Model> BuildInCpp() {
   using namespace orrery;
   ModelBuilder b;
-  const BodyIndex rod = b.AddBody("rod", kMass, Vec3(0, -kArm, 0),
-                                  Vec3(kInertiaCm, 5e-5, kInertiaCm).asDiagonal());
-  const JointIndex hinge = b.AddJoint({.name = "hinge", .type = JointType::kRevolute,
-                                       .parent = kWorldBody, .child = rod, .axis = Vec3::UnitZ()});
+  const BodyIndex rod =
+      b.AddBody("rod", kMass, Vec3(0, -kArm, 0), Vec3(kInertiaCm, 5e-5, kInertiaCm).asDiagonal());
+  const JointIndex hinge = b.AddJoint({.name = "hinge",
+                                       .type = JointType::kRevolute,
+                                       .parent = kWorldBody,
+                                       .child = rod,
+                                       .axis = Vec3::UnitZ()});
   b.SetJointPosition(hinge, Eigen::VectorXd::Constant(1, kTheta0));
   b.SetGravity(Vec3(0, -kGravity, 0));
   return std::move(b).Finalize();
@@ -60,9 +63,11 @@ int main() {
   const double inertia_o = kInertiaCm + kMass * kArm * kArm;
   const double period = 2 * std::numbers::pi * std::sqrt(inertia_o / (kMass * kGravity * kArm));
   const auto dir = std::filesystem::temp_directory_path();
-  const double cpp = FinalAngle(*BuildInCpp(), period / 2, (dir / "orrery_example_cpp.h5").string());
+  const double cpp =
+      FinalAngle(*BuildInCpp(), period / 2, (dir / "orrery_example_cpp.h5").string());
   const orrery::Scene scene = orrery::LoadSceneFromString(kScene, "pendulum.yaml");
-  const double yaml = FinalAngle(*scene.model, period / 2, (dir / "orrery_example_yaml.h5").string());
+  const double yaml =
+      FinalAngle(*scene.model, period / 2, (dir / "orrery_example_yaml.h5").string());
   const double ratio = cpp / kTheta0;
   std::printf("pendulum: theta(T/2) / theta0 = %.9f (expected -1), YAML scene %.9f\n", ratio,
               yaml / kTheta0);
