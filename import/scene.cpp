@@ -31,45 +31,34 @@ using namespace scene_reader;
 // ---------------------------------------------------------------------------------------------
 // Joint coordinates and their units
 
-enum class CoordinateKind { kAngle, kLength, kQuaternion };
-
-// Kind of position coordinate k (velocity == false) or velocity coordinate k of a joint type.
+// Kind of position coordinate k (velocity == false) or velocity coordinate k of a joint type
+// (joint_types.h); the angular velocity of a quaternion block is read as angle rates.
 CoordinateKind KindOf(JointType type, int k, bool velocity) {
-  switch (type) {
-    case JointType::kPrismatic: return CoordinateKind::kLength;
-    case JointType::kCylindrical: return k == 1 ? CoordinateKind::kLength : CoordinateKind::kAngle;
-    case JointType::kSpherical: return velocity ? CoordinateKind::kAngle : CoordinateKind::kQuaternion;
-    case JointType::kPlanar: return k < 2 ? CoordinateKind::kLength : CoordinateKind::kAngle;
-    case JointType::kFree:
-      if (k < 3) return CoordinateKind::kLength;
-      return velocity ? CoordinateKind::kAngle : CoordinateKind::kQuaternion;
-    default: return CoordinateKind::kAngle;
-  }
+  const JointTypeInfo& info = JointInfo(type);
+  if (!velocity) return info.q_kind[k];
+  return info.v_kind[k] == CoordinateKind::kQuaternion ? CoordinateKind::kAngle : info.v_kind[k];
 }
 
 bool HasAngularCoordinate(JointType type) {
-  return type != JointType::kFixed && type != JointType::kPrismatic;
+  const JointTypeInfo& info = JointInfo(type);
+  for (int k = 0; k < info.nv; ++k)
+    if (info.v_kind[k] != CoordinateKind::kLength) return true;
+  return false;
 }
 
-const std::vector<std::pair<std::string, JointType>>& JointTypes() {
-  static const std::vector<std::pair<std::string, JointType>> kTypes{
-      {"fixed", JointType::kFixed},         {"revolute", JointType::kRevolute},
-      {"prismatic", JointType::kPrismatic}, {"cylindrical", JointType::kCylindrical},
-      {"universal", JointType::kUniversal}, {"spherical", JointType::kSpherical},
-      {"planar", JointType::kPlanar},       {"free", JointType::kFree}};
-  return kTypes;
-}
-
-std::vector<std::string> JointTypeNames() {
+// Type names for joints (all types) or loop closures (the types that constrain something).
+std::vector<std::string> JointTypeNames(bool loop_closure = false) {
   std::vector<std::string> names;
-  for (const auto& [name, type] : JointTypes()) names.push_back(name);
+  for (const JointTypeInfo& info : AllJointTypes())
+    if (!loop_closure || info.loop_rows > 0) names.emplace_back(info.name);
   return names;
 }
 
+// The type of a name taken from JointTypeNames().
 JointType JointTypeFromName(const std::string& name) {
-  for (const auto& [n, type] : JointTypes())
-    if (n == name) return type;
-  return JointType::kRevolute;
+  JointType type = JointType::kRevolute;
+  JointTypeFromName(std::string_view(name), &type);
+  return type;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -298,9 +287,8 @@ void Loader::ReadJoints(const MapReader& root) {
   for (const Item& item : ListItems(ctx_, root.Need("joints"))) {
     // The type decides which keys a joint has.
     const JointType type = JointTypeFromName(ItemType(ctx_, item, JointTypeNames()));
-    const bool has_axis = type != JointType::kFixed && type != JointType::kSpherical &&
-                          type != JointType::kFree;
-    const bool has_axis2 = type == JointType::kUniversal || type == JointType::kPlanar;
+    const bool has_axis = JointInfo(type).axes >= 1;
+    const bool has_axis2 = JointInfo(type).axes >= 2;
     std::vector<std::string> allowed{"name", "type", "parent", "child", "parent_frame",
                                      "child_frame"};
     std::map<std::string, std::string> notes;
@@ -352,9 +340,7 @@ void Loader::ReadLoopClosures(const MapReader& root) {
     const MapReader m(ctx_, item, {"name", "type", "frame_a", "frame_b"});
     LoopClosureSpec spec;
     spec.name = UniqueName(m, loops_, "loop closure", static_cast<int>(loops_.size()));
-    std::vector<std::string> types = JointTypeNames();
-    types.erase(std::find(types.begin(), types.end(), "free"));
-    spec.type = JointTypeFromName(m.Choice("type", types));
+    spec.type = JointTypeFromName(m.Choice("type", JointTypeNames(/*loop_closure=*/true)));
     spec.frame_a = FrameRef(m, "frame_a");
     spec.frame_b = FrameRef(m, "frame_b");
     Build(m, {{"same body", "frame_b"}}, [&] { builder_.AddLoopClosure(spec); });

@@ -41,8 +41,6 @@ void CalcConstraints(const Model& model, double t, Data& data) {
     const LoopClosureSpec& lc = model.loop_closures[l];
     const Transform& A = data.X_WFrame[lc.frame_a];
     const Transform& B = data.X_WFrame[lc.frame_b];
-    const Vec3 xa = A.R.col(0), ya = A.R.col(1), za = A.R.col(2);
-    const Vec3 xb = B.R.col(0), yb = B.R.col(1), zb = B.R.col(2);
     int row = model.loop_row_start[l];
     auto emit = [&](double phi, const Vec6& ca, const Vec6& cb) {
       data.phi(row) = phi;
@@ -73,22 +71,17 @@ void CalcConstraints(const Model& model, double t, Data& data) {
       cb << B.p.cross(a), a;
       emit((B.p - A.p).dot(a), -cb, cb);
     };
-    switch (lc.type) {
-      case JointType::kRevolute: point(); perpendicular(xa, zb); perpendicular(ya, zb); break;
-      case JointType::kSpherical: point(); break;
-      case JointType::kUniversal: point(); perpendicular(xa, yb); break;
-      case JointType::kPrismatic:
-        perpendicular(xa, yb); perpendicular(ya, zb); perpendicular(za, xb);
-        distance(xa); distance(ya);
-        break;
-      case JointType::kCylindrical:
-        perpendicular(xa, zb); perpendicular(ya, zb); distance(xa); distance(ya);
-        break;
-      case JointType::kPlanar: perpendicular(za, xb); perpendicular(za, yb); distance(za); break;
-      case JointType::kFixed:
-        point(); perpendicular(xa, yb); perpendicular(ya, zb); perpendicular(za, xb);
-        break;
-      case JointType::kFree: break;
+    // The closure type's terms (joint_types.cpp), in table order.
+    const JointTypeInfo& info = JointInfo(lc.type);
+    for (int t = 0; t < info.n_loop_terms; ++t) {
+      const LoopTerm& term = info.loop_terms[t];
+      switch (term.kind) {
+        case LoopTerm::Kind::kPoint: point(); break;
+        case LoopTerm::Kind::kPerpendicular:
+          perpendicular(A.R.col(term.axis_a), B.R.col(term.axis_b));
+          break;
+        case LoopTerm::Kind::kDistance: distance(A.R.col(term.axis_a)); break;
+      }
     }
   }
   // Ideal gear meshes: drive-flank deflection = 0; G row = n . (v_a(P) - v_b(P)).

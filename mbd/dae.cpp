@@ -95,16 +95,12 @@ void DaeSystem::Jacobian(double t, double cj, const Eigen::Ref<const Eigen::Vect
   dq_dv_.setZero();
   dv_dq_.setZero();
   for (const Joint& jt : model_.joints) {
-    int quat = -1;
-    if (jt.spec.type == JointType::kSpherical) quat = 0;
-    if (jt.spec.type == JointType::kFree) {
-      quat = 3;
-      for (int k = 0; k < 3; ++k) dq_dv_(jt.q_start + k, jt.v_start + k) = dv_dq_(jt.v_start + k, jt.q_start + k) = 1;
-    }
-    if (quat < 0) {
-      for (int k = 0; k < jt.nv; ++k) dq_dv_(jt.q_start + k, jt.v_start + k) = dv_dq_(jt.v_start + k, jt.q_start + k) = 1;
-      continue;
-    }
+    // Identity for the coordinates before the quaternion (all of them without one).
+    const int quat = JointInfo(jt.spec.type).quaternion;
+    const int n_plain = quat < 0 ? jt.nv : quat;
+    for (int k = 0; k < n_plain; ++k)
+      dq_dv_(jt.q_start + k, jt.v_start + k) = dv_dq_(jt.v_start + k, jt.q_start + k) = 1;
+    if (quat < 0) continue;
     const int qs = jt.q_start + quat, vs = jt.v_start + quat;
     const double q0 = q(qs);
     const Vec3 u = q.segment<3>(qs + 1);

@@ -71,14 +71,14 @@ struct Data {
   // out the external elements with analytic tangents (ExternalForceElement::HasTangents()).
   bool skip_elements_with_tangents = false;
 
-  // --- CalcInverseDynamics (inverse_dynamics.cpp) ---
+  // --- CalcInverseDynamics (dynamics.cpp) ---
   std::vector<Vec6> A_WB;             // nbodies: body spatial accelerations (gravity included
                                       //   as a base acceleration -g, Featherstone's trick)
   std::vector<Vec6> f_joint;          // nbodies: spatial force transmitted by each body's parent
                                       //   joint from parent to child, world origin
   Eigen::VectorXd tau_id;             // nv: M v-dot + C(q, v) - Q_ext(q, v, t)
 
-  // --- CalcMassMatrix (mass_matrix.cpp) ---
+  // --- CalcMassMatrix (dynamics.cpp) ---
   std::vector<SpatialInertia> I_c;    // nbodies: composite inertias of subtrees
   Eigen::MatrixXd M;                  // nv x nv: joint-space mass matrix (lower and upper filled)
 

@@ -3,20 +3,12 @@
 #include "mbd/flexible_dynamics.h"
 
 namespace orrery {
-namespace {
-
-// Unit quaternion (w, x, y, z) stored in q to a rotation matrix.
-Mat3 QuatToRotation(const Eigen::VectorXd& q, int start) {
-  return Quat(q(start), q(start + 1), q(start + 2), q(start + 3)).toRotationMatrix();
-}
-
-}  // namespace
 
 void NormalizeQuaternions(const Model& model, Eigen::Ref<Eigen::VectorXd> q) {
   if (!model.has_quaternions) return;
   for (const Joint& j : model.joints) {
-    if (j.spec.type == JointType::kSpherical) q.segment<4>(j.q_start).normalize();
-    if (j.spec.type == JointType::kFree) q.segment<4>(j.q_start + 3).normalize();
+    const int quat = JointInfo(j.spec.type).quaternion;
+    if (quat >= 0) q.segment<4>(j.q_start + quat).normalize();
   }
 }
 
@@ -34,58 +26,10 @@ void CalcPositionKinematics(const Model& model, const Eigen::Ref<const Eigen::Ve
     const Transform X_WF = jt.X_PF_is_identity ? X_WP : X_WP * jt.spec.X_PF;
     Transform& X_FM = data.X_FM[j];
     // Joint transform and motion subspace S_F (about F's origin, F axes), mapped to world.
-    auto set_col = [&](int k, const Vec3& w_F, const Vec3& v_F) {
-      Vec6 m;
-      m << w_F, v_F;
-      data.S.col(vs + k) = MotionToWorld(X_WF, m);
-    };
-    const Vec3 zero = Vec3::Zero();
-    switch (jt.spec.type) {
-      case JointType::kFixed:
-        X_FM = Transform::Identity();
-        break;
-      case JointType::kRevolute:
-        X_FM = Transform(AxisAngle(jt.axis, q(qs)), zero);
-        set_col(0, jt.axis, zero);
-        break;
-      case JointType::kPrismatic:
-        X_FM = Transform(Mat3::Identity(), jt.axis * q(qs));
-        set_col(0, zero, jt.axis);
-        break;
-      case JointType::kCylindrical:
-        X_FM = Transform(AxisAngle(jt.axis, q(qs)), jt.axis * q(qs + 1));
-        set_col(0, jt.axis, zero);
-        set_col(1, zero, jt.axis);
-        break;
-      case JointType::kUniversal: {
-        const Mat3 R1 = AxisAngle(jt.axis, q(qs));
-        X_FM = Transform(R1 * AxisAngle(jt.axis2, q(qs + 1)), zero);
-        set_col(0, jt.axis, zero);
-        set_col(1, R1 * jt.axis2, zero);
-        break;
-      }
-      case JointType::kSpherical:
-        X_FM = Transform(QuatToRotation(q, qs), zero);
-        for (int k = 0; k < 3; ++k) set_col(k, Vec3::Unit(k), zero);
-        break;
-      case JointType::kPlanar: {
-        const Vec3 p = jt.axis2 * q(qs) + jt.axis3 * q(qs + 1);
-        X_FM = Transform(AxisAngle(jt.axis, q(qs + 2)), p);
-        set_col(0, zero, jt.axis2);
-        set_col(1, zero, jt.axis3);
-        set_col(2, jt.axis, p.cross(jt.axis));
-        break;
-      }
-      case JointType::kFree: {
-        const Vec3 p = q.segment<3>(qs);
-        X_FM = Transform(QuatToRotation(q, qs + 3), p);
-        for (int k = 0; k < 3; ++k) {
-          set_col(k, zero, Vec3::Unit(k));
-          set_col(3 + k, Vec3::Unit(k), p.cross(Vec3::Unit(k)));
-        }
-        break;
-      }
-    }
+    const JointTypeInfo& info = JointInfo(jt.spec.type);
+    Vec6 S_F[6];
+    info.position(jt, q.data() + qs, X_FM, S_F);
+    for (int k = 0; k < info.nv; ++k) data.S.col(vs + k) = MotionToWorld(X_WF, S_F[k]);
     data.X_WF[j] = X_WF;
     const BodyIndex b = jt.spec.child;
     data.X_WB[b] = X_WF * X_FM;
@@ -118,27 +62,8 @@ void CalcVelocityKinematics(const Model& model, const Eigen::Ref<const Eigen::Ve
     data.V_WB[jt.spec.child] = V_WP + V_joint;
     // S-dot v: frame F moves with the parent, plus the joint's own dS_F/dt v (in F).
     Vec6 c = CrossMotion(V_WP, V_joint);
-    Vec6 dS_F_v = Vec6::Zero();
-    switch (jt.spec.type) {
-      case JointType::kUniversal: {
-        const Vec3 a2 = AxisAngle(jt.axis, q(qs)) * jt.axis2;
-        dS_F_v.head<3>() = v(vs) * v(vs + 1) * jt.axis.cross(a2);
-        break;
-      }
-      case JointType::kPlanar: {
-        const Vec3 pdot = jt.axis2 * v(vs) + jt.axis3 * v(vs + 1);
-        dS_F_v.tail<3>() = v(vs + 2) * pdot.cross(jt.axis);
-        break;
-      }
-      case JointType::kFree:
-        dS_F_v.tail<3>() = v.segment<3>(vs).cross(v.segment<3>(vs + 3));
-        break;
-      default:
-        break;
-    }
-    if (jt.spec.type == JointType::kUniversal || jt.spec.type == JointType::kPlanar ||
-        jt.spec.type == JointType::kFree)
-      c += MotionToWorld(data.X_WF[j], dS_F_v);
+    if (const JointVelocityProductFn dS_F = JointInfo(jt.spec.type).velocity_product)
+      c += MotionToWorld(data.X_WF[j], dS_F(jt, q.data() + qs, v.data() + vs));
     data.c_J[j] = c;
   }
   CalcFrameVelocities(model, v, data);
@@ -162,16 +87,13 @@ void CalcQDot(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& q,
   }
   for (const Joint& jt : model.joints) {
     const int qs = jt.q_start, vs = jt.v_start;
-    int quat = -1;  // q offset of the quaternion inside the joint
-    if (jt.spec.type == JointType::kSpherical) quat = 0;
-    if (jt.spec.type == JointType::kFree) {
-      quat = 3;
-      qdot.segment<3>(qs) = v.segment<3>(vs);
-    }
+    const int quat = JointInfo(jt.spec.type).quaternion;  // offset of the quaternion block
     if (quat < 0) {
       qdot.segment(qs, jt.nq) = v.segment(vs, jt.nv);
       continue;
     }
+    // Coordinates before the quaternion (a free joint's translation) are their own rates.
+    qdot.segment(qs, quat) = v.segment(vs, quat);
     // (0, w) x (w0, u) = (-w.u, w0 w + w x u), halved; w is the angular velocity in F.
     const Vec3 w = v.segment<3>(vs + quat);
     const double w0 = q(qs + quat);
@@ -187,16 +109,12 @@ void IntegratePositions(const Model& model, const Eigen::Ref<const Eigen::Vector
                         Eigen::Ref<Eigen::VectorXd> q) {
   for (const Joint& jt : model.joints) {
     const int qs = jt.q_start, vs = jt.v_start;
-    int quat = -1;
-    if (jt.spec.type == JointType::kSpherical) quat = 0;
-    if (jt.spec.type == JointType::kFree) {
-      quat = 3;
-      q.segment<3>(qs) += dv.segment<3>(vs);
-    }
+    const int quat = JointInfo(jt.spec.type).quaternion;
     if (quat < 0) {
       q.segment(qs, jt.nq) += dv.segment(vs, jt.nv);
       continue;
     }
+    q.segment(qs, quat) += dv.segment(vs, quat);
     // Spatial (F-frame) angular increment: q <- exp(dphi) x q.
     const Quat current(q(qs + quat), q(qs + quat + 1), q(qs + quat + 2), q(qs + quat + 3));
     const Quat next = (QuatExp(dv.segment<3>(vs + quat)) * current).normalized();

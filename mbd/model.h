@@ -22,6 +22,7 @@
 
 #include "mbd/external_force.h"
 #include "mbd/flexible_body.h"
+#include "mbd/joint_types.h"
 #include "mbd/spatial.h"
 #include "mbd/time_function.h"
 
@@ -32,12 +33,6 @@ using FrameIndex = int;
 using JointIndex = int;
 constexpr BodyIndex kWorldBody = 0;
 constexpr FrameIndex kWorldFrame = 0;
-
-enum class JointType { kFixed, kRevolute, kPrismatic, kCylindrical, kUniversal, kSpherical,
-                       kPlanar, kFree };
-const char* JointTypeName(JointType type);
-int JointNq(JointType type);  // position coordinates of a joint
-int JointNv(JointType type);  // velocity coordinates of a joint
 
 // A joint between frame F on `parent` (pose X_PF) and frame M on `child` (pose X_CM); F and M
 // coincide at q = 0. Coordinates by type (all axes in F, unit length after normalization):

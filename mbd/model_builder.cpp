@@ -25,56 +25,7 @@ std::string Fmt(const Vec3& v) {
 
 bool IsFiniteMatrix(const Eigen::MatrixXd& m) { return m.allFinite(); }
 
-// Rows each loop-closure type contributes.
-int LoopRows(JointType type) {
-  switch (type) {
-    case JointType::kRevolute: return 5;
-    case JointType::kSpherical: return 3;
-    case JointType::kUniversal: return 4;
-    case JointType::kPrismatic: return 5;
-    case JointType::kCylindrical: return 4;
-    case JointType::kPlanar: return 3;
-    case JointType::kFixed: return 6;
-    case JointType::kFree: return 0;
-  }
-  return 0;
-}
-
 }  // namespace
-
-const char* JointTypeName(JointType type) {
-  switch (type) {
-    case JointType::kFixed: return "fixed";
-    case JointType::kRevolute: return "revolute";
-    case JointType::kPrismatic: return "prismatic";
-    case JointType::kCylindrical: return "cylindrical";
-    case JointType::kUniversal: return "universal";
-    case JointType::kSpherical: return "spherical";
-    case JointType::kPlanar: return "planar";
-    case JointType::kFree: return "free";
-  }
-  return "?";
-}
-
-int JointNq(JointType type) {
-  switch (type) {
-    case JointType::kFixed: return 0;
-    case JointType::kRevolute: case JointType::kPrismatic: return 1;
-    case JointType::kCylindrical: case JointType::kUniversal: return 2;
-    case JointType::kSpherical: return 4;
-    case JointType::kPlanar: return 3;
-    case JointType::kFree: return 7;
-  }
-  return 0;
-}
-
-int JointNv(JointType type) {
-  switch (type) {
-    case JointType::kSpherical: return 3;
-    case JointType::kFree: return 6;
-    default: return JointNq(type);
-  }
-}
 
 template <class Map>
 static auto LookUp(const Map& map, const std::string& kind, const std::string& name) {
@@ -178,14 +129,13 @@ JointIndex ModelBuilder::AddJoint(const JointSpec& spec) {
   j.X_MC = spec.X_CM.Inverse();
   j.X_PF_is_identity = spec.X_PF.IsIdentity();
   j.X_MC_is_identity = j.X_MC.IsIdentity();
-  const bool needs_axis = spec.type != JointType::kFixed && spec.type != JointType::kSpherical &&
-                          spec.type != JointType::kFree;
-  if (needs_axis) {
+  const JointTypeInfo& info = JointInfo(spec.type);
+  if (info.axes >= 1) {
     if (!spec.axis.allFinite() || spec.axis.norm() < 1e-12)
       Fail(what + ": axis " + Fmt(spec.axis) + " has zero length");
     j.axis = spec.axis.normalized();
   }
-  if (spec.type == JointType::kUniversal || spec.type == JointType::kPlanar) {
+  if (info.axes >= 2) {
     if (!spec.axis2.allFinite() || spec.axis2.norm() < 1e-12)
       Fail(what + ": axis2 " + Fmt(spec.axis2) + " has zero length");
     Vec3 a2 = spec.axis2.normalized();
@@ -228,7 +178,8 @@ void ModelBuilder::AddLoopClosure(const LoopClosureSpec& spec) {
   const std::string what = "loop closure '" + spec.name + "'";
   CheckFrame(what, spec.frame_a);
   CheckFrame(what, spec.frame_b);
-  if (spec.type == JointType::kFree) Fail(what + ": a free joint constrains nothing");
+  if (JointInfo(spec.type).loop_rows == 0)
+    Fail(what + ": a " + JointTypeName(spec.type) + " joint constrains nothing");
   if (model_->frames[spec.frame_a].body == model_->frames[spec.frame_b].body)
     Fail(what + ": both frames are on the same body");
   model_->loop_closures.push_back(spec);
@@ -241,8 +192,7 @@ int ModelBuilder::AddDriver(const DriverSpec& spec) {
   CheckCoordinate(what, spec.joint, spec.coordinate);
   const Joint& j = model_->joints[spec.joint];
   if (spec.mode == DriverSpec::Mode::kPosition &&
-      (j.spec.type == JointType::kSpherical ||
-       (j.spec.type == JointType::kFree && spec.coordinate >= 3)))
+      JointInfo(j.spec.type).v_kind[spec.coordinate] == CoordinateKind::kQuaternion)
     Fail(what + ": a position driver cannot prescribe a rotation of a quaternion joint ('" +
          j.spec.name + "'); use a speed driver");
   for (const Driver& d : model_->drivers)
@@ -298,7 +248,7 @@ void ModelBuilder::AddCoordinateSpring(const CoordinateSpringSpec& spec) {
   CheckCoordinate(what, spec.joint, spec.coordinate);
   CheckSpring(what, spec.stiffness, spec.damping);
   const Joint& j = model_->joints[spec.joint];
-  if (j.spec.type == JointType::kSpherical || (j.spec.type == JointType::kFree && spec.coordinate >= 3))
+  if (JointInfo(j.spec.type).v_kind[spec.coordinate] == CoordinateKind::kQuaternion)
     Fail(what + ": quaternion coordinates take a bushing, not a coordinate spring");
   model_->coordinate_springs.push_back(spec);
 }
@@ -418,8 +368,7 @@ std::shared_ptr<const Model> ModelBuilder::Finalize() && {
     jt.v_start = m.nv;
     m.nq += jt.nq;
     m.nv += jt.nv;
-    if (jt.spec.type == JointType::kSpherical || jt.spec.type == JointType::kFree)
-      m.has_quaternions = true;
+    if (JointInfo(jt.spec.type).quaternion >= 0) m.has_quaternions = true;
   }
   FinalizeFlexibleBodies();
   m.joint_of_v.assign(m.nv, -1);
@@ -430,11 +379,10 @@ std::shared_ptr<const Model> ModelBuilder::Finalize() && {
   m.v_initial = Eigen::VectorXd::Zero(m.nv);
   for (JointIndex j = 0; j < static_cast<int>(m.joints.size()); ++j) {
     const Joint& jt = m.joints[j];
-    if (jt.spec.type == JointType::kSpherical) m.q_initial(jt.q_start) = 1.0;
-    if (jt.spec.type == JointType::kFree) m.q_initial(jt.q_start + 3) = 1.0;
+    const int quat = JointInfo(jt.spec.type).quaternion;
+    if (quat >= 0) m.q_initial(jt.q_start + quat) = 1.0;  // identity rotation
     if (joint_q_[j].size()) {
       m.q_initial.segment(jt.q_start, jt.nq) = joint_q_[j];
-      const int quat = jt.spec.type == JointType::kSpherical ? 0 : jt.spec.type == JointType::kFree ? 3 : -1;
       if (quat >= 0) {
         auto qs = m.q_initial.segment<4>(jt.q_start + quat);
         if (qs.norm() < 1e-12) Fail("joint '" + jt.spec.name + "': initial quaternion is zero");
@@ -457,8 +405,8 @@ std::shared_ptr<const Model> ModelBuilder::Finalize() && {
   m.loop_rows.clear();
   for (const LoopClosureSpec& lc : m.loop_closures) {
     m.loop_row_start.push_back(row);
-    m.loop_rows.push_back(LoopRows(lc.type));
-    row += LoopRows(lc.type);
+    m.loop_rows.push_back(JointInfo(lc.type).loop_rows);
+    row += m.loop_rows.back();
   }
   m.gear_constraint_row.clear();
   for (size_t k = 0; k < m.gear_constraints.size(); ++k) m.gear_constraint_row.push_back(row++);

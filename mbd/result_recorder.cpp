@@ -11,29 +11,13 @@
 namespace orrery {
 namespace {
 
-std::string JointUnit(JointType type) {
-  switch (type) {
-    case JointType::kRevolute: case JointType::kUniversal: return "rad";
-    case JointType::kPrismatic: return "m";
-    case JointType::kCylindrical: return "rad, m";
-    case JointType::kSpherical: return "1";
-    case JointType::kPlanar: return "m, m, rad";
-    case JointType::kFree: return "m, m, m, 1, 1, 1, 1";
-    case JointType::kFixed: return "1";
-  }
-  return "1";
-}
-
-std::string JointRateUnit(JointType type) {
-  switch (type) {
-    case JointType::kRevolute: case JointType::kUniversal: case JointType::kSpherical: return "rad/s";
-    case JointType::kPrismatic: return "m/s";
-    case JointType::kCylindrical: return "rad/s, m/s";
-    case JointType::kPlanar: return "m/s, m/s, rad/s";
-    case JointType::kFree: return "m/s, m/s, m/s, rad/s, rad/s, rad/s";
-    case JointType::kFixed: return "1";
-  }
-  return "1";
+// Column names of a joint's q (rate == false) or v series.
+std::vector<std::string> JointColumns(JointType type, bool rate) {
+  const JointTypeInfo& info = JointInfo(type);
+  const int n = rate ? info.nv : info.nq;
+  std::vector<std::string> names;
+  for (int k = 0; k < n; ++k) names.emplace_back(rate ? info.v_names[k] : info.q_names[k]);
+  return names;
 }
 
 const std::vector<std::string> kXYZ{"x", "y", "z"};
@@ -56,8 +40,14 @@ ResultRecorder::ResultRecorder(const Model& model, ResultFile& out)
   }
   for (const Joint& j : model.joints) {
     const std::string g = "/joints/" + j.spec.name + "/";
-    joint_q_.push_back(j.nq > 0 ? out.AddSeries(g + "q", j.nq, JointUnit(j.spec.type)) : -1);
-    joint_v_.push_back(j.nv > 0 ? out.AddSeries(g + "v", j.nv, JointRateUnit(j.spec.type)) : -1);
+    joint_q_.push_back(j.nq > 0
+                           ? out.AddSeries(g + "q", j.nq, JointCoordinateUnits(j.spec.type, false),
+                                           JointColumns(j.spec.type, false))
+                           : -1);
+    joint_v_.push_back(j.nv > 0
+                           ? out.AddSeries(g + "v", j.nv, JointCoordinateUnits(j.spec.type, true),
+                                           JointColumns(j.spec.type, true))
+                           : -1);
     joint_reaction_.push_back(out.AddSeries(g + "reaction", 6, "N, N m", kWrench));
     out.SetAttribute("/joints/" + j.spec.name, "type", std::string(JointTypeName(j.spec.type)));
   }
@@ -65,10 +55,7 @@ ResultRecorder::ResultRecorder(const Model& model, ResultFile& out)
     loop_reaction_.push_back(out.AddSeries("/loop_closures/" + l.name + "/reaction", 6, "N, N m", kWrench));
   for (const Driver& d : model.drivers) {
     const JointType type = model.joints[d.spec.joint].spec.type;
-    const bool linear = type == JointType::kPrismatic ||
-                        (type == JointType::kCylindrical && d.spec.coordinate == 1) ||
-                        (type == JointType::kPlanar && d.spec.coordinate < 2) ||
-                        (type == JointType::kFree && d.spec.coordinate < 3);
+    const bool linear = JointInfo(type).v_kind[d.spec.coordinate] == CoordinateKind::kLength;
     driver_effort_.push_back(out.AddSeries("/drivers/" + d.spec.name + "/effort", 1, linear ? "N" : "N m"));
   }
   for (const GearMesh& m : model.gear_meshes) {

@@ -4,7 +4,8 @@
 // std::malloc rather than operator new, malloc, calloc and realloc are interposed too (glibc:
 // forwarded to __libc_*). Counting is off unless AllocationsIn turns it on, so the rest of the
 // test program is unaffected. The replacements are definitions: include this header in exactly
-// one file of a test program.
+// one file of a test program. Under AddressSanitizer, which owns malloc and operator new, nothing
+// is replaced: its allocator calls a hook on every allocation, and the hook counts.
 #include <algorithm>
 #include <atomic>
 #include <cstdlib>
@@ -18,6 +19,16 @@ inline void Count() {
 }
 }  // namespace
 
+#if defined(__SANITIZE_ADDRESS__)
+extern "C" int __sanitizer_install_malloc_and_free_hooks(void (*malloc_hook)(const volatile void*,
+                                                                             std::size_t),
+                                                         void (*free_hook)(const volatile void*));
+namespace {
+void CountHook(const volatile void*, std::size_t) { Count(); }
+void IgnoreFree(const volatile void*) {}
+const int g_hooks_installed = __sanitizer_install_malloc_and_free_hooks(CountHook, IgnoreFree);
+}  // namespace
+#else
 extern "C" {
 void* __libc_malloc(std::size_t);
 void* __libc_calloc(std::size_t, std::size_t);
@@ -65,6 +76,7 @@ void operator delete[](void* p, std::align_val_t) noexcept { std::free(p); }
 void operator delete(void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
 void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
 #pragma GCC diagnostic pop
+#endif  // __SANITIZE_ADDRESS__
 
 namespace orrery::test_support {
 

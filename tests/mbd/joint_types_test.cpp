@@ -1,0 +1,146 @@
+// The joint-type table (mbd/joint_types.cpp) against independent definitions.
+//
+// Oracles:
+// - the motion subspace is the derivative of the joint transform: moving q along the velocity
+//   v (q-dot = N(q) v; quaternions turned by the exponential map) for a time h, the central
+//   difference of X_FM(q) gives the spatial velocity of M relative to F about F's origin,
+//   w = vee(R-dot R^T), v_O = p-dot + p x w, which must equal S_F(q) v;
+// - the velocity-product term is the time derivative of S_F along the same motion,
+//   dS_F/dt v = (S_F(q(h)) - S_F(q(-h))) v / 2h;
+// - a loop closure of a type removes exactly the motions the joint allows: 6 - nv rows.
+#include <cmath>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "mbd/joint_types.h"
+#include "mbd/model.h"
+
+namespace orrery {
+namespace {
+
+Joint MakeJoint(JointType type) {
+  Joint j;
+  j.spec.type = type;
+  j.nq = JointNq(type);
+  j.nv = JointNv(type);
+  j.axis = Vec3(0.3, -0.5, 0.8).normalized();
+  const Vec3 other = Vec3(1.0, 0.2, -0.1);
+  j.axis2 = (other - other.dot(j.axis) * j.axis).normalized();
+  j.axis3 = j.axis.cross(j.axis2);
+  return j;
+}
+
+// q at time h when moving with constant v from q0 (quaternion blocks: q <- exp(h w) q).
+Eigen::VectorXd Advance(const JointTypeInfo& info, const Eigen::VectorXd& q0,
+                        const Eigen::VectorXd& v, double h) {
+  Eigen::VectorXd q = q0;
+  const int n_plain = info.quaternion < 0 ? info.nv : info.quaternion;
+  q.head(n_plain) += h * v.head(n_plain);
+  if (info.quaternion >= 0) {
+    const int k = info.quaternion;
+    const Quat current(q(k), q(k + 1), q(k + 2), q(k + 3));
+    const Quat next = QuatExp(h * Vec3(v.segment<3>(k))) * current;
+    q(k) = next.w();
+    q.segment<3>(k + 1) = next.vec();
+  }
+  return q;
+}
+
+// A configuration away from every special value (quaternions unit, not the identity).
+Eigen::VectorXd SomePosition(const JointTypeInfo& info) {
+  Eigen::VectorXd q(info.nq);
+  for (int k = 0; k < info.nq; ++k) q(k) = 0.3 + 0.17 * k;
+  if (info.quaternion >= 0) q.segment<4>(info.quaternion).normalize();
+  return q;
+}
+
+Eigen::VectorXd SomeVelocity(const JointTypeInfo& info) {
+  Eigen::VectorXd v(info.nv);
+  for (int k = 0; k < info.nv; ++k) v(k) = 0.7 - 0.4 * k;
+  return v;
+}
+
+Vec6 SubspaceTimes(const JointTypeInfo& info, const Joint& j, const Eigen::VectorXd& q,
+                   const Eigen::VectorXd& v) {
+  Transform X;
+  Vec6 S_F[6];
+  info.position(j, q.data(), X, S_F);
+  Vec6 m = Vec6::Zero();
+  for (int k = 0; k < info.nv; ++k) m += S_F[k] * v(k);
+  return m;
+}
+
+class JointTypeTest : public ::testing::TestWithParam<JointType> {};
+
+TEST_P(JointTypeTest, MotionSubspaceIsTheDerivativeOfTheJointTransform) {
+  const JointTypeInfo& info = JointInfo(GetParam());
+  const Joint j = MakeJoint(GetParam());
+  const Eigen::VectorXd q = SomePosition(info), v = SomeVelocity(info);
+  const double h = 1e-5;
+  Transform X0, Xp, Xm;
+  Vec6 S_F[6];
+  info.position(j, q.data(), X0, S_F);
+  const Eigen::VectorXd qp = Advance(info, q, v, h), qm = Advance(info, q, v, -h);
+  info.position(j, qp.data(), Xp, S_F);
+  info.position(j, qm.data(), Xm, S_F);
+  const Mat3 Rdot = (Xp.R - Xm.R) / (2 * h);
+  const Vec3 pdot = (Xp.p - Xm.p) / (2 * h);
+  const Mat3 W = Rdot * X0.R.transpose();
+  const Vec3 w(W(2, 1), W(0, 2), W(1, 0));
+  Vec6 expected;
+  expected << w, pdot + X0.p.cross(w);
+  // Central differences: error ~ h^2 |third derivative| ~ 1e-10 for these O(1) motions.
+  EXPECT_LT((SubspaceTimes(info, j, q, v) - expected).norm(), 1e-8) << info.name;
+  // W is skew for a rotation: a check on the difference itself.
+  EXPECT_LT((W + W.transpose()).norm(), 1e-8) << info.name;
+}
+
+TEST_P(JointTypeTest, VelocityProductIsTheDerivativeOfTheSubspaceAlongTheMotion) {
+  const JointTypeInfo& info = JointInfo(GetParam());
+  const Joint j = MakeJoint(GetParam());
+  const Eigen::VectorXd q = SomePosition(info), v = SomeVelocity(info);
+  const double h = 1e-5;
+  const Vec6 expected = (SubspaceTimes(info, j, Advance(info, q, v, h), v) -
+                         SubspaceTimes(info, j, Advance(info, q, v, -h), v)) /
+                        (2 * h);
+  const Vec6 got =
+      info.velocity_product ? info.velocity_product(j, q.data(), v.data()) : Vec6::Zero().eval();
+  EXPECT_LT((got - expected).norm(), 1e-8) << info.name;
+}
+
+TEST_P(JointTypeTest, LoopClosureRemovesTheMotionsTheJointAllows) {
+  const JointTypeInfo& info = JointInfo(GetParam());
+  EXPECT_EQ(info.loop_rows, 6 - info.nv) << info.name;
+}
+
+TEST_P(JointTypeTest, NameRoundTripsAndUnitsNameEveryCoordinate) {
+  const JointTypeInfo& info = JointInfo(GetParam());
+  JointType parsed = JointType::kFixed;
+  ASSERT_TRUE(JointTypeFromName(info.name, &parsed));
+  EXPECT_EQ(parsed, GetParam());
+  EXPECT_EQ(info.type, GetParam());
+  EXPECT_EQ(info.nq - info.nv, info.quaternion >= 0 ? 1 : 0) << info.name;
+  for (int k = 0; k < info.nq; ++k) EXPECT_NE(info.q_names[k], nullptr) << info.name << " q" << k;
+  for (int k = 0; k < info.nv; ++k) EXPECT_NE(info.v_names[k], nullptr) << info.name << " v" << k;
+}
+
+INSTANTIATE_TEST_SUITE_P(AllTypes, JointTypeTest,
+                         ::testing::Values(JointType::kFixed, JointType::kRevolute,
+                                           JointType::kPrismatic, JointType::kCylindrical,
+                                           JointType::kUniversal, JointType::kSpherical,
+                                           JointType::kPlanar, JointType::kFree),
+                         [](const auto& info) { return std::string(JointTypeName(info.param)); });
+
+TEST(JointTypes, UnitsAsTheResultFilesWriteThem) {
+  EXPECT_EQ(JointCoordinateUnits(JointType::kRevolute, false), "rad");
+  EXPECT_EQ(JointCoordinateUnits(JointType::kSpherical, false), "1");
+  EXPECT_EQ(JointCoordinateUnits(JointType::kSpherical, true), "rad/s");
+  EXPECT_EQ(JointCoordinateUnits(JointType::kPlanar, false), "m, m, rad");
+  EXPECT_EQ(JointCoordinateUnits(JointType::kFree, true), "m/s, m/s, m/s, rad/s, rad/s, rad/s");
+  JointType t;
+  EXPECT_FALSE(JointTypeFromName("hinge", &t));
+}
+
+}  // namespace
+}  // namespace orrery
