@@ -263,9 +263,11 @@ std::string HashReductionOptions(const CraigBamptonOptions& options, std::span<c
 
 ReducedBodyProvenance MakeReducedBodyProvenance(const FeMesh& mesh, const CraigBamptonOptions& options,
                                                 std::span<const FeInterface> interfaces,
-                                                const FlexibleBodyModesOptions& outputs, std::string source) {
+                                                const FlexibleBodyModesOptions& outputs, std::string source,
+                                                std::string faults) {
   ReducedBodyProvenance p;
   p.source = std::move(source);
+  p.faults = std::move(faults);
   p.mesh_hash = HashFeMesh(mesh);
   p.options_hash = HashReductionOptions(options, interfaces, outputs);
   // Element types in enum order, joined by '+'
@@ -303,6 +305,11 @@ void CheckReducedBodyMatches(const ReducedBodyProvenance& file, const ReducedBod
   if (!expected.mesh_hash.empty() && expected.mesh_hash != file.mesh_hash)
     reasons.push_back("mesh hash differs: file was reduced from " + file.source + " (" + file.mesh_hash +
                       "), the scene's mesh is " + expected.source + " (" + expected.mesh_hash + ")");
+  // Faults: a known expectation must match a known record; a file without the record was written
+  // before faults were recorded and counts as healthy only for a healthy expectation.
+  if (!expected.faults.empty() && expected.faults != (file.faults.empty() ? "none" : file.faults))
+    reasons.push_back("tooth faults differ: file " + (file.faults.empty() ? std::string("none recorded") : file.faults) +
+                      ", the scene asks " + expected.faults);
   if (!expected.options_hash.empty() && expected.options_hash != file.options_hash)
     reasons.push_back("reduction options differ (interfaces, modes, cutoff or outputs): file " + file.options_hash +
                       ", scene " + expected.options_hash);
@@ -348,6 +355,7 @@ void WriteReducedBody(const std::string& path, const ReducedBody& b) {
   f.SetAttribute("/provenance", "density_kg_m3", p.material.density_kg_m3);
   f.SetAttribute("/provenance", "modes_kept", std::int64_t{p.modes_kept});
   f.SetAttribute("/provenance", "engine_version", p.engine_version);
+  if (!p.faults.empty()) f.SetAttribute("/provenance", "faults", p.faults);
   // Craig-Bampton matrices and frequencies, the full model's frequencies
   f.WriteMatrix("/craig_bampton/K", b.K, "N/m");
   f.WriteMatrix("/craig_bampton/M", b.M, "kg");
@@ -454,6 +462,7 @@ ReducedBody ReadReducedBody(const std::string& path, const ReducedBodyProvenance
   p.material.density_kg_m3 = r.ReadNumberAttribute("/provenance", "density_kg_m3");
   p.modes_kept = static_cast<int>(r.ReadIntAttribute("/provenance", "modes_kept"));
   p.engine_version = r.ReadStringAttribute("/provenance", "engine_version");
+  if (r.HasAttribute("/provenance", "faults")) p.faults = r.ReadStringAttribute("/provenance", "faults");
   if (expected != nullptr) CheckReducedBodyMatches(p, *expected, path);
   // Craig-Bampton
   b.K = in.Matrix("/craig_bampton/K", -1, -1);

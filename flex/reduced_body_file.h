@@ -52,6 +52,11 @@ struct ReducedBodyProvenance {
   IsotropicMaterial material;  // the mesh's material ("MIXED" name, zeros if several)
   int modes_kept = -1;         // fixed-interface normal modes kept
   std::string engine_version;  // ORRERY_VERSION of the writer (recorded, not compared)
+  // The damage the reduced geometry carries, as text ("none" for a healthy gear; a gear's tooth
+  // faults as import/reduce_input.h DescribeGearFaults writes them), so that a body reduced
+  // healthy is never used where a faulty one is asked for (and the reverse); "" unknown (files
+  // written before this field, mesh-file reductions).
+  std::string faults;
 };
 
 // An interface as stored: enough to rebuild the FeInterface on the same mesh and to attach
@@ -94,7 +99,8 @@ std::string HashReductionOptions(const CraigBamptonOptions& options, std::span<c
 // The provenance of reducing `mesh` with these settings (engine version = this build's).
 ReducedBodyProvenance MakeReducedBodyProvenance(const FeMesh& mesh, const CraigBamptonOptions& options,
                                                 std::span<const FeInterface> interfaces,
-                                                const FlexibleBodyModesOptions& outputs, std::string source);
+                                                const FlexibleBodyModesOptions& outputs, std::string source,
+                                                std::string faults = "");
 // An interface as stored (master position: the given one or the slave centroid).
 ReducedInterface DescribeInterface(const FeMesh& mesh, const FeInterface& interface);
 

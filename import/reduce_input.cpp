@@ -9,6 +9,7 @@
 
 #include "flex/fe_assembly.h"
 #include "import/scene_reader.h"
+#include "import/tooth_fault_reader.h"
 
 namespace orrery {
 namespace {
@@ -67,7 +68,7 @@ ReduceInput Read(const Context& ctx, const YAML::Node& root) {
   ReduceInput in;
   in.file = ctx.file();
   const MapReader top(ctx, {root, "", root.Mark()},
-                      {"gear", "mesh", "material", "interfaces", "reduction", "outputs"});
+                      {"gear", "mesh", "material", "interfaces", "reduction", "outputs", "fault"});
 
   // gear: the geometry, checked by building it
   {
@@ -119,6 +120,19 @@ ReduceInput Read(const Context& ctx, const YAML::Node& root) {
     s.rim_bias = Bounded(m, "rim_bias", s.rim_bias, 0, true);
   } else {
     in.mesh.type = flex::ElementType::kHex20;
+  }
+
+  // fault: one tooth fault or a list (tooth_fault_reader.h), checked against the gear
+  if (const auto item = top.Find("fault")) {
+    const gears::Gear gear(in.gear);
+    in.mesh.faults = ReadToothFaults(ctx, item);
+    const std::vector<Item> items = item->node.IsMap() ? std::vector<Item>{*item} : ListItems(ctx, item);
+    for (size_t i = 0; i < items.size(); ++i) CheckToothFault(ctx, items[i], gear, in.mesh.faults[i]);
+    try {
+      gears::ValidateToothFaults(gear, in.mesh.faults);
+    } catch (const std::invalid_argument& e) {
+      ctx.Fail(*item, e.what());
+    }
   }
 
   // material: E, nu, rho (SI)
@@ -243,12 +257,21 @@ GearReduction PrepareGearReduction(const ReduceInput& in) {
                Num(g.normal_pressure_angle_rad * kDeg) + " deg, beta=" + Num(g.helix_angle_rad * kDeg) +
                " deg, b=" + Num(g.face_width_m) + " m, x=" + Num(g.profile_shift) + ", bore radius " +
                Num(in.mesh.bore_radius_m) + " m; " + flex::CalculixName(in.mesh.type) + " mesh (" + in.file + ")";
+  job.faults = DescribeGearFaults(in.mesh.faults);
+  if (!in.mesh.faults.empty()) job.source += "; faults: " + job.faults;
   return job;
+}
+
+std::string DescribeGearFaults(const std::vector<gears::ToothFaultSpec>& faults) {
+  if (faults.empty()) return "none";
+  std::string s;
+  for (const gears::ToothFaultSpec& f : faults) s += (s.empty() ? "" : "; ") + gears::DescribeToothFault(f);
+  return s;
 }
 
 Reduction ReduceBody(const flex::FeMesh& mesh, std::span<const flex::FeInterface> interfaces,
                      const flex::CraigBamptonOptions& cb_options, const flex::FlexibleBodyModesOptions& outputs,
-                     const std::string& source) {
+                     const std::string& source, const std::string& faults) {
   using Clock = std::chrono::steady_clock;
   auto since = [](Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); };
   Reduction r;
@@ -268,7 +291,7 @@ Reduction ReduceBody(const flex::FeMesh& mesh, std::span<const flex::FeInterface
   body.full_model_boundary = "not computed";
   for (const flex::FeInterface& i : interfaces) body.interfaces.push_back(flex::DescribeInterface(mesh, i));
   body.reference_interface = cb_options.reference_interface;
-  body.provenance = flex::MakeReducedBodyProvenance(mesh, cb_options, interfaces, outputs, source);
+  body.provenance = flex::MakeReducedBodyProvenance(mesh, cb_options, interfaces, outputs, source, faults);
   return r;
 }
 

@@ -13,6 +13,12 @@
 //     - {name: bore, node_set: BORE, kind: rbe2}
 //   reduction: {modes: 20, cutoff_hz: 0, reference: bore, inertial_load_modes: false}
 //   outputs: {stress_modes: true, geometric_stiffness: true, export_node_sets: [TOOTH0_FLANK_PLUS]}
+//   fault: {kind: broken_tooth, tooth: 0, height_fraction: 0.5}     # or a list (optional)
+//
+// fault: tooth faults of the gear (import/tooth_fault_reader.h: the fields of
+// models/tooth_fault.h), checked against the gear; breaks and cracks change the mesh
+// (models/gear_fe_mesh.h), and every fault is recorded in the body's provenance
+// (ReducedBodyProvenance::faults), so that a body reduced healthy is never taken for a faulty one.
 //
 // Lengths take a unit suffix (module, module_mm; face_width, face_width_mm; bore_diameter,
 // bore_diameter_mm), angles are in degrees (_deg) or radians (no suffix). The gear is checked by
@@ -76,6 +82,7 @@ struct GearReduction {
   flex::CraigBamptonOptions cb_options;
   flex::FlexibleBodyModesOptions outputs;
   std::string source;
+  std::string faults;  // DescribeGearFaults of the mesh's faults ("none" for a healthy gear)
 };
 // Throws std::runtime_error "FILE: KEY: reason" when the mesh cannot be generated or an
 // interface's or output's node set does not exist.
@@ -91,8 +98,12 @@ struct Reduction {
   flex::ReducedBody body;
   double assembly_s = 0, reduction_s = 0, modes_s = 0;  // wall time of each stage
 };
+// `faults`: the provenance's fault text (DescribeGearFaults; "" unknown, e.g. a mesh file).
 Reduction ReduceBody(const flex::FeMesh& mesh, std::span<const flex::FeInterface> interfaces,
                      const flex::CraigBamptonOptions& cb_options, const flex::FlexibleBodyModesOptions& outputs,
-                     const std::string& source);
+                     const std::string& source, const std::string& faults = "");
+
+// The faults of a gear as provenance text: "none", or DescribeToothFault of each joined by "; ".
+std::string DescribeGearFaults(const std::vector<gears::ToothFaultSpec>& faults);
 
 }  // namespace orrery

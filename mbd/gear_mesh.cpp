@@ -108,12 +108,12 @@ double MeshPhase(const GearMeshSpec& spec, const MeshGeometry& g, const MeshStat
   return spec.phase - g.sigma * spec.teeth_b * s.theta_b / kTwoPi;
 }
 
-double MeshStiffness(const GearMeshSpec& spec, double psi) {
-  const auto& table = spec.stiffness_table;
-  if (table.empty()) return spec.stiffness;
+namespace {
+
+// Periodic linear interpolation of uniform samples over `cycles` mesh cycles at phase psi.
+double TableAt(const std::vector<double>& table, int cycles, double psi) {
   const int n = static_cast<int>(table.size());
-  const double cycles = spec.table_cycles;
-  double tau = std::fmod(psi, cycles);
+  double tau = std::fmod(psi, double(cycles));
   if (tau < 0) tau += cycles;
   const double x = tau / cycles * n;
   const int i = std::min(static_cast<int>(x), n - 1);
@@ -121,8 +121,15 @@ double MeshStiffness(const GearMeshSpec& spec, double psi) {
   return (1 - f) * table[i] + f * table[(i + 1) % n];
 }
 
+}  // namespace
+
+double MeshStiffness(const GearMeshSpec& spec, double psi) {
+  if (spec.stiffness_table.empty()) return spec.stiffness;
+  return TableAt(spec.stiffness_table, spec.table_cycles, psi);
+}
+
 double MeshTransmissionError(const GearMeshSpec& spec, double psi) {
-  double e = 0;
+  double e = spec.ste_table_m.empty() ? 0.0 : TableAt(spec.ste_table_m, spec.ste_table_cycles, psi);
   for (size_t k = 0; k < spec.ste_amplitudes.size(); ++k)
     e += spec.ste_amplitudes[k] *
          std::cos(kTwoPi * double(k + 1) * psi + (k < spec.ste_phases.size() ? spec.ste_phases[k] : 0.0));

@@ -50,7 +50,8 @@ double CalcMeshRate(const Model& model, const Data& data, FrameIndex gear_a, Fra
 // Mesh stiffness at mesh phase psi (cycles) from the spec's table (or its constant).
 double MeshStiffness(const GearMeshSpec& spec, double psi);
 
-// Static transmission error at mesh phase psi (m).
+// Static transmission error at mesh phase psi (m): the table (periodic linear interpolation, as
+// the stiffness table) plus the harmonics. Allocation-free.
 double MeshTransmissionError(const GearMeshSpec& spec, double psi);
 
 // Mesh phase (cycles) of the mesh's phase gear from the gear angles.

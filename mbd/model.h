@@ -189,6 +189,11 @@ struct GearMeshSpec {
   double damping_ratio = 0;               // c = 2 zeta sqrt(k_mean m_eq), m_eq from the inertias
   std::vector<double> ste_amplitudes;     // m, harmonics 1, 2, ... of the mesh frequency
   std::vector<double> ste_phases;         // rad
+  // Static transmission error as a table (m, along the line of action), uniform samples over
+  // ste_table_cycles mesh cycles of the phase gear, added to the harmonics above (e.g. the
+  // no-load TE of a spalled tooth, models/mesh_stiffness.h Tvms::no_load_te_m).
+  std::vector<double> ste_table_m;
+  int ste_table_cycles = 1;
   // false: a published lumped model entered as printed, whose centre distance need not agree
   // with its base radii and pressure angle; forces then act at the lever points r_b / cos(alpha_w)
   // from each centre along u (which coincide when the geometry is consistent).

@@ -305,6 +305,9 @@ void ModelBuilder::AddGearMesh(const GearMeshSpec& spec) {
   if (spec.table_cycles < 1) Fail(what + ": table_cycles must be >= 1");
   if (spec.ste_phases.size() > spec.ste_amplitudes.size())
     Fail(what + ": more transmission-error phases than amplitudes");
+  for (double e : spec.ste_table_m)
+    if (!std::isfinite(e)) Fail(what + ": transmission-error table values must be finite");
+  if (spec.ste_table_cycles < 1) Fail(what + ": ste_table_cycles must be >= 1");
   GearMesh mesh;
   mesh.spec = spec;
   model_->gear_meshes.push_back(mesh);

@@ -9,6 +9,8 @@
 #include <unordered_map>
 #include <utility>
 
+#include "models/tooth_fault_geometry.h"
+
 namespace orrery::gears {
 namespace {
 
@@ -88,6 +90,7 @@ struct Block {
   Block(int ni_, int nj_) : ni(ni_), nj(nj_), p((ni_ + 1) * (nj_ + 1)), tag((ni_ + 1) * (nj_ + 1), 0) {}
   int Index(int i, int j) const { return j * (ni + 1) + i; }
   Vec2& at(int i, int j) { return p[Index(i, j)]; }
+  const Vec2& at(int i, int j) const { return p[Index(i, j)]; }
 };
 
 // Polar block: angles (ni + 1) x radii (nj + 1).
@@ -183,6 +186,405 @@ std::string ToothSetName(int tooth, std::string_view part) {
   return "TOOTH" + std::to_string(tooth) + "_" + flex::UpperName(part);
 }
 
+namespace {
+
+// Counts and distributions shared by every tooth block (q lattice points per element edge).
+struct ToothLayout {
+  int q = 1;
+  int root_layer = 0, fillet = 0, flank = 0;  // element divisions of the side pieces
+  double r_base = 0, half_pitch = 0;
+  std::vector<double> across, layer;         // (q ni + 1), (q root_layer + 1)
+  int smoothing = 0;
+};
+
+// Arc length of the profile over s in [0, 3] (minus side: space middle to the tip), sampled
+// finely, and its inverse: nodes are spaced evenly in arc length along the root curve.
+class ProfileLength {
+ public:
+  explicit ProfileLength(const Gear& gear) : gear_(gear), length_(kSamples + 1, 0.0) {
+    for (int k = 1; k <= kSamples; ++k)
+      length_[k] = length_[k - 1] + (gear.ProfileAt(S(k)).p - gear.ProfileAt(S(k - 1)).p).norm();
+  }
+  double At(double s) const {
+    const double x = std::clamp(s / 3.0 * kSamples, 0.0, double(kSamples));
+    const int k = std::min(static_cast<int>(x), kSamples - 1);
+    return length_[k] + (x - k) * (length_[k + 1] - length_[k]);
+  }
+  // s at arc length l.
+  double Parameter(double l) const {
+    const int k = std::clamp(static_cast<int>(std::lower_bound(length_.begin(), length_.end(), l) - length_.begin()), 1,
+                             kSamples);
+    const double w = std::clamp((l - length_[k - 1]) / (length_[k] - length_[k - 1]), 0.0, 1.0);
+    return S(k - 1) + w * (S(k) - S(k - 1));
+  }
+
+ private:
+  static constexpr int kSamples = 6000;
+  static double S(int k) { return 3.0 * k / kSamples; }
+  const Gear& gear_;
+  std::vector<double> length_;
+};
+
+// The minus side of a tooth block from the space middle at r_base up to the tip: points and
+// tags, with the row of a fault point (-1: none).
+struct SideCurve {
+  std::vector<Vec2> points;
+  std::vector<std::uint8_t> tags;
+  int fault_row = -1;
+};
+
+std::uint8_t MinusTag(double s) {
+  if (s < 1 - 1e-12) return kRoot;
+  if (std::abs(s - 2) < 1e-9) return kFlankMinus | kFilletMinus;
+  if (s < 2) return kFilletMinus;
+  return kFlankMinus;
+}
+
+// Side curve: radial root layer, then pieces of the profile [0, 2] (root curve, even in arc
+// length) with `fillet` elements and [2, 3] (involute, even in s) with `flank` elements. A fault
+// point s_f splits the piece it lies in, in proportion to arc length (at least one element each;
+// a one-element piece becomes two).
+SideCurve MakeSideCurve(const Gear& gear, const ToothLayout& L, const ProfileLength& len, double s_fault) {
+  SideCurve side;
+  const double r_f = gear.root_radius_m();
+  for (int j = 0; j <= L.q * L.root_layer; ++j) {
+    side.points.push_back(Polar(L.r_base + (r_f - L.r_base) * L.layer[j], -L.half_pitch));
+    side.tags.push_back(j == L.q * L.root_layer ? kRoot : 0);
+  }
+  struct Piece { double s0, s1; int elements; bool by_length; };
+  std::vector<Piece> pieces = {{0, 2, L.fillet, true}, {2, 3, L.flank, false}};
+  if (s_fault >= 0) {
+    for (size_t k = 0; k < pieces.size(); ++k) {
+      Piece p = pieces[k];
+      if (!(s_fault > p.s0 + 1e-9 && s_fault < p.s1 - 1e-9)) continue;
+      const int n = std::max(2, p.elements);
+      const double f = p.by_length ? (len.At(s_fault) - len.At(p.s0)) / (len.At(p.s1) - len.At(p.s0))
+                                   : (s_fault - p.s0) / (p.s1 - p.s0);
+      const int n_low = std::clamp(static_cast<int>(std::lround(n * f)), 1, n - 1);
+      pieces[k] = {p.s0, s_fault, n_low, p.by_length};
+      pieces.insert(pieces.begin() + k + 1, Piece{s_fault, p.s1, n - n_low, p.by_length});
+      break;
+    }
+  }
+  for (const Piece& p : pieces) {
+    if (s_fault >= 0 && std::abs(p.s0 - s_fault) < 1e-9) side.fault_row = static_cast<int>(side.points.size()) - 1;
+    const int m = L.q * p.elements;
+    for (int j = 1; j <= m; ++j) {
+      const double t = static_cast<double>(j) / m;
+      const double sv = p.by_length ? len.Parameter(len.At(p.s0) + t * (len.At(p.s1) - len.At(p.s0)))
+                                    : p.s0 + t * (p.s1 - p.s0);
+      const double s_node = j == m ? p.s1 : sv;
+      side.points.push_back(gear.ProfileAt(s_node).p);
+      side.tags.push_back(MinusTag(s_node));
+    }
+  }
+  if (s_fault >= 0 && side.fault_row < 0) side.fault_row = static_cast<int>(side.points.size()) - 1;
+  return side;
+}
+
+// Coons patch of a block's four sides (already in place), then Winslow smoothing.
+void FillBlock(Block& b, const std::vector<double>& across, int smoothing, double tol) {
+  std::vector<double> eta(b.nj + 1, 0.0);
+  for (int j = 1; j <= b.nj; ++j) eta[j] = eta[j - 1] + (b.at(0, j) - b.at(0, j - 1)).norm();
+  for (double& e : eta) e /= eta.back();
+  const Vec2 c00 = b.at(0, 0), c10 = b.at(b.ni, 0), c01 = b.at(0, b.nj), c11 = b.at(b.ni, b.nj);
+  for (int j = 1; j < b.nj; ++j)
+    for (int i = 1; i < b.ni; ++i) {
+      const double u = across[i], v = eta[j];
+      b.at(i, j) = (1 - u) * b.at(0, j) + u * b.at(b.ni, j) + (1 - v) * b.at(i, 0) + v * b.at(i, b.nj) -
+                   ((1 - u) * (1 - v) * c00 + u * (1 - v) * c10 + (1 - u) * v * c01 + u * v * c11);
+    }
+  Winslow(b, across, eta, smoothing, tol);
+}
+
+// The fault row of a tooth block: its points from the minus side (i = 0) to the plus side.
+// Broken tooth: the chord between the two break points. Crack (from the minus side): the
+// straight crack from the side point A to the tip C = A + q d, d = (-cos nu, sin nu) (towards
+// the root and the centre line), then straight on to the plus side's point; the crack tip is the
+// element corner nearest to |AC| / (|AC| + |CB|) of the across distribution (crack_tip_column).
+std::vector<Vec2> FaultRow(const Vec2& a, const Vec2& b, const ToothFaultSpec& fault, const std::vector<double>& across,
+                           int q, int* crack_tip_column) {
+  const int ni = static_cast<int>(across.size()) - 1;
+  std::vector<Vec2> row(ni + 1);
+  if (fault.kind != ToothFaultSpec::Kind::kRootCrack) {
+    for (int i = 0; i <= ni; ++i) row[i] = a + across[i] * (b - a);
+    return row;
+  }
+  const double q_max = std::max(fault.crack_depth_m, fault.crack_end_depth_m.value_or(0.0));
+  const Vec2 c = a + q_max * Vec2(-std::cos(fault.crack_angle_rad), std::sin(fault.crack_angle_rad));
+  const double f = (c - a).norm() / ((c - a).norm() + (b - c).norm());
+  int best = q;
+  for (int i = q; i < ni; i += q)
+    if (std::abs(across[i] - f) < std::abs(across[best] - f)) best = i;
+  *crack_tip_column = best;
+  for (int i = 0; i <= ni; ++i)
+    row[i] = i <= best ? a + across[i] / across[best] * (c - a)
+                       : c + (across[i] - across[best]) / (1 - across[best]) * (b - c);
+  return row;
+}
+
+// A faulted tooth block: one lattice whose row side.fault_row is the fault row, the parts below
+// and above filled separately.
+Block MakeFaultedToothBlock(const SideCurve& side, const Block& healthy_bottom_top, const std::vector<Vec2>& row,
+                            const ToothLayout& L, double tol) {
+  const int ni = healthy_bottom_top.ni, nj = static_cast<int>(side.points.size()) - 1, jf = side.fault_row;
+  Block lower(ni, jf), upper(ni, nj - jf);
+  for (int j = 0; j <= jf; ++j) {
+    lower.at(0, j) = side.points[j];
+    lower.at(ni, j) = Vec2(side.points[j].x(), -side.points[j].y());
+  }
+  for (int j = jf; j <= nj; ++j) {
+    upper.at(0, j - jf) = side.points[j];
+    upper.at(ni, j - jf) = Vec2(side.points[j].x(), -side.points[j].y());
+  }
+  for (int i = 0; i <= ni; ++i) {
+    lower.at(i, 0) = healthy_bottom_top.at(i, 0);
+    lower.at(i, jf) = upper.at(i, 0) = row[i];
+    upper.at(i, nj - jf) = healthy_bottom_top.at(i, healthy_bottom_top.nj);
+  }
+  FillBlock(lower, L.across, L.smoothing, tol);
+  FillBlock(upper, L.across, L.smoothing, tol);
+  Block b(ni, nj);
+  for (int j = 0; j <= nj; ++j)
+    for (int i = 0; i <= ni; ++i) b.at(i, j) = j <= jf ? lower.at(i, j) : upper.at(i, j - jf);
+  return b;
+}
+
+// Tags of a tooth block's sides (minus side's tags mirrored to the plus side) and tip row.
+void TagToothBlock(Block& b, const std::vector<std::uint8_t>& left_tags) {
+  for (int j = 0; j <= b.nj; ++j) {
+    const std::uint8_t t = left_tags[j];
+    b.tag[b.Index(0, j)] = t;
+    b.tag[b.Index(b.ni, j)] = (t & kRoot) | (t & kFlankMinus ? kFlankPlus : 0) | (t & kFilletMinus ? kFilletPlus : 0);
+  }
+  for (int i = 0; i <= b.ni; ++i) b.tag[b.Index(i, b.nj)] |= kTip;
+}
+
+// Mirror image y -> -y of a block (i reversed), tags swapped minus <-> plus.
+Block MirrorBlock(const Block& b) {
+  Block m(b.ni, b.nj);
+  auto swap_tag = [](std::uint8_t t) {
+    std::uint8_t o = t & (kBore | kRoot | kTip);
+    if (t & kFlankMinus) o |= kFlankPlus;
+    if (t & kFlankPlus) o |= kFlankMinus;
+    if (t & kFilletMinus) o |= kFilletPlus;
+    if (t & kFilletPlus) o |= kFilletMinus;
+    return o;
+  };
+  for (int j = 0; j <= b.nj; ++j)
+    for (int i = 0; i <= b.ni; ++i) {
+      const Vec2 p = b.p[b.Index(b.ni - i, j)];
+      m.at(i, j) = Vec2(p.x(), -p.y());
+      m.tag[m.Index(i, j)] = swap_tag(b.tag[b.Index(b.ni - i, j)]);
+    }
+  return m;
+}
+
+// The tooth block of one tooth (healthy: fault == nullptr). For a fault: the row index of the
+// fault row and, for a crack, the lattice points of the crack (column i, row fault_row) from the
+// mouth (i = 0 on the damaged side) to the tip with their distance from the mouth.
+struct ToothBlock {
+  Block block{0, 0};
+  int fault_row = -1;
+  std::vector<int> crack_columns;     // lattice columns of the crack, mouth first
+  std::vector<double> crack_distance; // m from the mouth
+};
+
+ToothBlock MakeToothBlock(const Gear& gear, const ToothLayout& L, const ProfileLength& len,
+                          const ToothFaultSpec* fault) {
+  const double tol = 1e-13 * gear.root_radius_m();
+  // The fault point on the minus side: the break radius, or the crack's mouth on the fillet at
+  // the tooth beam's root half thickness (mesh_stiffness.h).
+  double s_fault = -1;
+  if (fault && fault->kind == ToothFaultSpec::Kind::kBrokenTooth) s_fault = ProfileParameterAtRadius(gear, BreakRadius(gear, *fault), false);
+  if (fault && fault->kind == ToothFaultSpec::Kind::kRootCrack) {
+    const double h = BeamRootHalfThickness(gear);
+    double a = 1.0, b = 2.0;
+    auto f = [&](double s) { return -gear.ProfileAt(s).p.y() - h; };
+    if (f(a) * f(b) > 0) {
+      s_fault = std::abs(f(a)) < std::abs(f(b)) ? 1.0 + 1e-6 : 2.0 - 1e-6;
+    } else {
+      for (int it = 0; it < 100; ++it) (f(0.5 * (a + b)) * f(a) > 0 ? a : b) = 0.5 * (a + b);
+      s_fault = 0.5 * (a + b);
+    }
+  }
+  const SideCurve side = MakeSideCurve(gear, L, len, s_fault);
+  const int ni = static_cast<int>(L.across.size()) - 1, nj = static_cast<int>(side.points.size()) - 1;
+  Block frame(ni, nj);  // bottom (r_base arc) and top (tip arc) rows
+  for (int i = 0; i <= ni; ++i) {
+    frame.at(i, 0) = Polar(L.r_base, -L.half_pitch + 2 * L.half_pitch * L.across[i]);
+    frame.at(i, nj) = gear.ProfileAt(3 + L.across[i]).p;
+  }
+  ToothBlock out;
+  if (fault == nullptr) {
+    out.block = frame;
+    for (int j = 0; j <= nj; ++j) {
+      out.block.at(0, j) = side.points[j];
+      out.block.at(ni, j) = Vec2(side.points[j].x(), -side.points[j].y());
+    }
+    FillBlock(out.block, L.across, L.smoothing, tol);
+  } else {
+    const Vec2 a = side.points[side.fault_row], b(a.x(), -a.y());
+    int tip = -1;
+    const std::vector<Vec2> row = FaultRow(a, b, *fault, L.across, L.q, &tip);
+    out.block = MakeFaultedToothBlock(side, frame, row, L, tol);
+    out.fault_row = side.fault_row;
+    for (int i = 0; tip >= 0 && i <= tip; ++i) {
+      out.crack_columns.push_back(i);
+      out.crack_distance.push_back((row[i] - row[0]).norm());
+    }
+  }
+  TagToothBlock(out.block, side.tags);
+  // A crack on the plus flank: the mirror image (columns counted from the plus side).
+  if (fault && fault->kind == ToothFaultSpec::Kind::kRootCrack && fault->flank == ToothFaultSpec::Flank::kPlus) {
+    out.block = MirrorBlock(out.block);
+    for (int& i : out.crack_columns) i = ni - i;
+  }
+  return out;
+}
+
+// Folded cells (corner cross products of both signs) of a block: the fault did not fit the mesh.
+bool BlockFolds(const Block& b, int q) {
+  for (int cj = 0; cj < b.nj / q; ++cj)
+    for (int ci = 0; ci < b.ni / q; ++ci) {
+      const Vec2 p[4] = {b.p[b.Index(q * ci, q * cj)], b.p[b.Index(q * ci + q, q * cj)],
+                         b.p[b.Index(q * ci + q, q * cj + q)], b.p[b.Index(q * ci, q * cj + q)]};
+      int pos = 0, neg = 0;
+      for (int k = 0; k < 4; ++k) {
+        const Vec2 u = p[(k + 1) % 4] - p[k], v = p[(k + 3) % 4] - p[k];
+        const double c = u.x() * v.y() - u.y() * v.x();
+        (c > 0 ? pos : neg) += 1;
+      }
+      if (pos && neg) return true;
+    }
+  return false;
+}
+
+}  // namespace
+
+namespace {
+
+// Nodes, elements and sets of the extruded mesh (cells x layers). Faulted teeth: cells above the
+// fault row are left out inside a break's axial range; across a crack (the lattice points of the
+// crack row nearer the mouth than the local depth q(z), inside the crack's axial range) they use
+// duplicated nodes, so the two faces of the crack share no node and carry no stiffness across.
+flex::FeMesh AssembleGearFeMesh(const Gear& gear, const GearFeMeshSpec& s, const PointMerger& merger,
+                                const std::vector<Cell>& cells, const std::vector<int>& cell_tooth,
+                                const std::vector<std::uint8_t>& cell_above,
+                                const std::vector<std::vector<std::pair<int, double>>>& crack_points,
+                                const std::vector<std::vector<int>>& fracture_points,
+                                const std::vector<const ToothFaultSpec*>& tooth_fault, const std::vector<double>& z_levels,
+                                const std::vector<std::uint8_t>& web_layer, int q) {
+  const int z_teeth = gear.teeth(), n_levels = static_cast<int>(z_levels.size());
+  const double b_face = gear.spec().face_width_m, tol = 1e-9 * b_face;
+  flex::FeMesh mesh;
+  const std::vector<Vec2>& points = merger.points();
+  const double twist = gear.twist_per_length();
+  std::vector<int> node_of(points.size() * n_levels, -1);
+  std::vector<int> face_min, face_max, bore, root;
+  std::vector<std::vector<int>> tooth_sets(static_cast<std::size_t>(z_teeth) * kToothParts);
+  // Registers a new node at (point p, level) in the sets its point belongs to.
+  auto add_node = [&](int p, int level) {
+    const double z = z_levels[level];
+    const Vec2 xy = Rotate(points[p], twist * z);
+    const int index = mesh.AddNode(mesh.num_nodes() + 1, Eigen::Vector3d(xy.x(), xy.y(), z));
+    if (level == 0) face_min.push_back(index);
+    if (level == n_levels - 1) face_max.push_back(index);
+    const std::uint8_t tag = merger.tags()[p];
+    if (tag & kBore) bore.push_back(index);
+    if (tag & kRoot) root.push_back(index);
+    for (int part = 0; part < kToothParts; ++part)
+      if (tag & kToothTags[part]) tooth_sets[merger.tooth()[p] * kToothParts + part].push_back(index);
+    return index;
+  };
+  auto node = [&](int p, int level) {
+    int& id = node_of[static_cast<std::size_t>(p) * n_levels + level];
+    if (id < 0) id = add_node(p, level) + 1;
+    return id;
+  };
+  // Crack faces: the open points per tooth, and their duplicates.
+  std::vector<std::unordered_map<int, double>> crack_distance(z_teeth);
+  for (int k = 0; k < z_teeth; ++k)
+    for (const auto& [p, d] : crack_points[k]) crack_distance[k][p] = d;
+  std::unordered_map<long long, int> duplicate;
+  std::vector<std::vector<int>> crack_sets(z_teeth), fracture_sets(z_teeth);
+  auto open_crack = [&](int k, int p, int level) {
+    const ToothFaultSpec* f = tooth_fault[k];
+    if (f == nullptr || f->kind != ToothFaultSpec::Kind::kRootCrack) return false;
+    auto it = crack_distance[k].find(p);
+    if (it == crack_distance[k].end()) return false;
+    // Inside the crack's axial range (its edges are crack fronts unless they are end faces).
+    const double z = z_levels[level];
+    const auto [za, zb] = FaultAxialRange(gear, *f);
+    const bool inside = (z > za + tol || za <= tol) && (z < zb - tol || zb >= b_face - tol);
+    return inside && it->second < CrackDepthAt(gear, *f, std::clamp(z, za, zb)) - tol;
+  };
+  auto upper_node = [&](int k, int p, int level) {
+    if (!open_crack(k, p, level)) return node(p, level);
+    auto [it, fresh] = duplicate.try_emplace(static_cast<long long>(p) * n_levels + level, 0);
+    if (fresh) {
+      const int original = node(p, level) - 1;
+      it->second = add_node(p, level) + 1;
+      crack_sets[k].insert(crack_sets[k].end(), {original, it->second - 1});
+    }
+    return it->second;
+  };
+  const int n_el = flex::NodeCount(s.type);
+  const int n_layers = (n_levels - 1) / q;
+  std::vector<int> ids(n_el), web_elements;
+  for (int layer_index = 0; layer_index < n_layers; ++layer_index) {
+    const double z_mid = 0.5 * (z_levels[q * layer_index] + z_levels[q * layer_index + q]);
+    for (std::size_t ci = 0; ci < cells.size(); ++ci) {
+      const Cell& c = cells[ci];
+      if (c.web && !web_layer[layer_index]) continue;
+      const int k = cell_tooth[ci];
+      const ToothFaultSpec* f = k >= 0 ? tooth_fault[k] : nullptr;
+      if (f && cell_above[ci] && f->kind == ToothFaultSpec::Kind::kBrokenTooth) {
+        const auto [za, zb] = FaultAxialRange(gear, *f);
+        if (z_mid > za && z_mid < zb && f->height_fraction > 0) continue;  // the broken part
+      }
+      const bool across_crack = f && cell_above[ci] && f->kind == ToothFaultSpec::Kind::kRootCrack;
+      for (int a = 0; a < n_el; ++a) {
+        const int p = c.p[kHexOffsets[a][0] * q / 2][kHexOffsets[a][1] * q / 2];
+        const int level = q * layer_index + kHexOffsets[a][2] * q / 2;
+        ids[a] = across_crack ? upper_node(k, p, level) : node(p, level);
+      }
+      const int e = mesh.AddElement(mesh.num_elements() + 1, s.type, ids);
+      if (c.web) web_elements.push_back(e);
+    }
+  }
+  // Fracture surfaces: the fault row's nodes that exist inside the broken axial range.
+  for (int k = 0; k < z_teeth; ++k) {
+    if (!tooth_fault[k] || tooth_fault[k]->kind != ToothFaultSpec::Kind::kBrokenTooth) continue;
+    const auto [za, zb] = FaultAxialRange(gear, *tooth_fault[k]);
+    for (int p : fracture_points[k])
+      for (int level = 0; level < n_levels; ++level) {
+        const int id = node_of[static_cast<std::size_t>(p) * n_levels + level];
+        if (id > 0 && z_levels[level] >= za - tol && z_levels[level] <= zb + tol) fracture_sets[k].push_back(id - 1);
+      }
+  }
+
+  // Sets and material.
+  std::vector<int> all(mesh.num_nodes());
+  for (int n = 0; n < mesh.num_nodes(); ++n) all[n] = n;
+  mesh.AddToNodeSet("NALL", all);
+  mesh.AddToNodeSet("BORE", bore);
+  mesh.AddToNodeSet("ROOT", root);
+  mesh.AddToNodeSet("FACE_ZMIN", face_min);
+  mesh.AddToNodeSet("FACE_ZMAX", face_max);
+  for (int k = 0; k < z_teeth; ++k) {
+    for (int part = 0; part < kToothParts; ++part)
+      mesh.AddToNodeSet(ToothSetName(k, kToothPartNames[part]), tooth_sets[k * kToothParts + part]);
+    if (!crack_sets[k].empty()) mesh.AddToNodeSet(ToothSetName(k, "CRACK"), crack_sets[k]);
+    if (!fracture_sets[k].empty()) mesh.AddToNodeSet(ToothSetName(k, "FRACTURE"), fracture_sets[k]);
+  }
+  if (s.web) mesh.AddToElementSet("WEB", web_elements);
+  mesh.AssignMaterialToAll(s.material);
+  return mesh;
+}
+
+}  // namespace
+
 flex::FeMesh MakeGearFeMesh(const Gear& gear, const GearFeMeshSpec& s) {
   using flex::ElementType;
   // Validate.
@@ -199,6 +601,12 @@ flex::FeMesh MakeGearFeMesh(const Gear& gear, const GearFeMeshSpec& s) {
   if (s.smoothing_iterations < 0) Fail("smoothing_iterations = ", s.smoothing_iterations, " must be >= 0");
   if (!(s.root_layer_depth_coef > 0)) Fail("root_layer_depth_coef = ", s.root_layer_depth_coef, " must be > 0");
   flex::ValidateMaterial(s.material);
+  ValidateToothFaults(gear, s.faults);
+  for (size_t i = 0; i < s.faults.size(); ++i)
+    for (size_t j = i + 1; j < s.faults.size(); ++j)
+      if (s.faults[i].tooth == s.faults[j].tooth && s.faults[i].kind != ToothFaultSpec::Kind::kSpall &&
+          s.faults[j].kind != ToothFaultSpec::Kind::kSpall)
+        Fail("tooth ", s.faults[i].tooth, " carries a broken part and a crack: not modelled in the FE mesh");
 
   const int z_teeth = gear.teeth();
   const double mn = gear.spec().normal_module_m, b_face = gear.spec().face_width_m;
@@ -211,7 +619,6 @@ flex::FeMesh MakeGearFeMesh(const Gear& gear, const GearFeMeshSpec& s) {
 
   // Web geometry: radii of the rim's inner edge and of the hub; axial web faces.
   const int q = s.type == ElementType::kHex20 ? 2 : 1;
-  int n_side = 0;
   double r_rim_in = 0, z_web0 = 0, z_web1 = 0;
   if (s.web) {
     const GearWebSpec& w = *s.web;
@@ -230,14 +637,21 @@ flex::FeMesh MakeGearFeMesh(const Gear& gear, const GearFeMeshSpec& s) {
     if (rest < 2 || rest % 2 != 0)
       Fail("face_divisions - web.web_axial_divisions = ", rest,
            " must be even and >= 2 (divisions on both sides of the web)");
-    n_side = rest / 2;
     z_web0 = 0.5 * (b_face - w.web_thickness_m);
     z_web1 = 0.5 * (b_face + w.web_thickness_m);
   }
 
   // 1-D distributions (q points per element edge).
-  const std::vector<double> across = Refine(Symmetric(s.tooth_divisions, s.flank_bias), q);
-  const std::vector<double> layer = Refine(Geometric(s.root_layer_divisions, 1.0), q);  // r_base -> r_f
+  ToothLayout L;
+  L.q = q;
+  L.root_layer = s.root_layer_divisions;
+  L.fillet = s.fillet_divisions;
+  L.flank = s.flank_divisions;
+  L.r_base = r_base;
+  L.half_pitch = half_pitch;
+  L.across = Refine(Symmetric(s.tooth_divisions, s.flank_bias), q);
+  L.layer = Refine(Geometric(s.root_layer_divisions, 1.0), q);  // r_base -> r_f
+  L.smoothing = s.smoothing_iterations;
   std::vector<double> radii;  // bore -> r_base
   int web_row0 = 0, web_row1 = 0;  // element rows of the web in the rim block
   if (!s.web) {
@@ -252,173 +666,110 @@ flex::FeMesh MakeGearFeMesh(const Gear& gear, const GearFeMeshSpec& s) {
     web_row1 = web_row0 + w.web_radial_divisions;
   }
 
-  // Root curve of the minus side, space middle (profile parameter 0) to the form circle (2):
-  // half root arc and fillet, tangent to each other; nodes are spaced evenly in arc length, found
-  // on a fine sampling and evaluated exactly at the interpolated profile parameter.
-  constexpr int kSamples = 4000;
-  std::vector<double> root_length(kSamples + 1, 0.0);
-  for (int k = 1; k <= kSamples; ++k)
-    root_length[k] = root_length[k - 1] +
-                     (gear.ProfileAt(2.0 * k / kSamples).p - gear.ProfileAt(2.0 * (k - 1) / kSamples).p).norm();
-  auto root_parameter = [&](double fraction) {
-    const double target = fraction * root_length.back();
-    const int k = std::clamp(static_cast<int>(std::lower_bound(root_length.begin(), root_length.end(), target) -
-                                              root_length.begin()),
-                             1, kSamples);
-    const double w = (target - root_length[k - 1]) / (root_length[k] - root_length[k - 1]);
-    return 2.0 * (k - 1 + w) / kSamples;
-  };
-
-  // Tooth block T: minus side i = 0, plus side i = ni (the mirror image); j from r_base up to the
-  // tip: radial segment at the space middle (-+pi/z), root curve, involute.
-  const int j_root = q * s.root_layer_divisions, j_flank = j_root + q * s.fillet_divisions;
-  Block tooth(q * s.tooth_divisions, j_flank + q * s.flank_divisions);
-  std::vector<Vec2> left(tooth.nj + 1), right(tooth.nj + 1);
-  std::vector<std::uint8_t> left_tag(tooth.nj + 1, 0);
-  for (int j = 0; j <= tooth.nj; ++j) {
-    if (j <= j_root) {
-      left[j] = Polar(r_base + (r_f - r_base) * layer[j], -half_pitch);
-      if (j == j_root) left_tag[j] = kRoot;
-    } else if (j < j_flank) {
-      const double profile_s = root_parameter(static_cast<double>(j - j_root) / (j_flank - j_root));
-      left[j] = gear.ProfileAt(profile_s).p;
-      left_tag[j] = profile_s < 1 ? kRoot : kFilletMinus;
-    } else {
-      left[j] = gear.ProfileAt(2 + static_cast<double>(j - j_flank) / (tooth.nj - j_flank)).p;
-      left_tag[j] = j == j_flank ? kFlankMinus | kFilletMinus : kFlankMinus;
+  // Tooth blocks T: the healthy one, and one per tooth with a break or a crack (minus side
+  // i = 0, plus side i = ni; j from r_base up to the tip: radial segment at the space middle,
+  // root curve, involute).
+  const ProfileLength len(gear);
+  const ToothBlock healthy = MakeToothBlock(gear, L, len, nullptr);
+  // Breaks and cracks change the mesh (a zero break or crack does not; spalls, tens of
+  // micrometres deep, belong to the contact surface: gear_fe_mesh.h).
+  std::vector<const ToothFaultSpec*> tooth_fault(z_teeth, nullptr);
+  for (const ToothFaultSpec& f : s.faults) {
+    const bool broken = f.kind == ToothFaultSpec::Kind::kBrokenTooth && f.height_fraction > 0 && f.face_fraction > 0;
+    const bool cracked = f.kind == ToothFaultSpec::Kind::kRootCrack &&
+                         std::max(f.crack_depth_m, f.crack_end_depth_m.value_or(0.0)) > 0;
+    if (cracked && s.tooth_divisions < 2) Fail("a root crack needs tooth_divisions >= 2 (got ", s.tooth_divisions, ")");
+    if (broken || cracked) tooth_fault[f.tooth] = &f;
+  }
+  std::vector<ToothBlock> faulted(z_teeth);
+  for (int k = 0; k < z_teeth; ++k)
+    if (tooth_fault[k]) {
+      faulted[k] = MakeToothBlock(gear, L, len, tooth_fault[k]);
+      if (BlockFolds(faulted[k].block, q))
+        Fail("the ", KindName(tooth_fault[k]->kind), " on tooth ", k, " folds the tooth's elements (",
+             DescribeToothFault(*tooth_fault[k]), "): refine the mesh or change the fault");
     }
-    right[j] = Vec2(left[j].x(), -left[j].y());
-  }
-  std::vector<Vec2> bottom(tooth.ni + 1), top(tooth.ni + 1);
-  std::vector<double> base_angles(tooth.ni + 1);
-  for (int i = 0; i <= tooth.ni; ++i) {
-    base_angles[i] = -half_pitch + 2 * half_pitch * across[i];
-    bottom[i] = Polar(r_base, base_angles[i]);
-    top[i] = gear.ProfileAt(3 + across[i]).p;
-  }
-  // Computational coordinate along the sides: normalized arc length.
-  std::vector<double> eta(tooth.nj + 1, 0.0);
-  for (int j = 1; j <= tooth.nj; ++j) eta[j] = eta[j - 1] + (left[j] - left[j - 1]).norm();
-  for (double& e : eta) e /= eta.back();
-  // Coons patch of the four sides, then Winslow smoothing.
-  for (int j = 0; j <= tooth.nj; ++j)
-    for (int i = 0; i <= tooth.ni; ++i) {
-      const double u = across[i], v = eta[j];
-      tooth.at(i, j) = (1 - u) * left[j] + u * right[j] + (1 - v) * bottom[i] + v * top[i] -
-                       ((1 - u) * (1 - v) * bottom[0] + u * (1 - v) * bottom[tooth.ni] + (1 - u) * v * top[0] +
-                        u * v * top[tooth.ni]);
-    }
-  for (int j = 0; j <= tooth.nj; ++j) tooth.at(0, j) = left[j], tooth.at(tooth.ni, j) = right[j];
-  for (int i = 0; i <= tooth.ni; ++i) tooth.at(i, 0) = bottom[i], tooth.at(i, tooth.nj) = top[i];
-  Winslow(tooth, across, eta, s.smoothing_iterations, 1e-13 * r_f);
-  // Mirror the side tags (minus -> plus); the tip.
-  for (int j = 0; j <= tooth.nj; ++j) {
-    const std::uint8_t t = left_tag[j];
-    tooth.tag[tooth.Index(0, j)] = t;
-    tooth.tag[tooth.Index(tooth.ni, j)] =
-        (t & kRoot) | (t & kFlankMinus ? kFlankPlus : 0) | (t & kFilletMinus ? kFilletPlus : 0);
-  }
-  for (int i = 0; i <= tooth.ni; ++i) tooth.tag[tooth.Index(i, tooth.nj)] |= kTip;
-
   // Rim block R (polar, bore..r_base), matching T's base.
-  std::vector<Block> blocks = {tooth, PolarBlock(base_angles, radii)};
-  Block& rim = blocks[1];
+  std::vector<double> base_angles(healthy.block.ni + 1);
+  for (int i = 0; i <= healthy.block.ni; ++i) base_angles[i] = -half_pitch + 2 * half_pitch * L.across[i];
+  Block rim = PolarBlock(base_angles, radii);
   for (int i = 0; i <= rim.ni; ++i) rim.tag[rim.Index(i, 0)] |= kBore;
   rim.web_row.assign(rim.nj / q, 0);
   if (s.web)
     for (int r = web_row0; r < web_row1; ++r) rim.web_row[r] = 1;
 
   // Transverse mesh of the whole gear: rotated sector copies, points on shared lines merged.
+  // Cells of a faulted tooth above its fault row are marked; the crack's lattice points noted.
   PointMerger merger(1e-9 * r_f);
   std::vector<Cell> cells;
+  std::vector<int> cell_tooth;       // sector of the cell's tooth block (-1: rim or healthy)
+  std::vector<std::uint8_t> cell_above;  // above the fault row
+  std::vector<std::vector<std::pair<int, double>>> crack_points(z_teeth);  // (merged point, distance)
+  std::vector<std::vector<int>> fracture_points(z_teeth);
   for (int k = 0; k < z_teeth; ++k) {
     const double angle = 2 * kPi * k / z_teeth;
-    for (const Block& blk : blocks) {
-      std::vector<int> index(blk.p.size());
-      for (std::size_t n = 0; n < blk.p.size(); ++n) index[n] = merger.Add(Rotate(blk.p[n], angle), blk.tag[n], k);
-      for (int cj = 0; cj < blk.nj / q; ++cj)
-        for (int ci = 0; ci < blk.ni / q; ++ci) {
+    const ToothBlock& tb = tooth_fault[k] ? faulted[k] : healthy;
+    for (const Block* blk : std::array<const Block*, 2>{&tb.block, &rim}) {
+      std::vector<int> index(blk->p.size());
+      for (std::size_t n = 0; n < blk->p.size(); ++n) index[n] = merger.Add(Rotate(blk->p[n], angle), blk->tag[n], k);
+      const bool tooth_block = blk == &tb.block && tooth_fault[k] != nullptr;
+      if (tooth_block) {
+        for (std::size_t c = 0; c < tb.crack_columns.size(); ++c)
+          crack_points[k].push_back({index[blk->Index(tb.crack_columns[c], tb.fault_row)], tb.crack_distance[c]});
+        if (tooth_fault[k]->kind == ToothFaultSpec::Kind::kBrokenTooth)
+          for (int i = 0; i <= blk->ni; ++i) fracture_points[k].push_back(index[blk->Index(i, tb.fault_row)]);
+      }
+      for (int cj = 0; cj < blk->nj / q; ++cj)
+        for (int ci = 0; ci < blk->ni / q; ++ci) {
           Cell c;
-          c.web = !blk.web_row.empty() && blk.web_row[cj];
+          c.web = !blk->web_row.empty() && blk->web_row[cj];
           // Counter-clockwise (a, b) axes: i, j or swapped, from the signed area of the corners.
-          const Vec2 d_i = blk.p[blk.Index(q * ci + q, q * cj)] - blk.p[blk.Index(q * ci, q * cj)];
-          const Vec2 d_j = blk.p[blk.Index(q * ci, q * cj + q)] - blk.p[blk.Index(q * ci, q * cj)];
+          const Vec2 d_i = blk->p[blk->Index(q * ci + q, q * cj)] - blk->p[blk->Index(q * ci, q * cj)];
+          const Vec2 d_j = blk->p[blk->Index(q * ci, q * cj + q)] - blk->p[blk->Index(q * ci, q * cj)];
           const bool swap = d_i.x() * d_j.y() - d_i.y() * d_j.x() < 0;
           for (int a = 0; a <= q; ++a)
             for (int bb = 0; bb <= q; ++bb)
-              c.p[a][bb] = swap ? index[blk.Index(q * ci + bb, q * cj + a)] : index[blk.Index(q * ci + a, q * cj + bb)];
+              c.p[a][bb] = swap ? index[blk->Index(q * ci + bb, q * cj + a)] : index[blk->Index(q * ci + a, q * cj + bb)];
           cells.push_back(c);
+          cell_tooth.push_back(tooth_block ? k : -1);
+          cell_above.push_back(tooth_block && q * cj >= tb.fault_row);
         }
     }
   }
 
-  // Axial levels (q per element layer) and which element layers belong to the web.
-  std::vector<double> z_levels;
-  std::vector<std::uint8_t> web_layer;
+  // Element layers over z: uniform face divisions (with a web: the web's layers centred), split
+  // at every fault's axial limits; which layers belong to the web.
+  std::vector<double> z_edges;
   if (!s.web) {
-    for (double t : Refine(Geometric(s.face_divisions, 1.0), q)) z_levels.push_back(b_face * t);
-    web_layer.assign(s.face_divisions, 1);
+    for (double t : Geometric(s.face_divisions, 1.0)) z_edges.push_back(b_face * t);
   } else {
-    z_levels = Concat({{Refine(Geometric(n_side, 1.0), q), {0.0, z_web0}},
-                       {Refine(Geometric(s.web->web_axial_divisions, 1.0), q), {z_web0, z_web1}},
-                       {Refine(Geometric(n_side, 1.0), q), {z_web1, b_face}}});
-    web_layer.assign(s.face_divisions, 0);
-    for (int l = n_side; l < n_side + s.web->web_axial_divisions; ++l) web_layer[l] = 1;
+    const int n_side = (s.face_divisions - s.web->web_axial_divisions) / 2;
+    z_edges = Concat({{Geometric(n_side, 1.0), {0.0, z_web0}},
+                      {Geometric(s.web->web_axial_divisions, 1.0), {z_web0, z_web1}},
+                      {Geometric(n_side, 1.0), {z_web1, b_face}}});
   }
-  const int n_levels = static_cast<int>(z_levels.size());
-
-  // Nodes (created on first use, ids 1, 2, ...) and elements.
-  flex::FeMesh mesh;
-  const std::vector<Vec2>& points = merger.points();
-  const double twist = gear.twist_per_length();
-  std::vector<int> node_of(points.size() * n_levels, -1);
-  std::vector<int> face_min, face_max, bore, root;
-  std::vector<std::vector<int>> tooth_sets(static_cast<std::size_t>(z_teeth) * kToothParts);
-  auto node = [&](int p, int level) {
-    int& id = node_of[static_cast<std::size_t>(p) * n_levels + level];
-    if (id < 0) {
-      const double z = z_levels[level];
-      const Vec2 xy = Rotate(points[p], twist * z);
-      const int index = mesh.AddNode(mesh.num_nodes() + 1, Eigen::Vector3d(xy.x(), xy.y(), z));
-      id = index + 1;
-      if (level == 0) face_min.push_back(index);
-      if (level == n_levels - 1) face_max.push_back(index);
-      const std::uint8_t tag = merger.tags()[p];
-      if (tag & kBore) bore.push_back(index);
-      if (tag & kRoot) root.push_back(index);
-      for (int part = 0; part < kToothParts; ++part)
-        if (tag & kToothTags[part]) tooth_sets[merger.tooth()[p] * kToothParts + part].push_back(index);
+  for (const ToothFaultSpec* f : tooth_fault) {
+    if (f == nullptr) continue;
+    const auto [za, zb] = FaultAxialRange(gear, *f);
+    z_edges.insert(z_edges.end(), {za, zb});
+  }
+  std::sort(z_edges.begin(), z_edges.end());
+  z_edges.erase(std::unique(z_edges.begin(), z_edges.end(), [&](double x, double y) { return y - x < 1e-9 * b_face; }),
+                z_edges.end());
+  z_edges.back() = b_face;
+  const int n_layers = static_cast<int>(z_edges.size()) - 1;
+  std::vector<std::uint8_t> web_layer(n_layers, 1);
+  if (s.web)
+    for (int l = 0; l < n_layers; ++l) {
+      const double zm = 0.5 * (z_edges[l] + z_edges[l + 1]);
+      web_layer[l] = zm > z_web0 && zm < z_web1;
     }
-    return id;
-  };
-  const int n_el = flex::NodeCount(s.type);
-  std::vector<int> ids(n_el), web_elements;
-  for (int layer_index = 0; layer_index < s.face_divisions; ++layer_index)
-    for (const Cell& c : cells) {
-      if (c.web && !web_layer[layer_index]) continue;
-      for (int a = 0; a < n_el; ++a)
-        ids[a] = node(c.p[kHexOffsets[a][0] * q / 2][kHexOffsets[a][1] * q / 2],
-                      q * layer_index + kHexOffsets[a][2] * q / 2);
-      const int e = mesh.AddElement(mesh.num_elements() + 1, s.type, ids);
-      if (c.web) web_elements.push_back(e);
-    }
-
-  // Sets and material.
-  std::vector<int> all(mesh.num_nodes());
-  for (int n = 0; n < mesh.num_nodes(); ++n) all[n] = n;
-  mesh.AddToNodeSet("NALL", all);
-  mesh.AddToNodeSet("BORE", bore);
-  mesh.AddToNodeSet("ROOT", root);
-  mesh.AddToNodeSet("FACE_ZMIN", face_min);
-  mesh.AddToNodeSet("FACE_ZMAX", face_max);
-  for (int k = 0; k < z_teeth; ++k)
-    for (int part = 0; part < kToothParts; ++part)
-      mesh.AddToNodeSet(ToothSetName(k, kToothPartNames[part]), tooth_sets[k * kToothParts + part]);
-  if (s.web) mesh.AddToElementSet("WEB", web_elements);
-  mesh.AssignMaterialToAll(s.material);
-  return mesh;
+  std::vector<double> z_levels;
+  for (int l = 0; l < n_layers; ++l)
+    for (int k = (l == 0 ? 0 : 1); k <= q; ++k) z_levels.push_back(z_edges[l] + (z_edges[l + 1] - z_edges[l]) * k / q);
+  return AssembleGearFeMesh(gear, s, merger, cells, cell_tooth, cell_above, crack_points, fracture_points, tooth_fault,
+                            z_levels, web_layer, q);
 }
-
 std::vector<int> SelectNodesOnCylinder(const flex::FeMesh& mesh, const Eigen::Vector3d& p_axis_m,
                                        const Eigen::Vector3d& axis, double radius_m, double tolerance_m) {
   if (!(axis.norm() > 0)) throw std::invalid_argument("SelectNodesOnCylinder: axis must be nonzero");

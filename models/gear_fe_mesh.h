@@ -45,6 +45,26 @@
 // "TOOTHk_FILLET_MINUS" (fillet nodes, form circle included), "TOOTHk_TIP". Nodes on a form
 // circle or a tip edge are in both sets that meet there. Element sets: "EALL", and "WEB" with a
 // web.
+// Tooth faults (tooth_fault.h; GearFeMeshSpec::faults). The faulted tooth's block is generated
+// with a lattice row along the fault, so the mesh stays conforming:
+// - broken tooth: the row through the two flank points at r_break is the fracture chord; the
+//   tooth's side pieces are split there (at least one element row below and above). The
+//   elements above the row are left out over the broken axial range, whose limits are element
+//   layer boundaries (the layers end at the break). Node set "TOOTHk_FRACTURE": the fracture
+//   surface's nodes.
+// - root crack: the row starts at the crack's mouth on the damaged flank's fillet, where the
+//   fillet's half thickness equals the tooth beam's root half thickness h_root of the
+//   potential-energy model (mesh_stiffness.h; the nearest fillet end if none), runs straight
+//   along the crack, A + t q_max (-cos nu, +-sin nu) (towards the root and the centre line), to
+//   the crack tip (the element corner of the row nearest to it) and on to the other flank. The
+//   row's points nearer the mouth than the local depth q(z) (Chen & Shao's front, rounded to
+//   the row's points), inside the crack's axial range, are duplicated: the elements above the
+//   row use the copies, so the crack faces share no node and carry nothing across (open crack,
+//   no contact between its faces). Node set "TOOTHk_CRACK": both faces' nodes.
+// - spall: no change (its depth, tens of micrometres, is far below an element): the contact
+//   surface carries it (tooth_fault_geometry.h).
+// Throws std::invalid_argument when a fault folds the tooth block's elements (a crack too deep
+// for the mesh), for a crack with tooth_divisions < 2, or a tooth with both a break and a crack.
 // Node ids 1, 2, ... and element ids 1, 2, ...; elements in CalculiX node order (fe_mesh.h) with
 // positive Jacobian. The material is assigned to "EALL".
 //
@@ -62,6 +82,7 @@
 
 #include "flex/fe_mesh.h"
 #include "models/gear_geometry.h"
+#include "models/tooth_fault.h"
 
 namespace orrery::gears {
 
@@ -89,6 +110,7 @@ struct GearFeMeshSpec {
   double rim_bias = 2.0;         // through the rim: bore / root element size (> 0)
   int smoothing_iterations = 2000;  // Winslow sweeps over the tooth block (0: Coons map only)
   std::optional<GearWebSpec> web;
+  std::vector<ToothFaultSpec> faults;  // tooth faults (header), gear-frame tooth indices
   flex::IsotropicMaterial material{.name = "STEEL", .youngs_modulus_pa = 210e9, .poissons_ratio = 0.3,
                                    .density_kg_m3 = 7850};
 };

@@ -88,10 +88,15 @@ GearPairModel BuildGearPairModel(const GearPair& pair, const GearPairModelOption
         t.rim_radius2_m = o.bore_radius2_m > 0 ? o.bore_radius2_m : 0.3 * g2.root_radius_m();
         t.samples_per_period = o.tvms_samples_per_period;
         t.faults = o.faults;
+        t.load_n = o.tvms_load_n;
         Tvms k = CalcTvms(pair, t);
         mesh.stiffness_table = k.stiffness_n_per_m;
         // Samples cover one mesh period, or a revolution of the faulty gear.
         mesh.table_cycles = std::max<int>(1, k.stiffness_n_per_m.size() / o.tvms_samples_per_period);
+        if (std::any_of(k.no_load_te_m.begin(), k.no_load_te_m.end(), [](double e) { return e != 0; })) {
+          mesh.ste_table_m = k.no_load_te_m;
+          mesh.ste_table_cycles = mesh.table_cycles;
+        }
         out.tvms = std::move(k);
         break;
       }

@@ -36,7 +36,10 @@ struct GearPairModelOptions {
   double density_kg_m3 = 7850;
   double bore_radius1_m = 0, bore_radius2_m = 0;  // gear 2 internal: its outer rim radius
   GearMaterial material1, material2;
-  std::vector<ToothFault> faults;           // TVMS only
+  std::vector<TvmsFault> faults;            // TVMS only (mesh order, mesh_stiffness.h)
+  // > 0: the TVMS load (TvmsOptions::load_n): spalls then add their no-load transmission error
+  // (GearMeshSpec::ste_table_m) where the flanks reach the spall's floor.
+  double tvms_load_n = 0;
   int tvms_samples_per_period = 128;
   // Loads: a speed driver or a torque on gear 1 (one of them), a load torque on gear 2.
   std::optional<TimeFunction> input_speed;  // rad/s about +z

@@ -34,28 +34,49 @@
 //     profile), u_f = distance along the centre line from the root circle to the load line,
 //     h_f = r_f / r_bore (external). For ring gears h_f = r_rim / r_f is used as the analogue of
 //     the rim-thickness ratio (the published fit is for external disc gears: an approximation).
-//   Root crack (Chen & Shao 2011): a crack of depth q at angle nu to the centre line starting at
-//   the root section reduces the cracked side to h_q = h_ref - q sin(nu):
-//     A_x = (h + min(h, h_q)) L, I_x = (h + min(h, h_q))^3 L / 12.
-//   h_ref is the largest half-thickness between the crack and the contact point (the root
-//   section in Chen & Shao, where the tooth is widest at the root), so a zero-depth crack leaves
-//   the tooth unchanged. Cracks past the centre line (h_q < 0) are rejected.
-//   Broken tooth: a missing fraction f of the tooth height (from the tip) removes the contact
-//   wherever the contact point on that tooth lies above the break; a missing fraction f of the
-//   face width (from the z = 0 face) removes that part of the tooth's contact lines.
+//   Faults (models/tooth_fault.h; docs/faults.md). The face width is cut into slices (below) whose
+//   boundaries include every fault's axial limits, and each slice j of a tooth pair is a spring
+//   k_j = dz_j / (1/k_h' + c_1 + c_2) (compliances per unit width) that touches once the mesh
+//   deflection delta exceeds the slice's offset d_j:
+//   - root crack (Chen & Shao 2011, Engineering Failure Analysis 18:2149-2164, after Tian 2004):
+//     a crack of depth q(z) at angle nu to the centre line, from the root section on the loaded
+//     flank's side, leaves the cracked side the half thickness h_q = h_root - q sin(nu)
+//     (h_root: BeamRootHalfThickness) wherever the tooth is thicker than that:
+//       A_x = (h + min(h, h_q)) L, I_x = (h + min(h, h_q))^3 L / 12,
+//     in every section from the root to the contact point (Chen & Shao's eq. for h_q < h_x; the
+//     sections thinner than h_q keep 2h). q(z) is Chen & Shao's parabolic front across the
+//     width, evaluated at each slice's middle; the fillet foundation is unchanged. A zero-depth
+//     crack leaves the tooth unchanged; a crack on the unloaded flank's side closes (no change);
+//   - broken tooth: a slice of the broken axial range whose contact point on that tooth lies
+//     beyond the fracture circle r_break never touches (d_j = infinity);
+//   - spall (Chaari, Baccar, Abbes & Haddar 2008, Eur. J. Mech. A/Solids 27:691, modelled a spall
+//     as lost contact width): a slice inside the spall's axial range whose contact point lies
+//     within its roll range on the loaded flank starts touching only when delta reaches the
+//     spall depth (d_j = depth): the Hertzian contact is lost while the depth exceeds the local
+//     deflection. Without a load (TvmsOptions::load_n = 0) such slices carry nothing; with a
+//     load F the deflection solves sum_j k_j (delta - d_j)_+ = F (piecewise linear), and the
+//     mesh is linearized there: k = sum of the touching k_j (the tangent), no-load transmission
+//     error e = delta - F / k (so that k (delta - e) = F), the static loaded TE delta. A spall
+//     shallower than the deflection thus leaves k and raises the TE by about d k_spall / k.
 //   Helical gears: the face width is cut into thin spur slices, slice j at z_j shifted along the
 //   line of action by z_j tan(beta_b) (Wan et al. 2014 slicing); stiffness in the transverse
-//   plane along the line of action.
+//   plane along the line of action. Slices: face_slices uniform ones (default 1 spur, 40
+//   helical), split further at every fault's axial limits and into crack_front_slices over a
+//   crack whose depth varies across the width.
 //
 // Usage:
 //   GearPair pair(Gear(planet), Gear(sun));
 //   Iso6336Stiffness iso = CalcIso6336Stiffness(pair);
 //   TvmsOptions o{.bore_radius1_m = 5e-3, .rim_radius2_m = 10e-3};
 //   Tvms k = CalcTvms(pair, o);  // k.stiffness_n_per_m over one mesh period
+//   o.faults = TvmsFaultsInSweepFrame(pair, {}, {{.kind = ToothFaultSpec::Kind::kSpall, ...}});
+//   o.load_n = 1429;              // a revolution of the faulty gear, with e(theta1) of the spall
 #include <functional>
+#include <optional>
 #include <vector>
 
 #include "models/gear_geometry.h"
+#include "models/tooth_fault.h"
 
 namespace orrery::gears {
 
@@ -86,6 +107,10 @@ struct GearMaterial {
   double poisson_ratio = 0.3;
 };
 
+// Legacy fault description (the train code's TrainToothFault), converted to TvmsFault: kRootCrack
+// (a uniform through-width crack on the loaded flank), kBrokenHeight (a break over the whole
+// face width at height fraction `fraction`), kBrokenWidth (the whole height over the face
+// fraction `fraction` from the z = 0 face).
 struct ToothFault {
   enum class Kind { kRootCrack, kBrokenHeight, kBrokenWidth };
   Kind kind = Kind::kRootCrack;
@@ -96,6 +121,20 @@ struct ToothFault {
   double fraction = 0;         // kBroken*: missing fraction of the height / face width, [0, 1]
 };
 
+// A tooth fault on gear 1 or 2 of the pair. fault.tooth is in MESH ORDER (see Tvms): the
+// fault.tooth-th tooth of that gear to enter contact; TvmsSweepFrame maps gear-frame indices of
+// the pair sweeps to it. on_loaded_flank: a crack or spall on whichever flank carries the load
+// (fault.flank is then ignored).
+struct TvmsFault {
+  int gear = 1;
+  ToothFaultSpec fault;
+  bool on_loaded_flank = false;
+  TvmsFault() = default;
+  TvmsFault(int gear_index, const ToothFaultSpec& spec, bool loaded = false)
+      : gear(gear_index), fault(spec), on_loaded_flank(loaded) {}
+  TvmsFault(const ToothFault& legacy);  // NOLINT(google-explicit-constructor): see ToothFault
+};
+
 struct TvmsOptions {
   GearMaterial material1, material2;
   bool fillet_foundation = true;
@@ -104,10 +143,19 @@ struct TvmsOptions {
   int samples_per_period = 200;
   int face_slices = 0;         // 0: 1 for spur, 40 for helical pairs
   int quadrature_intervals = 16;  // composite 8-point Gauss-Legendre along each tooth
-  std::vector<ToothFault> faults;
+  std::vector<TvmsFault> faults;
+  // The flank of each gear that carries the load (cracks and spalls act there). Unset: the pair
+  // sweeps' convention (gear 1 driving counter-clockwise on its plus flank; an external gear 2
+  // is loaded on its plus flank, an internal one on its minus flank).
+  std::optional<ToothFaultSpec::Flank> loaded_flank1, loaded_flank2;
+  // > 0: the load (N, along the line of action) at which spalls are compared with the mesh
+  // deflection and the mesh is linearized (header, "spall"); 0: spalled slices carry nothing.
+  double load_n = 0;
   // Number of mesh periods sampled; 0: 1 without faults, otherwise one revolution of the
   // faulty gear (z of that gear; lcm(z1, z2) when both gears carry faults).
   int periods = 0;
+  // Slices per fault axial range whose crack depth varies across it (Chen & Shao's front).
+  int crack_front_slices = 16;
 };
 
 struct ToothPairContact {
@@ -124,14 +172,57 @@ struct Tvms {
   double mesh_period_rad = 0;                    // 2 pi / z1 (gear 1)
   std::vector<double> theta1_rad;                // samples
   std::vector<double> stiffness_n_per_m;         // k(theta1), along the transverse line of action
+  // e(theta1): the no-load transmission error of the linearized mesh, k (delta - e) = F at the
+  // load (0 without a load or where no spall touches); along the line of action, m.
+  std::vector<double> no_load_te_m;
+  // delta(theta1) = e + F / k at the load (empty without a load; infinite where nothing touches).
+  std::vector<double> loaded_te_m;
   std::vector<int> pairs_in_contact;             // number of tooth pairs touching (any slice)
   std::vector<std::vector<ToothPairContact>> contacts;
   double mean_n_per_m = 0, min_n_per_m = 0, max_n_per_m = 0;
+  int slices = 0;                                // face slices used
 };
 
-// Throws std::invalid_argument for missing bore/rim radii, invalid faults (gear not 1/2, tooth
-// out of range, fraction outside [0, 1], crack past the centre line), non-positive sample counts.
+// Throws std::invalid_argument for missing bore/rim radii, invalid faults (gear not 1/2,
+// ValidateToothFaults of that gear), non-positive sample counts or a negative load.
 Tvms CalcTvms(const GearPair& pair, const TvmsOptions& options);
+
+// Linear interpolation of a sampled quantity of `tvms` (stiffness_n_per_m, no_load_te_m, ...)
+// at gear-1 angle theta1 (rad, the Tvms frame), periodic over the sampled span.
+double InterpolateTvms(const Tvms& tvms, const std::vector<double>& samples, double theta1_rad);
+
+// The frames of the pair sweeps (contact/gear_contact.h SweepGearMesh, SweepFlexibleGearMesh):
+// gear 1 at the origin turning counter-clockwise by theta1 from the position where its tooth 0
+// is centred on the line of centres (+x), gear 2 at the kinematic angle with a space facing it.
+// Gear 1's tooth k drives on its plus flank; it touches at s = r_b1 (theta1 + psi_b1 + alpha_w)
+// + k p_b on the line of action (psi_b1: half tooth angle at the base circle), so
+//   Tvms theta1 = sweep theta1 + psi_b1 + alpha_w - s_0 / r_b1,
+//   mesh order e of gear 1 = -k mod z1, of an external gear 2 = j + 1 mod z2, of an internal
+//   gear 2 = -j mod z2 (k, j: gear-frame tooth indices; derived for zero backlash, where tooth
+//   k of gear 1 meets tooth -k - 1 of an external and tooth k of an internal gear 2).
+struct TvmsSweepFrame {
+  double theta_offset_rad = 0;   // Tvms theta1 - sweep theta1
+  int teeth1 = 0, teeth2 = 0;
+  bool internal = false;
+  int MeshTooth(int gear, int frame_tooth) const;   // gear 1 or 2
+  int FrameTooth(int gear, int mesh_tooth) const;
+};
+TvmsSweepFrame MakeTvmsSweepFrame(const GearPair& pair);
+
+// The faults of each gear (gear-frame tooth indices, as in every other level) as TvmsFaults in
+// mesh order for the sweep frame.
+std::vector<TvmsFault> TvmsFaultsInSweepFrame(const GearPair& pair, const std::vector<ToothFaultSpec>& gear1,
+                                              const std::vector<ToothFaultSpec>& gear2);
+
+// Ratio k_cracked / k_healthy of one tooth pair's stiffness (Hertz, both teeth and their fillet
+// foundations, integrated over the face width with the crack's depth profile) averaged over the
+// contact path [s_0, s_1] of `pair`, the cracked tooth on gear `gear` (1 or 2) loaded on the
+// crack's flank: the constant per-tooth factor of the tooth-contact level (docs/faults.md).
+// rim radii as TvmsOptions (<= 0: no foundation). Throws std::invalid_argument for a fault that
+// is not a root crack or is invalid.
+double CrackStiffnessRatio(const GearPair& pair, int gear, const ToothFaultSpec& crack,
+                           const GearMaterial& material, double rim_radius1_m, double rim_radius2_m,
+                           int points = 24);
 
 // ---- Building blocks (public for tests and the lumped mesh element) ------------------------
 
@@ -157,8 +248,11 @@ struct ToothCompliance {
   double bending = 0, shear = 0, axial = 0, foundation = 0;
   double total() const { return bending + shear + axial + foundation; }
 };
+// A crack (depth q, angle nu, on the loaded side) as above; q = 0: healthy. Throws
+// std::invalid_argument for a crack past the centre line.
 ToothCompliance CalcToothCompliance(const Gear& gear, double contact_radius_m, double width_m,
                                     const GearMaterial& material, double rim_radius_m,
-                                    const ToothFault* crack = nullptr, int intervals = 16);
+                                    double crack_depth_m = 0, double crack_angle_rad = 0,
+                                    int intervals = 16);
 
 }  // namespace orrery::gears

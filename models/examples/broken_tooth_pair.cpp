@@ -29,7 +29,8 @@ int main() {
     o.initial_speed1 = 150.0;
     o.load_torque = TimeFunction::SmoothStep(0, 0.01, 0, 100.0);  // N m against the wheel
     if (broken)
-      o.faults.push_back({.kind = ToothFault::Kind::kBrokenHeight, .gear = 1, .tooth = 0, .fraction = 0.5});
+      o.faults.emplace_back(1, ToothFaultSpec{.kind = ToothFaultSpec::Kind::kBrokenTooth, .tooth = 0,
+                                              .height_fraction = 0.5});
     const GearPairModel m = BuildGearPairModel(pair, o);
 
     SimulationOptions sim;

@@ -215,7 +215,7 @@ TEST(Tvms, BrokenToothOnlyWhileInMesh) {
   const Tvms k0 = CalcTvms(pair, healthy);
   for (auto kind : {ToothFault::Kind::kBrokenHeight, ToothFault::Kind::kBrokenWidth}) {
     TvmsOptions broken = healthy;
-    broken.faults = {{.kind = kind, .gear = 1, .tooth = 5, .fraction = 0.5}};
+    broken.faults = {ToothFault{.kind = kind, .gear = 1, .tooth = 5, .fraction = 0.5}};  // legacy form
     const Tvms k1 = CalcTvms(pair, broken);
     int lowered = 0;
     for (size_t i = 0; i < k0.stiffness_n_per_m.size(); ++i) {
@@ -244,7 +244,7 @@ TEST(Tvms, BrokenToothOnlyWhileInMesh) {
   // Broken off at half height: the tooth loses contact where its contact radius exceeds the
   // break, i.e. over the part of the path near its tip (gear 1 tip end of the path).
   TvmsOptions broken = healthy;
-  broken.faults = {{.kind = ToothFault::Kind::kBrokenHeight, .gear = 1, .tooth = 5, .fraction = 0.5}};
+  broken.faults = {TvmsFault(1, {.kind = ToothFaultSpec::Kind::kBrokenTooth, .tooth = 5, .height_fraction = 0.5})};
   const Tvms k1 = CalcTvms(pair, broken);
   const double rbreak = pair.gear1().tip_radius_m() - 0.5 * (pair.gear1().tip_radius_m() - pair.gear1().root_radius_m());
   for (size_t i = 0; i < k1.contacts.size(); ++i) {
@@ -265,8 +265,8 @@ TEST(Tvms, CrackDepthZeroIsHealthyAndDeeperIsSofter) {
   double previous = healthy.mean_n_per_m;
   for (double q : {0.0, 0.2e-3, 0.5e-3, 1.0e-3, 1.4e-3}) {
     TvmsOptions c = o;
-    c.faults = {{.kind = ToothFault::Kind::kRootCrack, .gear = 2, .tooth = 7, .crack_depth_m = q,
-                 .crack_angle_rad = 45 * kDeg}};
+    c.faults = {TvmsFault(2, {.kind = ToothFaultSpec::Kind::kRootCrack, .tooth = 7, .crack_depth_m = q,
+                              .crack_angle_rad = 45 * kDeg}, true)};
     const Tvms k = CalcTvms(pair, c);
     if (q == 0) {
       for (size_t i = 0; i < k.stiffness_n_per_m.size(); ++i) EXPECT_EQ(k.stiffness_n_per_m[i], healthy.stiffness_n_per_m[i]);
@@ -289,16 +289,15 @@ TEST(Tvms, CrackDepthZeroIsHealthyAndDeeperIsSofter) {
     const double rc = sun.form_radius_m() + frac * (sun.tip_radius_m() - sun.form_radius_m());
     double last = CalcToothCompliance(sun, rc, 0.03, {}, 0.0).total();
     for (double q : {0.3e-3, 0.6e-3, 0.9e-3, 1.2e-3}) {
-      ToothFault crack{.kind = ToothFault::Kind::kRootCrack, .crack_depth_m = q, .crack_angle_rad = 45 * kDeg};
-      const double now = CalcToothCompliance(sun, rc, 0.03, {}, 0.0, &crack).total();
+      const double now = CalcToothCompliance(sun, rc, 0.03, {}, 0.0, q, 45 * kDeg).total();
       EXPECT_GT(now, last);
       last = now;
     }
   }
   // A crack past the centre line is rejected.
   TvmsOptions deep = o;
-  deep.faults = {{.kind = ToothFault::Kind::kRootCrack, .gear = 2, .tooth = 7, .crack_depth_m = 5e-3,
-                  .crack_angle_rad = 45 * kDeg}};
+  deep.faults = {TvmsFault(2, {.kind = ToothFaultSpec::Kind::kRootCrack, .tooth = 7, .crack_depth_m = 5e-3,
+                               .crack_angle_rad = 45 * kDeg}, true)};
   EXPECT_THROW(CalcTvms(pair, deep), std::invalid_argument);
 }
 
@@ -306,7 +305,7 @@ TEST(Tvms, FullRevolutionWithFaultIndexesTeeth) {
   const GearPair pair = RingPlanet();
   TvmsOptions o = Seed001Options(true);
   o.samples_per_period = 20;
-  o.faults = {{.kind = ToothFault::Kind::kBrokenHeight, .gear = 2, .tooth = 3, .fraction = 1.0}};
+  o.faults = {TvmsFault(2, {.kind = ToothFaultSpec::Kind::kBrokenTooth, .tooth = 3, .height_fraction = 1.0})};
   const Tvms k = CalcTvms(pair, o);
   // One revolution of the faulty gear (the ring, 70 teeth) = 70 mesh periods.
   EXPECT_EQ(k.stiffness_n_per_m.size(), 70u * 20u);
@@ -343,6 +342,162 @@ TEST(Tvms, HelicalSlicesSmoothTheMesh) {
   const double ripple_s = (ks.max_n_per_m - ks.min_n_per_m) / ks.mean_n_per_m;
   std::printf("ripple (max-min)/mean: helical eps_beta = 1 %.3f, spur %.3f\n", ripple_h, ripple_s);
   EXPECT_LT(ripple_h, 0.25 * ripple_s);
+}
+
+
+// ---- Faults: spall, crack front, sweep frames -----------------------------------------------
+
+// Healthy and spalled TVMS of the sun-planet pair (planet = gear 1): a spall on the planet's
+// loaded (plus) flank of mesh tooth 5 over the middle third of the face and the middle of its
+// path of contact.
+struct SpallCase {
+  GearPair pair = SunPlanet();
+  ToothFaultSpec spall;
+  TvmsOptions options = Seed001Options(false);
+  SpallCase() {
+    const double s0 = pair.contact_start_m(), s1 = pair.contact_end_m();
+    spall = {.kind = ToothFaultSpec::Kind::kSpall, .tooth = 5, .flank = ToothFaultSpec::Flank::kPlus,
+             .roll_start_m = s0 + 0.35 * (s1 - s0), .roll_end_m = s0 + 0.6 * (s1 - s0), .axial_start_m = 0.01,
+             .axial_end_m = 0.02, .depth_m = 20e-6};
+    options.samples_per_period = 40;
+    options.periods = 18;
+  }
+};
+
+TEST(TvmsFaults, SpallLosesContactExactlyOverItsRollRange) {
+  SpallCase c;
+  const Tvms healthy = CalcTvms(c.pair, c.options);
+  TvmsOptions light = c.options;
+  light.faults = {TvmsFault(1, c.spall)};
+  light.load_n = 1.0;  // deflection ~ 2 nm, far below the 20 um depth
+  const Tvms k = CalcTvms(c.pair, light);
+  int inside = 0;
+  for (size_t i = 0; i < healthy.stiffness_n_per_m.size(); ++i) {
+    double lost = 0;
+    for (const ToothPairContact& p : healthy.contacts[i])
+      if (p.tooth1 == 5 && p.position_m >= c.spall.roll_start_m && p.position_m <= c.spall.roll_end_m)
+        lost = p.stiffness_n_per_m / 3;  // a third of the face, uniform along a spur contact line
+    inside += lost > 0;
+    EXPECT_NEAR(k.stiffness_n_per_m[i], healthy.stiffness_n_per_m[i] - lost, 1e-9 * healthy.mean_n_per_m) << i;
+    EXPECT_EQ(k.no_load_te_m[i], 0.0);
+    EXPECT_NEAR(k.loaded_te_m[i], 1.0 / k.stiffness_n_per_m[i], 1e-12 / k.stiffness_n_per_m[i]);
+  }
+  // The roll range covers a quarter of the path: a quarter of the samples of one tooth's passage.
+  const double share = (c.spall.roll_end_m - c.spall.roll_start_m) / c.pair.transverse_base_pitch_m();
+  EXPECT_NEAR(inside, share * light.samples_per_period, 1.0);
+  // Heavy enough to reach the floor: the tangent is the healthy one, and the TE rises by
+  // d k_spall / k (the spalled slices, a third of the pair, touch once delta passes d).
+  TvmsOptions heavy = light;
+  heavy.load_n = 30e3;
+  const Tvms kh = CalcTvms(c.pair, heavy);
+  for (size_t i = 0; i < healthy.stiffness_n_per_m.size(); ++i) {
+    double spalled = 0;
+    for (const ToothPairContact& p : healthy.contacts[i])
+      if (p.tooth1 == 5 && p.position_m >= c.spall.roll_start_m && p.position_m <= c.spall.roll_end_m)
+        spalled = p.stiffness_n_per_m / 3;
+    const double kk = healthy.stiffness_n_per_m[i];
+    EXPECT_NEAR(kh.stiffness_n_per_m[i], kk, 1e-9 * kk);
+    EXPECT_NEAR(kh.no_load_te_m[i], c.spall.depth_m * spalled / kk, 1e-15);
+    // Equilibrium of the piecewise-linear springs at the solution.
+    EXPECT_NEAR((kk - spalled) * kh.loaded_te_m[i] + spalled * (kh.loaded_te_m[i] - c.spall.depth_m), heavy.load_n,
+                1e-9 * heavy.load_n);
+  }
+  // A spall on the unloaded (minus) flank changes nothing (up to the rounding of the three face
+  // slices' sum against one).
+  TvmsOptions other = light;
+  other.faults[0].fault.flank = ToothFaultSpec::Flank::kMinus;
+  const Tvms unloaded_flank = CalcTvms(c.pair, other);
+  for (size_t i = 0; i < healthy.stiffness_n_per_m.size(); ++i)
+    EXPECT_NEAR(unloaded_flank.stiffness_n_per_m[i], healthy.stiffness_n_per_m[i], 1e-12 * healthy.mean_n_per_m);
+}
+
+TEST(TvmsFaults, CrackFrontIsIntegratedAcrossTheWidth) {
+  // Chen & Shao's first-stage crack on the sun (gear 2), q^2 = q0^2 (1 - z / b), against an
+  // independent Simpson integration over z of the slice stiffness at one contact position.
+  const GearPair pair = SunPlanet();
+  TvmsOptions o = Seed001Options(false);
+  o.samples_per_period = 10;
+  o.periods = 34;
+  const ToothFaultSpec crack{.kind = ToothFaultSpec::Kind::kRootCrack, .tooth = 7, .crack_depth_m = 1.0e-3,
+                             .crack_angle_rad = 45 * kDeg, .crack_face_fraction = 1.0, .crack_end_depth_m = 0.0,
+                             .flank = ToothFaultSpec::Flank::kPlus};
+  TvmsOptions c = o;
+  c.faults = {TvmsFault(2, crack)};
+  const Tvms healthy = CalcTvms(pair, o), cracked = CalcTvms(pair, c);
+  const double b = pair.face_width_m(), hertz = 1 / HertzStiffness(1.0, {}, {});
+  int checked = 0;
+  for (size_t i = 0; i < healthy.contacts.size(); ++i)
+    for (const ToothPairContact& p : healthy.contacts[i]) {
+      if (p.tooth2 != 7) continue;
+      const double r1 = pair.Gear1RadiusAt(p.position_m), r2 = pair.Gear2RadiusAt(p.position_m);
+      const double c1 = CalcToothCompliance(pair.gear1(), r1, 1.0, {}, o.bore_radius1_m).total();
+      auto slice = [&](double z) {
+        const double q = 1.0e-3 * std::sqrt(std::max(0.0, 1 - z / b));
+        return 1 / (hertz + c1 + CalcToothCompliance(pair.gear2(), r2, 1.0, {}, o.rim_radius2_m, q, 45 * kDeg).total());
+      };
+      const int n = 400;  // Simpson
+      double sum = slice(0) + slice(b);
+      for (int j = 1; j < n; ++j) sum += (j % 2 ? 4 : 2) * slice(b * j / n);
+      const double exact = sum * b / (3 * n);
+      const double loss_exact = p.stiffness_n_per_m - exact;
+      const double loss = healthy.stiffness_n_per_m[i] - cracked.stiffness_n_per_m[i];
+      // 16 midpoint slices against q ~ sqrt(b - z) near the front's end: measured 0.3 % of the loss.
+      EXPECT_NEAR(loss, loss_exact, 0.01 * loss_exact) << "sample " << i;
+      ++checked;
+    }
+  EXPECT_GT(checked, 5);
+  // On the unloaded flank the crack closes: nothing changes.
+  TvmsOptions closed = o;
+  closed.faults = {TvmsFault(2, [&] {
+    ToothFaultSpec f = crack;
+    f.flank = ToothFaultSpec::Flank::kMinus;
+    return f;
+  }())};
+  const Tvms closed_k = CalcTvms(pair, closed);
+  for (size_t i = 0; i < healthy.stiffness_n_per_m.size(); ++i)
+    EXPECT_NEAR(closed_k.stiffness_n_per_m[i], healthy.stiffness_n_per_m[i], 1e-12 * healthy.mean_n_per_m);
+}
+
+TEST(TvmsFaults, SweepFrameFollowsTheFlankGeometry) {
+  // Independent geometry: in the sweep frame, tooth k of gear 1 turned by theta1 has its plus
+  // flank where the involute crosses the line of action T1 P (T1 = r_b1 (cos, sin)(-alpha_w),
+  // P = (r_w1, 0)); its distance from T1 is the contact position the TVMS reports for
+  // MeshTooth(1, k) at theta1 + theta_offset.
+  for (const GearPair& pair : {SunPlanet(), RingPlanet()}) {
+    const Gear& g1 = pair.gear1();
+    const TvmsSweepFrame frame = MakeTvmsSweepFrame(pair);
+    TvmsOptions o = Seed001Options(pair.internal());
+    o.samples_per_period = 64;
+    const Tvms t = CalcTvms(pair, o);
+    const double rb = g1.base_radius_m(), aw = pair.working_pressure_angle_rad();
+    const Vec2 t1 = rb * Vec2(std::cos(-aw), std::sin(-aw)), p(pair.working_pitch_radius1_m(), 0);
+    const Vec2 u = (p - t1).normalized();
+    int checked = 0;
+    for (size_t i = 0; i < t.theta1_rad.size(); i += 7)
+      for (const ToothPairContact& c : t.contacts[i]) {
+        const double theta1 = t.theta1_rad[i] - frame.theta_offset_rad;
+        const int k = frame.FrameTooth(1, c.tooth1);
+        // Bisection in the roll distance s along the LOA: the polar angle of the LOA point minus
+        // that of the flank at the same radius.
+        auto miss = [&](double s) {
+          const Vec2 q = t1 + s * u;
+          const double r = q.norm();
+          return std::remainder(std::atan2(q.y(), q.x()) - (theta1 + 2 * kPi * k / g1.teeth() + g1.HalfToothAngle(r)),
+                                2 * kPi);
+        };
+        double lo = 1e-6, hi = pair.line_of_action_length_m();
+        if (pair.internal()) hi = std::sqrt(g1.tip_radius_m() * g1.tip_radius_m() - rb * rb) * 1.2;
+        for (int it = 0; it < 200; ++it) ((miss(0.5 * (lo + hi)) > 0) == (miss(lo) > 0) ? lo : hi) = 0.5 * (lo + hi);
+        EXPECT_NEAR(0.5 * (lo + hi), c.position_m, 1e-9) << "k " << k;
+        EXPECT_EQ(frame.MeshTooth(1, k), c.tooth1);
+        // Gear 2's tooth: -k - 1 (external) or k (internal) in its frame.
+        const int j = frame.FrameTooth(2, c.tooth2);
+        const int z2 = pair.gear2().teeth();
+        EXPECT_EQ(j, pair.internal() ? ((k % z2) + z2) % z2 : (((-k - 1) % z2) + z2) % z2);
+        ++checked;
+      }
+    EXPECT_GT(checked, 10);
+  }
 }
 
 }  // namespace

@@ -48,6 +48,7 @@ struct Job {
   flex::CraigBamptonOptions cb_options;
   flex::FlexibleBodyModesOptions outputs;
   std::string source;
+  std::string faults;              // provenance fault text ("" for a mesh file: unknown)
   std::vector<std::string> notes;  // .inp keywords ignored
 };
 
@@ -73,6 +74,7 @@ Job GearJob(const std::string& path) {
   job.cb_options = g.cb_options;
   job.outputs = std::move(g.outputs);
   job.source = std::move(g.source);
+  job.faults = std::move(g.faults);
   return job;
 }
 
@@ -152,7 +154,7 @@ int ReduceCommand(const ReduceArgs& args, std::ostream& out, std::ostream& err) 
     job = inp ? InpJob(args) : GearJob(args.input_path);
     t_mesh = Since(start);
     // Assembly, reduction and what the engine needs
-    Reduction reduction = ReduceBody(job.mesh, job.interfaces, job.cb_options, job.outputs, job.source);
+    Reduction reduction = ReduceBody(job.mesh, job.interfaces, job.cb_options, job.outputs, job.source, job.faults);
     dofs = reduction.system.K.rows();
     t_assembly = reduction.assembly_s;
     t_reduction = reduction.reduction_s;
