@@ -260,6 +260,16 @@ SideCurve MakeSideCurve(const Gear& gear, const ToothLayout& L, const ProfileLen
       const int n = std::max(2, p.elements);
       const double f = p.by_length ? (len.At(s_fault) - len.At(p.s0)) / (len.At(p.s1) - len.At(p.s0))
                                    : (s_fault - p.s0) / (p.s1 - p.s0);
+      // Within 0.3 of an element of an inner piece boundary: that boundary's row (no sliver).
+      if (f * p.elements < 0.3 && p.s0 > 0) {
+        s_fault = p.s0;
+        break;
+      }
+      if ((1 - f) * p.elements < 0.3) {
+        if (p.s1 >= 3) Fail("a fault point within 0.3 of an element of the tip: refine flank_divisions");
+        s_fault = p.s1;
+        break;
+      }
       const int n_low = std::clamp(static_cast<int>(std::lround(n * f)), 1, n - 1);
       pieces[k] = {p.s0, s_fault, n_low, p.by_length};
       pieces.insert(pieces.begin() + k + 1, Piece{s_fault, p.s1, n - n_low, p.by_length});
@@ -402,7 +412,7 @@ ToothBlock MakeToothBlock(const Gear& gear, const ToothLayout& L, const ProfileL
     double a = 1.0, b = 2.0;
     auto f = [&](double s) { return -gear.ProfileAt(s).p.y() - h; };
     if (f(a) * f(b) > 0) {
-      s_fault = std::abs(f(a)) < std::abs(f(b)) ? 1.0 + 1e-6 : 2.0 - 1e-6;
+      s_fault = std::abs(f(a)) < std::abs(f(b)) ? 1.0 : 2.0;
     } else {
       for (int it = 0; it < 100; ++it) (f(0.5 * (a + b)) * f(a) > 0 ? a : b) = 0.5 * (a + b);
       s_fault = 0.5 * (a + b);

@@ -48,7 +48,8 @@
 // Tooth faults (tooth_fault.h; GearFeMeshSpec::faults). The faulted tooth's block is generated
 // with a lattice row along the fault, so the mesh stays conforming:
 // - broken tooth: the row through the two flank points at r_break is the fracture chord; the
-//   tooth's side pieces are split there (at least one element row below and above). The
+//   tooth's side pieces are split there (at least one element row below and above; a point
+//   within 0.3 of an element of a piece boundary (root curve / involute) takes that row). The
 //   elements above the row are left out over the broken axial range, whose limits are element
 //   layer boundaries (the layers end at the break). Node set "TOOTHk_FRACTURE": the fracture
 //   surface's nodes.
