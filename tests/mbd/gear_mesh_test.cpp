@@ -107,6 +107,37 @@ TEST(GearMesh, StaticDeflectionUnderTorque) {
   EXPECT_NEAR(d.tau_id(b.model->joints[b.b].v_start), T * p.rbb / p.rba, 1e-9 * T);
 }
 
+// Static transmission error from a table (GearMeshSpec::ste_table_m): the mesh force is
+// k (delta - e(psi)), e interpolated linearly between the samples at the mesh phase
+// psi = z_a theta_a / 2 pi (hand interpolation), plus the harmonics.
+TEST(GearMesh, TransmissionErrorTableShiftsTheForce) {
+  Pair p;
+  GearMeshSpec s;
+  s.contact = GearMeshSpec::Contact::kLinearDrive;
+  s.ste_table_m = {0.0, 2e-6, 4e-6, 2e-6};  // over one mesh cycle
+  s.ste_amplitudes = {0.5e-6};
+  const Built b = Build(p, s);
+  Data d(*b.model);
+  State st = State::Initial(*b.model);
+  for (const double psi : {0.375, 0.9, 1.25}) {
+    const double theta = psi * 2 * kPi / p.za;
+    st.q(b.model->joints[b.a].q_start) = theta;
+    EvaluateDynamics(*b.model, 0, st.q, st.v, Eigen::VectorXd::Zero(2), d);
+    // Table at x = 4 frac(psi): samples i, i + 1 (wrapping).
+    const double x = 4 * (psi - std::floor(psi));
+    const int i = static_cast<int>(x);
+    const double e = (1 - (x - i)) * s.ste_table_m[i] + (x - i) * s.ste_table_m[(i + 1) % 4] +
+                     0.5e-6 * std::cos(2 * kPi * psi);
+    // The deflection is wrapped to one base pitch (mbd/gear_mesh.h).
+    const double delta = 2 * kPi * p.rba / p.za * (psi - std::round(psi));
+    EXPECT_NEAR(d.mesh_phase[0], psi, 1e-12);
+    EXPECT_NEAR(d.mesh_force[0], p.k * (delta - e), 1e-9 * p.k * std::abs(delta)) << "psi " << psi;
+  }
+  // A table value that is not finite is refused when the mesh is added.
+  s.ste_table_m = {0.0, std::nan("")};
+  EXPECT_THROW(Build(p, s), std::invalid_argument);
+}
+
 // Backlash: inside the gap no force; the coast flank engages past it.
 TEST(GearMesh, BacklashFreePlayAndCoastFlank) {
   Pair p;
