@@ -92,16 +92,18 @@ template <class Fn>
 void ContactElement::ForEachContactPoint(const Vec6& V_WA, const Vec6& V_WB,
                                          const ContactWorkspace& ws, Fn&& fn) const {
   // One pass: nodes on body N (velocity V_N) against faces on body F.
+  // The node's area weight carries both parts' stiffness scales (contact_surface.h).
   auto pass = [&](const std::vector<NodeGap>& gaps, const ContactSurface& node_surface,
-                  const Vec6& V_N, const Vec6& V_F, bool node_on_a) {
+                  const ContactSurface& face_surface, const Vec6& V_N, const Vec6& V_F, bool node_on_a) {
     for (const NodeGap& g : gaps) {
       if (!(g.gap < 0) || !g.on_surface) continue;
       const Vec3 v_rel = PointVelocity(V_N, g.p_W) - PointVelocity(V_F, g.p_W);
-      fn(g, v_rel, 0.5 * g.weight * node_surface.vertex_areas()[g.node], node_on_a);
+      const double scale = node_surface.vertex_stiffness_scale()[g.node] * face_surface.face_stiffness_scale()[g.face];
+      fn(g, v_rel, 0.5 * g.weight * node_surface.vertex_areas()[g.node] * scale, node_on_a);
     }
   };
-  pass(ws.gaps_a, *spec_.surface_a, V_WA, V_WB, true);
-  pass(ws.gaps_b, *spec_.surface_b, V_WB, V_WA, false);
+  pass(ws.gaps_a, *spec_.surface_a, *spec_.surface_b, V_WA, V_WB, true);
+  pass(ws.gaps_b, *spec_.surface_b, *spec_.surface_a, V_WB, V_WA, false);
 }
 
 void ContactElement::CalcForces(const Vec6& V_WA, const Vec6& V_WB, ContactWorkspace& ws,

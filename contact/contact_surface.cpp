@@ -14,7 +14,8 @@
 namespace orrery::contact {
 
 ContactSurface::ContactSurface(const std::vector<TriangleMesh>& parts, double margin_m,
-                               double slack_m, std::optional<PartRing> part_ring)
+                               double slack_m, std::optional<PartRing> part_ring,
+                               std::vector<double> part_stiffness_scale)
     : part_ring_(std::move(part_ring)), margin_m_(margin_m), slack_m_(slack_m) {
   if (!(margin_m > 0))
     throw std::invalid_argument("ContactSurface: margin_m must be > 0, got " +
@@ -29,8 +30,27 @@ ContactSurface::ContactSurface(const std::vector<TriangleMesh>& parts, double ma
   CalcRimFades();
   CalcInnerReach();
   CheckPartRing();
+  SetStiffnessScales(std::move(part_stiffness_scale));
   culling_ = BuildCullingGeometry(*this);
   CalcSharedRimEdges();
+}
+
+void ContactSurface::SetStiffnessScales(std::vector<double> part_scale) {
+  // Stiffness scale of every vertex and face from its part.
+  if (part_scale.empty()) part_scale.assign(num_parts(), 1.0);
+  if (static_cast<int>(part_scale.size()) != num_parts())
+    throw std::invalid_argument("ContactSurface: part_stiffness_scale has " + std::to_string(part_scale.size()) +
+                                " values for " + std::to_string(num_parts()) + " parts");
+  for (double f : part_scale)
+    if (!(f > 0) || !std::isfinite(f))
+      throw std::invalid_argument("ContactSurface: part_stiffness_scale values must be > 0 and finite, got " +
+                                  std::to_string(f));
+  vertex_stiffness_scale_.resize(vertices_.size());
+  for (size_t v = 0; v < vertices_.size(); ++v) vertex_stiffness_scale_[v] = part_scale[vertex_parts_[v]];
+  face_stiffness_scale_.resize(triangles_.size());
+  for (int j = 0; j < num_parts(); ++j)
+    std::fill(face_stiffness_scale_.begin() + part_triangle_start_[j],
+              face_stiffness_scale_.begin() + part_triangle_start_[j + 1], part_scale[j]);
 }
 
 void ContactSurface::ConcatenateParts(const std::vector<TriangleMesh>& parts) {

@@ -28,6 +28,11 @@
 // teeth of a gear or a spline); when both surfaces of a search have one and their axes are
 // parallel, the broad phase keeps only the parts inside the zone where the two rings' bands
 // overlap at their current angles (candidate_pairs.h).
+// part_stiffness_scale (optional, #parts values > 0; empty: all 1): a factor on the contact law
+// of every contact point that involves the part. A node of part i of one surface pressing on a
+// face of part j of the other carries s_i s_j times its law's force, stiffness and damping (the
+// contact elements scale the node's area weight by it); e.g. a softer part (the gear layer's
+// cracked tooth, models/gear_contact.h).
 //
 // Usage:
 //   auto flank = std::make_shared<const ContactSurface>(
@@ -61,8 +66,11 @@ class ContactSurface {
   // std::invalid_argument for an empty surface, a triangle index out of range, a degenerate
   // triangle (zero area), margin_m <= 0, or a part ring whose angles do not match the parts or
   // whose radii are not 0 <= inner < outer.
+  // Also throws for a part_stiffness_scale of the wrong size or with a value that is not a
+  // positive finite number.
   ContactSurface(const std::vector<TriangleMesh>& parts, double margin_m,
-                 double slack_m = 0, std::optional<PartRing> part_ring = std::nullopt);
+                 double slack_m = 0, std::optional<PartRing> part_ring = std::nullopt,
+                 std::vector<double> part_stiffness_scale = {});
   ~ContactSurface();
   ContactSurface(const ContactSurface&) = delete;
   ContactSurface& operator=(const ContactSurface&) = delete;
@@ -120,6 +128,9 @@ class ContactSurface {
   const std::vector<Vec3>& triangle_centers() const { return triangle_centers_; }
   const std::vector<double>& triangle_radii() const { return triangle_radii_; }
   const std::optional<PartRing>& part_ring() const { return part_ring_; }
+  // #V and #T: the stiffness scale of each vertex's and each face's part (header; 1 by default).
+  const std::vector<double>& vertex_stiffness_scale() const { return vertex_stiffness_scale_; }
+  const std::vector<double>& face_stiffness_scale() const { return face_stiffness_scale_; }
 
   const CullingGeometry& culling() const { return *culling_; }
 
@@ -132,6 +143,7 @@ class ContactSurface {
   void CalcRimFades();             // rim fades and outward directions
   void CalcInnerReach();           // inner reach of every face
   void CheckPartRing() const;
+  void SetStiffnessScales(std::vector<double> part_scale);  // vertex and face stiffness scales
   void CalcSharedRimEdges();       // after the culling geometry
 
   std::vector<Vec3> vertices_;
@@ -152,6 +164,7 @@ class ContactSurface {
   std::optional<PartRing> part_ring_;
   std::vector<Vec3> triangle_centers_;
   std::vector<double> triangle_radii_;
+  std::vector<double> vertex_stiffness_scale_, face_stiffness_scale_;
   double margin_m_ = 0, slack_m_ = 0, total_area_ = 0, max_vertex_radius_m_ = 0;
   std::shared_ptr<const CullingGeometry> culling_;
 };

@@ -129,7 +129,9 @@ void FlexibleContactElement::ForEachContactPoint(const ContactSideState& a,
       Vec3 v_face = PointVelocity(F.V_WB, g.p_W);
       for (int k = 0; k < 3; ++k) v_face += c.face_weights(k) * vertex_rate(face_side, bf, F, tri[k]);
       c.v_rel = PointVelocity(N.V_WB, g.p_W) + vertex_rate(node_side, bn, N, g.node) - v_face;
-      c.area_weight = 0.5 * g.weight * node_surface.vertex_areas()[g.node];
+      c.area_weight = 0.5 * g.weight * node_surface.vertex_areas()[g.node] *
+                      node_surface.vertex_stiffness_scale()[g.node] *
+                      face_side.surface().face_stiffness_scale()[g.face];
       fn(c);
     }
   };

@@ -18,6 +18,7 @@
 #include "flex/geometric_stiffness.h"
 #include "contact/triangle_geometry.h"
 #include "models/mesh_stiffness.h"
+#include "models/tooth_fault_geometry.h"
 
 namespace orrery::gears {
 
@@ -98,10 +99,12 @@ Eigen::VectorXd NewtonStep(const Eigen::VectorXd& kq, const std::vector<Eigen::V
 
 FlexibleGearBody ReduceGearForContact(const gears::Gear& gear, bool second,
                                       const FlexibleGearMeshOptions& options,
-                                      double bore_radius_m) {
+                                      double bore_radius_m, int centre_tooth) {
   const auto t0 = std::chrono::steady_clock::now();
   gears::GearFeMeshSpec spec = options.fe;
   spec.bore_radius_m = bore_radius_m > 0 ? bore_radius_m : 0.4 * gear.reference_radius_m();
+  const std::vector<gears::ToothFaultSpec>& faults = second ? options.faults2 : options.faults1;
+  spec.faults = faults;
   const flex::FeMesh mesh = gears::MakeGearFeMesh(gear, spec);
   const flex::FeSystem sys = flex::AssembleFeSystem(mesh);
   const std::vector<flex::FeInterface> ifs = {
@@ -113,7 +116,7 @@ FlexibleGearBody ReduceGearForContact(const gears::Gear& gear, bool second,
   FlexibleGearBody body;
   std::vector<int> flank_nodes;
   std::set<int> surface_nodes;
-  for (int j = -n - 1; j <= n; ++j) {
+  for (int j = centre_tooth - n - 1; j <= centre_tooth + n; ++j) {
     const int k = ((j % z) + z) % z;
     const double centre = 2 * kPi * k / z;
     auto mean_offset = [&](const std::string& set) {
@@ -135,8 +138,16 @@ FlexibleGearBody ReduceGearForContact(const gears::Gear& gear, bool second,
     for (int i : mesh.NodeSet(loaded)) flank_nodes.push_back(i);
     for (const std::string& s : {loaded, tip})
       for (int i : mesh.NodeSet(s)) surface_nodes.insert(i);
+    // A broken tooth's fracture surface can touch too.
+    const std::string fracture = gears::ToothSetName(k, "FRACTURE");
+    if (mesh.node_sets().count(fracture)) {
+      body.contact_sets.push_back(fracture);
+      for (int i : mesh.NodeSet(fracture)) {
+        flank_nodes.push_back(i);
+        surface_nodes.insert(i);
+      }
+    }
   }
-  (void)second;
   std::sort(flank_nodes.begin(), flank_nodes.end());
   flank_nodes.erase(std::unique(flank_nodes.begin(), flank_nodes.end()), flank_nodes.end());
   // Attachment columns: unit x and y loads at every loaded-flank node, bore held.
@@ -225,13 +236,18 @@ FlexibleGearBody ReduceGearForContact(const gears::Gear& gear, bool second,
     std::vector<Eigen::MatrixXd> part_shapes;
     int total = 0;
     for (int k : body.teeth) {
-      const TriangleMesh full = gears::MakeToothSurfaceMesh(gear, k, res, options.face_intervals_per_element * spec.face_divisions);
-      // Each vertex on its FE face (closest within the tolerance), or none.
+      const int n_face = options.face_intervals_per_element * spec.face_divisions;
+      const TriangleMesh full = gears::MakeFaultyToothSurfaceMesh(gear, k, res, n_face, faults);
+      // Each vertex on its FE face (closest within the tolerance, a spall's depth more on a
+      // spalled tooth), or none.
+      double tolerance = options.embed_tolerance_m;
+      for (const gears::ToothFaultSpec& f : faults)
+        if (f.tooth == k && f.kind == gears::ToothFaultSpec::Kind::kSpall) tolerance += f.depth_m;
       const int nv = static_cast<int>(full.vertices.size());
       std::vector<int> face_of(nv, -1);
       std::vector<Eigen::Vector2d> local(nv);
       for (int v = 0; v < nv; ++v) {
-        double best = options.embed_tolerance_m;
+        double best = tolerance;
         for (int f = 0; f < static_cast<int>(faces.size()); ++f) {
           double x, e;
           const double d = project(faces[f], full.vertices[v], &x, &e);
@@ -307,7 +323,7 @@ GearContactCalibration CalibrateFlexibleGearContact(const gears::GearPair& pair,
 
 FlexibleMeshSweep SweepFlexibleGearMesh(const gears::GearPair& pair,
                                         const FlexibleGearMeshOptions& options, double load_n,
-                                        int points) {
+                                        int points, const MeshSweepRange& range) {
   if (pair.internal())
     throw std::invalid_argument("SweepFlexibleGearMesh: internal pairs are not supported");
   if (!(load_n > 0)) throw std::invalid_argument("SweepFlexibleGearMesh: load must be > 0");
@@ -321,12 +337,16 @@ FlexibleMeshSweep SweepFlexibleGearMesh(const gears::GearPair& pair,
   const GearContactCalibration cal = CalibrateFlexibleGearContact(
       pair, mat, options.calibration_load_n > 0 ? options.calibration_load_n : load_n);
   sweep.stiffness_per_area = cal.stiffness_per_area;
-  // Reduced gears and their contact surfaces (one part per tooth).
-  const FlexibleGearBody g1 = ReduceGearForContact(pair.gear1(), false, options, options.bore_radius1_m);
-  const FlexibleGearBody g2 = ReduceGearForContact(pair.gear2(), true, options, options.bore_radius2_m);
+  // Reduced gears and their contact surfaces (one part per tooth), with attachment modes on the
+  // teeth around those in mesh at the middle of the range (gear 1's tooth k meets gear 2's
+  // -k - 1: TvmsSweepFrame).
+  const int z1 = pair.gear1().teeth(), z2 = pair.gear2().teeth();
+  const double span = range.span_rad > 0 ? range.span_rad : 2 * kPi / z1;
+  const int centre1 = static_cast<int>(std::lround(-(range.start_rad + 0.5 * span) * z1 / (2 * kPi)));
+  const FlexibleGearBody g1 = ReduceGearForContact(pair.gear1(), false, options, options.bore_radius1_m, centre1);
+  const FlexibleGearBody g2 = ReduceGearForContact(pair.gear2(), true, options, options.bore_radius2_m, -centre1);
   sweep.reduce_seconds = g1.reduce_seconds + g2.reduce_seconds;
   sweep.fe_nodes1 = g1.fe_nodes, sweep.fe_nodes2 = g2.fe_nodes;
-  const int z1 = pair.gear1().teeth(), z2 = pair.gear2().teeth();
   auto surface = [&](const FlexibleGearBody& g, const gears::Gear& gear, int z) {
     const FlexibleContactSurfaceSpec spec{.node_sets = g.contact_sets,
                                           .gap_margin_m = options.gap_margin_m,
@@ -370,7 +390,7 @@ FlexibleMeshSweep SweepFlexibleGearMesh(const gears::GearPair& pair,
   Eigen::VectorXd r(n);
   for (int i = 0; i < points; ++i) {
     MeshSweepPoint pt;
-    pt.roll_angle_rad = 2 * kPi / z1 * i / points;
+    pt.roll_angle_rad = range.start_rad + span * i / points;
     const double theta2 = kPi + kPi / z2 - double(z1) / z2 * pt.roll_angle_rad;
     const Transform X_W2(AxisAngle(Vec3::UnitZ(), theta2), p2);
     // Contact state at x, and the total potential Pi.

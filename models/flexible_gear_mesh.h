@@ -54,6 +54,16 @@
 // Zones: the single/double-pair zones sit where the unloaded path of contact puts them; the load
 // lengthens the double-pair zone by about one roll angle step at the end of the path.
 //
+// Tooth faults (faults1, faults2; models/tooth_fault.h, gear-frame indices): the FE mesh carries
+// broken teeth and cracks (models/gear_fe_mesh.h: the broken part's elements left out, the crack
+// faces separated), the loaded flank's node set of a broken tooth keeps its remaining nodes and
+// its fracture set (TOOTHk_FRACTURE) joins the contact and attachment nodes; the embedded surface
+// of a broken or spalled tooth is the faulty analytic surface (models/tooth_fault_geometry.h),
+// a spall's floor embedded in the flank's FE faces below them (its vertices move with the face
+// they project on; embedding tolerance: the spall depth plus embed_tolerance_m). The penalty is
+// the healthy one (the crack's compliance is in the FE model). The teeth with attachment modes
+// are teeth_each_side around those in mesh at the middle of the sweep's range.
+//
 // Usage:
 //   FlexibleGearMeshOptions o;  o.fe.flank_divisions = 4;
 //   FlexibleMeshSweep s = SweepFlexibleGearMesh(pair, o, /*load_n=*/1429, /*points=*/20);
@@ -63,6 +73,7 @@
 #include "mbd/flexible_body.h"
 #include "models/gear_fe_mesh.h"
 #include "models/mesh_stiffness.h"
+#include "models/tooth_fault.h"
 
 namespace orrery::gears {
 
@@ -89,6 +100,7 @@ struct FlexibleGearMeshOptions {
   double calibration_load_n = 0;    // 0: the sweep's load
   // Sweep tolerance and Newton limits.
   int max_newton_iterations = 25;
+  std::vector<gears::ToothFaultSpec> faults1, faults2;  // tooth faults (header)
 };
 
 // One reduced gear: modes (nodes = the flank and tip nodes of the chosen teeth) and counts.
@@ -105,10 +117,12 @@ struct FlexibleGearBody {
   double reduce_seconds = 0;
 };
 
-// The reduced gear of the header (teeth_each_side around the line of centres of SweepGearMesh's
-// frame: gear 1 towards +x, gear 2 (second = true) towards -x at roll angle 0).
+// The reduced gear of the header: attachment modes on teeth centre_tooth - teeth_each_side - 1 ..
+// centre_tooth + teeth_each_side (SweepGearMesh's frame at roll angle 0: tooth 0 of both gears
+// faces the other gear), with the faults of gear 1 or 2 (second = true) of the options.
 FlexibleGearBody ReduceGearForContact(const gears::Gear& gear, bool second,
-                                      const FlexibleGearMeshOptions& options, double bore_radius_m);
+                                      const FlexibleGearMeshOptions& options, double bore_radius_m,
+                                      int centre_tooth = 0);
 
 struct FlexibleMeshSweep {
   std::vector<MeshSweepPoint> points;   // same fields as the rigid sweep
@@ -152,10 +166,11 @@ GearContactCalibration CalibrateFlexibleGearContact(const gears::GearPair& pair,
                                                     double calibration_load_n,
                                                     const FlexiblePairPenalty& penalty = {});
 
-// Throws std::invalid_argument for an internal pair, a helical pair, a non-positive load or
-// points < 1; std::runtime_error if Newton fails at a roll angle.
+// Roll angles as SweepGearMesh (gear_contact.h MeshSweepRange). Throws std::invalid_argument for
+// an internal pair, a helical pair, a non-positive load or points < 1; std::runtime_error if
+// Newton fails at a roll angle.
 FlexibleMeshSweep SweepFlexibleGearMesh(const gears::GearPair& pair,
                                         const FlexibleGearMeshOptions& options, double load_n,
-                                        int points);
+                                        int points, const MeshSweepRange& range = {});
 
 }  // namespace orrery::gears

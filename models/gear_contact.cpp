@@ -1,11 +1,13 @@
 #include "models/gear_contact.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 #include <string>
 
 #include "models/mesh_stiffness.h"
+#include "models/tooth_fault_geometry.h"
 
 namespace orrery::gears {
 
@@ -15,6 +17,32 @@ using namespace orrery::contact;
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
+
+// The two halves of a tooth mesh (minus: triangles whose centroid lies at a smaller polar
+// angle than the tooth's centre line, turned by the helix at the centroid's z; plus: the rest),
+// each with its own vertices.
+std::pair<TriangleMesh, TriangleMesh> SplitTooth(const TriangleMesh& m, double angle,
+                                                               double twist) {
+  TriangleMesh half[2];
+  std::vector<int> index[2] = {std::vector<int>(m.vertices.size(), -1), std::vector<int>(m.vertices.size(), -1)};
+  for (const auto& t : m.triangles) {
+    const Vec3 c = (m.vertices[t[0]] + m.vertices[t[1]] + m.vertices[t[2]]) / 3.0;
+    double d = std::atan2(c.y(), c.x()) - angle - twist * c.z();
+    d -= 2 * kPi * std::floor((d + kPi) / (2 * kPi));
+    const int h = d < 0 ? 0 : 1;
+    std::array<int, 3> out{};
+    for (int k = 0; k < 3; ++k) {
+      int& v = index[h][t[k]];
+      if (v < 0) {
+        v = static_cast<int>(half[h].vertices.size());
+        half[h].vertices.push_back(m.vertices[t[k]]);
+      }
+      out[k] = v;
+    }
+    half[h].triangles.push_back(out);
+  }
+  return {std::move(half[0]), std::move(half[1])};
+}
 
 // Index of the part holding element `index` given the part start offsets.
 int PartOf(const std::vector<int>& starts, int index) {
@@ -51,25 +79,26 @@ GearContactCalibration CalibrateGearContact(const gears::GearPair& pair,
 std::shared_ptr<const ContactSurface> MakeGearContactSurface(const gears::Gear& gear,
                                                              const GearContactOptions& options,
                                                              const std::vector<int>& missing,
-                                                             const Transform& X_BG) {
+                                                             const Transform& X_BG,
+                                                             const std::vector<gears::ToothFaultSpec>& faults,
+                                                             const std::vector<std::pair<int, double>>& crack_scales) {
   for (int t : missing)
     if (t < 0 || t >= gear.teeth())
       throw std::invalid_argument("MakeGearContactSurface: missing tooth " + std::to_string(t) +
                                   " is not in [0, " + std::to_string(gear.teeth()) + ")");
+  gears::ValidateToothFaults(gear, faults);
   const gears::ProfileResolution res{.root = options.root_intervals,
                                      .fillet = options.fillet_intervals,
                                      .involute = options.involute_intervals,
                                      .tip = options.tip_intervals};
   std::vector<TriangleMesh> parts;
+  std::vector<double> scales;
   // The tooth ring of the mesh-zone test: tooth t about angle 2 pi t / z, radial band and half
   // angle measured on the vertices (gear frame).
   PartRing ring;
   ring.X_BG = X_BG;
   ring.inner_radius_m = 1e300;
-  for (int t = 0; t < gear.teeth(); ++t) {
-    if (std::find(missing.begin(), missing.end(), t) != missing.end()) continue;
-    TriangleMesh m = gears::MakeToothSurfaceMesh(gear, t, res, options.face_intervals);
-    const double angle = 2 * kPi * t / gear.teeth();
+  auto add_part = [&](TriangleMesh m, double angle, double scale) {
     for (const Vec3& v : m.vertices) {
       const double r = std::hypot(v.x(), v.y());
       ring.inner_radius_m = std::min(ring.inner_radius_m, r);
@@ -81,10 +110,45 @@ std::shared_ptr<const ContactSurface> MakeGearContactSurface(const gears::Gear& 
     ring.part_angles_rad.push_back(angle);
     for (Vec3& v : m.vertices) v = X_BG * v;
     parts.push_back(std::move(m));
+    scales.push_back(scale);
+  };
+  for (int t = 0; t < gear.teeth(); ++t) {
+    if (std::find(missing.begin(), missing.end(), t) != missing.end()) continue;
+    const double angle = 2 * kPi * t / gear.teeth();
+    const bool reshaped = std::any_of(faults.begin(), faults.end(), [&](const gears::ToothFaultSpec& f) {
+      return f.tooth == t && f.kind != gears::ToothFaultSpec::Kind::kRootCrack;
+    });
+    TriangleMesh m = reshaped ? gears::MakeFaultyToothSurfaceMesh(gear, t, res, options.face_intervals, faults)
+                                     : gears::MakeToothSurfaceMesh(gear, t, res, options.face_intervals);
+    // A cracked tooth: its halves, the crack's flank softer (header).
+    const auto crack = std::find_if(crack_scales.begin(), crack_scales.end(), [&](const auto& c) { return c.first == t; });
+    const auto fault = std::find_if(faults.begin(), faults.end(), [&](const gears::ToothFaultSpec& f) {
+      return f.tooth == t && f.kind == gears::ToothFaultSpec::Kind::kRootCrack;
+    });
+    if (crack == crack_scales.end() || fault == faults.end()) {
+      add_part(std::move(m), angle, 1.0);
+      continue;
+    }
+    auto [minus, plus] = SplitTooth(m, angle, gear.twist_per_length());
+    const bool plus_cracked = fault->flank == gears::ToothFaultSpec::Flank::kPlus;
+    add_part(std::move(minus), angle, plus_cracked ? 1.0 : crack->second);
+    add_part(std::move(plus), angle, plus_cracked ? crack->second : 1.0);
   }
   if (parts.empty()) throw std::invalid_argument("MakeGearContactSurface: no tooth left");
   return std::make_shared<const ContactSurface>(parts, options.margin_m, options.slack_m,
-                                                std::move(ring));
+                                                std::move(ring), std::move(scales));
+}
+
+std::vector<std::pair<int, double>> CrackStiffnessScales(const gears::GearPair& pair, int gear,
+                                                         const GearContactOptions& options) {
+  std::vector<std::pair<int, double>> out;
+  for (const gears::ToothFaultSpec& f : gear == 1 ? options.faults1 : options.faults2) {
+    if (f.kind != gears::ToothFaultSpec::Kind::kRootCrack) continue;
+    const double ratio = gears::CrackStiffnessRatio(pair, gear, f, options.material, options.rim_radius1_m,
+                                                    options.rim_radius2_m);
+    out.emplace_back(f.tooth, std::pow(ratio, 1.5));
+  }
+  return out;
 }
 
 gears::GearPair WithNormalBacklash(const gears::GearPair& pair, double normal_backlash_m,
@@ -121,10 +185,10 @@ ContactElementSpec MakeGearContactSpec(const std::string& name, const gears::Gea
   spec.name = name;
   spec.body_a = body1;
   spec.body_b = body2;
-  spec.surface_a = MakeGearContactSurface(pair.gear1(), options, options.missing_teeth1,
-                                          options.X_B1G1);
-  spec.surface_b = MakeGearContactSurface(pair.gear2(), options, options.missing_teeth2,
-                                          options.X_B2G2);
+  spec.surface_a = MakeGearContactSurface(pair.gear1(), options, options.missing_teeth1, options.X_B1G1,
+                                          options.faults1, CrackStiffnessScales(pair, 1, options));
+  spec.surface_b = MakeGearContactSurface(pair.gear2(), options, options.missing_teeth2, options.X_B2G2,
+                                          options.faults2, CrackStiffnessScales(pair, 2, options));
   spec.law = {.stiffness_per_area = c.stiffness_per_area,
               .hunt_crossley_s_per_m = options.hunt_crossley_s_per_m,
               .friction_coefficient = options.friction_coefficient,
@@ -140,7 +204,7 @@ ContactElementSpec MakeGearContactSpec(const std::string& name, const gears::Gea
 }
 
 MeshSweep SweepGearMesh(const gears::GearPair& pair, const GearContactOptions& options,
-                        double load_n, int points) {
+                        double load_n, int points, const MeshSweepRange& range) {
   if (!(load_n > 0)) throw std::invalid_argument("SweepGearMesh: load must be > 0");
   if (points < 1) throw std::invalid_argument("SweepGearMesh: points must be >= 1");
   GearContactOptions o = options;
@@ -161,7 +225,8 @@ MeshSweep SweepGearMesh(const gears::GearPair& pair, const GearContactOptions& o
 
   for (int i = 0; i < points; ++i) {
     MeshSweepPoint pt;
-    pt.roll_angle_rad = 2 * kPi / z1 * i / points;
+    const double span = range.span_rad > 0 ? range.span_rad : 2 * kPi / z1;
+    pt.roll_angle_rad = range.start_rad + span * i / points;
     // Gear 2 held at its kinematic angle.
     const double theta2 = pair.internal() ? kPi / z2 + z1 / z2 * pt.roll_angle_rad
                                           : kPi + kPi / z2 - z1 / z2 * pt.roll_angle_rad;
@@ -210,11 +275,16 @@ MeshSweep SweepGearMesh(const gears::GearPair& pair, const GearContactOptions& o
     pt.normal_force_n = ws.normal_force;
     pt.friction_force_n = ws.friction_force;
     pt.contact_points = ws.contact_points;
-    // Contact pattern on gear 1: roll distance of every contact, per tooth (part) of gear 1.
+    // Contact pattern on gear 1: roll distance of every contact, per tooth of gear 1 (its
+    // gear-frame index from the part's angle: a cracked tooth has two parts).
     const Transform X_W1(AxisAngle(Vec3::UnitZ(), pt.roll_angle_rad + te / rb1), Vec3::Zero());
     const Transform X_1W = X_W1.Inverse();
     ContactPattern pattern(pt, X_1W, rb1);
-    auto add = [&](int tooth, const Vec3& p_W) { pattern.Add(tooth, p_W); };
+    const std::vector<double>& part_angles = sa.part_ring()->part_angles_rad;
+    auto add = [&](int part, const Vec3& p_W) {
+      const int tooth = static_cast<int>(std::lround(part_angles[part] * z1 / (2 * kPi))) % static_cast<int>(z1);
+      pattern.Add(tooth, p_W);
+    };
     for (const NodeGap& g : ws.gaps_a)
       if (g.gap < 0 && g.on_surface) add(PartOf(sa.part_vertex_start(), g.node), g.p_W);
     for (const NodeGap& g : ws.gaps_b)
@@ -243,6 +313,7 @@ void ContactPattern::Add(int tooth, const Vec3& p_W) {
   if (k == 3) return;
   if (teeth_[k] < 0) {
     teeth_[k] = tooth;
+    point_.teeth[k] = tooth;
     point_.pattern_min_m[k] = point_.pattern_max_m[k] = s;
     ++point_.teeth_in_contact;
   }

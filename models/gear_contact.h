@@ -8,6 +8,19 @@
 // `involute_intervals` along each flank and `face_intervals` across the face width. Missing teeth
 // (a broken tooth with its geometry removed) are left out.
 //
+// Tooth faults (faults1, faults2; models/tooth_fault.h, gear-frame tooth indices): a broken tooth
+// or a spall changes its tooth's surface (models/tooth_fault_geometry.h MakeFaultyToothSurfaceMesh:
+// the fracture chord, the spall's depression; the face intervals are split at their axial
+// limits). A root crack leaves the surface and lowers the penalty of its tooth: the tooth is two
+// parts (the minus and the plus half, split at the tooth's centre line), and the half on the
+// crack's flank carries the stiffness scale (contact_surface.h) R^(3/2), R the ratio of the
+// cracked to the healthy tooth pair's stiffness of the potential-energy model averaged over the
+// path of contact (mesh_stiffness.h CrackStiffnessRatio: Chen & Shao's crack, Hertz, both teeth
+// and their fillet foundations with rim_radius1_m / rim_radius2_m; a constant per tooth, not a
+// function of the roll position). The power 3/2: the penalty's force grows as k_A delta^(3/2)
+// (below), so the secant stiffness at any load scales as k_A^(2/3) and R^(3/2) scales it by R.
+// The other flank's half is unchanged (a crack on the compression side closes).
+//
 // Penalty calibration (rigid gears): the linear penalty per unit area k_A of contact_law.h on
 // two convex flanks (equivalent radius rho = rho1 rho2 / (rho1 +- rho2), + external, - internal,
 // at the pitch point) pressed by an approach delta along the normal gives a contact strip of
@@ -45,6 +58,8 @@
 #include "contact/contact_element.h"
 #include "models/gear_geometry.h"
 #include "models/gear_mesh_monitor.h"
+#include "models/mesh_stiffness.h"
+#include "models/tooth_fault.h"
 
 namespace orrery::gears {
 
@@ -62,6 +77,11 @@ struct GearContactOptions {
   double margin_m = 30e-6;   // above the largest penetration (delta_ref is a few um)
   double slack_m = 100e-6;   // per surface: pairs are kept for relative motions up to this
   std::vector<int> missing_teeth1, missing_teeth2;  // teeth removed (gear frame indices)
+  std::vector<gears::ToothFaultSpec> faults1, faults2;  // tooth faults (header), gear frame indices
+  // For a crack's stiffness ratio: fillet-foundation rims of gear 1 (bore) and gear 2 (bore, or
+  // outer rim of a ring); 0 leaves the foundation out. Material of both gears.
+  double rim_radius1_m = 0, rim_radius2_m = 0;
+  gears::GearMaterial material;
   // Normal backlash j_n of the pair (m, >= 0; WithNormalBacklash): MakeGearContactSpec thins
   // both gears' teeth by the same normal thickness allowance. 0: the pair as given (a standard
   // pair at the reference centre distance has none, and both flanks then lie within the search
@@ -92,12 +112,21 @@ struct GearContactCalibration {
 GearContactCalibration CalibrateGearContact(const gears::GearPair& pair,
                                             const GearContactOptions& options);
 
-// The surface of one gear (gear frame, then X_BG), one part per present tooth. Throws
-// std::invalid_argument for a missing-tooth index out of range or no tooth left.
+// The surface of one gear (gear frame, then X_BG), one part per present tooth, with the faults'
+// geometry (header); crack_scales: (tooth, stiffness scale of the cracked half) per cracked tooth,
+// from CrackStiffnessScales. Throws std::invalid_argument for a missing-tooth index out of range,
+// no tooth left or invalid faults.
 std::shared_ptr<const contact::ContactSurface> MakeGearContactSurface(const gears::Gear& gear,
                                                              const GearContactOptions& options,
                                                              const std::vector<int>& missing,
-                                                             const Transform& X_BG);
+                                                             const Transform& X_BG,
+                                                             const std::vector<gears::ToothFaultSpec>& faults = {},
+                                                             const std::vector<std::pair<int, double>>& crack_scales = {});
+
+// The stiffness scale R^(3/2) of each cracked tooth of gear `gear` (1 or 2) of the pair (header),
+// as (tooth, scale).
+std::vector<std::pair<int, double>> CrackStiffnessScales(const gears::GearPair& pair, int gear,
+                                                         const GearContactOptions& options);
 
 // The pair with its teeth thinned (GearSpec::thickness_allowance_m: gear 1 takes gear1_share of
 // the thinning, gear 2 the rest; thinning a small pinion moves it towards undercut, so give the
@@ -122,6 +151,7 @@ struct MeshSweepPoint {
   double friction_force_n = 0;
   int contact_points = 0;
   int teeth_in_contact = 0;        // teeth of gear 1 with a penetrating node or face
+  int teeth[3] = {-1, -1, -1};     // their gear-frame indices, in the order of the pattern slots
   // Contact pattern on gear 1: extent of the contact along the line of action (roll distance
   // sqrt(r^2 - r_b1^2) of the contact nodes, m), per tooth in contact up to 3.
   double pattern_min_m[3] = {0, 0, 0}, pattern_max_m[3] = {0, 0, 0};
@@ -135,7 +165,7 @@ class ContactPattern {
  public:
   ContactPattern(MeshSweepPoint& point, const Transform& X_1W, double rb1)
       : point_(point), X_1W_(X_1W), rb1_(rb1) {}
-  void Add(int tooth, const Vec3& p_W);
+  void Add(int tooth, const Vec3& p_W);  // tooth: gear 1's gear-frame tooth index
 
  private:
   MeshSweepPoint& point_;
@@ -153,10 +183,18 @@ struct MeshSweep {
   long searches = 0;               // candidate searches over the sweep
 };
 
-// Quasi-static sweep over one mesh period of gear 1 at `points` roll angles; load_n along the
-// line of action; the options' X_BG transforms are ignored (gears in their own frames).
+// The roll angles of a sweep: `points` angles from start_rad over span_rad (0: one mesh period
+// 2 pi / z1), end excluded. A faulty tooth k of gear 1 meshes around theta1 = -2 pi k / z1
+// (mod 2 pi): its engagement is a span of about eps_alpha mesh periods there.
+struct MeshSweepRange {
+  double start_rad = 0;
+  double span_rad = 0;
+};
+
+// Quasi-static sweep of gear 1 at `points` roll angles of `range`; load_n along the line of
+// action; the options' X_BG transforms are ignored (gears in their own frames).
 // Throws std::runtime_error if the equilibrium is not bracketed (no contact within 20 delta_ref).
 MeshSweep SweepGearMesh(const gears::GearPair& pair, const GearContactOptions& options,
-                        double load_n, int points);
+                        double load_n, int points, const MeshSweepRange& range = {});
 
 }  // namespace orrery::gears

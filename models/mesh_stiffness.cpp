@@ -251,10 +251,13 @@ struct Slice {
   double z0, z1, z_mid;
 };
 
-// A touching (or spalled) slice of a tooth pair: its stiffness and offset d (header).
+// A touching (or spalled) slice of a tooth pair: its stiffness and offset d (header), and its
+// two parts in series, the Hertzian contact dz / c_h and the teeth dz / (c_1 + c_2), for the
+// coupled spall model.
 struct SliceSpring {
   int pair_e;
   double k, d;
+  double k_hertz = 0, k_teeth = 0;
 };
 
 // Everything CalcTvms derives once from the pair and the options.
@@ -355,7 +358,8 @@ SliceSpring SliceSpringAt(const TvmsSetup& st, const Slice& sl, double s, int t1
   };
   const double c1 = cracked(pair.gear1(), f1.crack, r1, st.rim1, o.material1, healthy_c1);
   const double c2 = cracked(pair.gear2(), f2.crack, r2, st.rim2, o.material2, healthy_c2);
-  const double k = (sl.z1 - sl.z0) / (st.hertz_compliance + c1 + c2);
+  const double dz = sl.z1 - sl.z0;
+  const double k = dz / (st.hertz_compliance + c1 + c2);
   // Spalls: the flank lies `depth` below where the contact point would be.
   double d = 0;
   auto spalled = [&](const Gear& g, const ToothFaultSpec* spall, double roll) {
@@ -364,8 +368,35 @@ SliceSpring SliceSpringAt(const TvmsSetup& st, const Slice& sl, double s, int t1
   const double g_len = pair.line_of_action_length_m();
   if (spalled(pair.gear1(), f1.spall, s)) d = std::max(d, f1.spall->depth_m);
   if (spalled(pair.gear2(), f2.spall, pair.internal() ? g_len + s : g_len - s)) d = std::max(d, f2.spall->depth_m);
-  return {0, k, d};
+  return {0, k, d, dz / st.hertz_compliance, dz / (c1 + c2)};
 }
+
+// A tooth pair with a spalled slice in the coupled model (header): the teeth's spring k_t (the
+// slices' tooth springs in parallel: one tooth body across the width) in series with the
+// slices' Hertzian springs in parallel, each touching beyond its offset. Its force at the mesh
+// deflection delta solves k_t (delta - delta_h) = sum k_hj (delta_h - d_j)_+ for the contact
+// approach delta_h (piecewise linear); *tangent = dF/d(delta) = k_t K_a / (k_t + K_a), K_a the
+// touching Hertzian springs.
+struct CoupledPair {
+  double k_teeth = 0;
+  std::vector<std::pair<double, double>> hertz;  // (k_h, d), sorted by d
+  double Force(double delta, double* tangent) const {
+    double ka = 0, kad = 0;
+    for (size_t j = 0; j < hertz.size() && std::isfinite(hertz[j].second); ++j) {
+      const double ka1 = ka + hertz[j].first, kad1 = kad + hertz[j].first * hertz[j].second;
+      const double dh = (k_teeth * delta + kad1) / (k_teeth + ka1);
+      if (!(dh > hertz[j].second)) break;  // spring j does not touch
+      ka = ka1, kad = kad1;
+    }
+    if (!(ka > 0)) {
+      if (tangent) *tangent = 0;
+      return 0;
+    }
+    const double dh = (k_teeth * delta + kad) / (k_teeth + ka);
+    if (tangent) *tangent = k_teeth * ka / (k_teeth + ka);
+    return k_teeth * (delta - dh);
+  }
+};
 
 // Mesh deflection under `load` of parallel springs k_j touching beyond offsets d_j:
 // sum k_j (delta - d_j)_+ = load (piecewise linear, increasing). Returns {k tangent, delta};
@@ -384,14 +415,14 @@ std::pair<double, double> SolveDeflection(std::vector<SliceSpring> springs, doub
   return {0.0, std::numeric_limits<double>::infinity()};
 }
 
-// One sample of the TVMS at mesh phase whole + frac (base pitches).
-void SampleTvms(const TvmsSetup& st, int whole, double frac, Tvms& out) {
+// The springs of one sample: every slice of every pair on the path of contact.
+std::vector<SliceSpring> SampleSprings(const TvmsSetup& st, int whole, double frac,
+                                       std::map<int, ToothPairContact>& touching) {
   const GearPair& pair = *st.pair;
   const TvmsOptions& o = *st.options;
   const int z1 = pair.gear1().teeth(), z2 = pair.gear2().teeth();
   auto mod = [](int e, int z) { return ((e % z) + z) % z; };
   std::vector<SliceSpring> springs;
-  std::map<int, ToothPairContact> touching;
   // Healthy compliances per (pair, contact point), reused across slices of a spur pair.
   std::map<std::pair<int, double>, std::pair<double, double>> healthy;
   for (const Slice& sl : st.slices) {
@@ -419,17 +450,87 @@ void SampleTvms(const TvmsSetup& st, int whole, double frac, Tvms& out) {
       c.position_m = st.s0 + (frac + 0.5 * pair.face_width_m() * st.tan_bb / st.pb - ep) * st.pb;
     }
   }
-  // Touching springs: with a load, those below the deflection; without, those without offset.
-  double k = 0, e_nl = 0, delta = std::numeric_limits<double>::infinity();
-  if (o.load_n > 0) {
-    std::tie(k, delta) = SolveDeflection(springs, o.load_n);
-    if (k > 0) e_nl = delta - o.load_n / k;
-  } else {
-    delta = 0;
+  return springs;
+}
+
+// Pairs with a spalled slice under the coupled model (TvmsOptions::SpallModel::kHertzContact):
+// their slices leave `springs` and become CoupledPairs (per pair e).
+std::map<int, CoupledPair> SplitCoupledPairs(const TvmsOptions& o, std::vector<SliceSpring>& springs) {
+  std::map<int, CoupledPair> coupled;
+  if (o.spall_model != TvmsOptions::SpallModel::kHertzContact) return coupled;
+  for (const SliceSpring& sp : springs)
+    if (sp.d > 0 && std::isfinite(sp.d)) coupled[sp.pair_e];
+  if (coupled.empty()) return coupled;
+  std::vector<SliceSpring> rest;
+  for (const SliceSpring& sp : springs) {
+    auto it = coupled.find(sp.pair_e);
+    if (it == coupled.end()) {
+      rest.push_back(sp);
+      continue;
+    }
+    it->second.k_teeth += sp.k_teeth;
+    // Without a load a spalled slice carries nothing (its depth exceeds any deflection).
+    const double d = o.load_n > 0 ? sp.d : (sp.d > 0 ? std::numeric_limits<double>::infinity() : 0.0);
+    it->second.hertz.emplace_back(sp.k_hertz, d);
   }
+  for (auto& [e, p] : coupled) std::sort(p.hertz.begin(), p.hertz.end(), [](auto& a, auto& b) { return a.second < b.second; });
+  springs.swap(rest);
+  return coupled;
+}
+
+// Mesh force and tangent at the deflection delta: independent slices plus coupled pairs.
+double MeshForce(const std::vector<SliceSpring>& springs, const std::map<int, CoupledPair>& coupled, double delta,
+                 double* tangent) {
+  double f = 0, k = 0;
+  for (const SliceSpring& sp : springs)
+    if (delta > sp.d) f += sp.k * (delta - sp.d), k += sp.k;
+  for (const auto& [e, p] : coupled) {
+    double kp = 0;
+    f += p.Force(delta, &kp);
+    k += kp;
+  }
+  if (tangent) *tangent = k;
+  return f;
+}
+
+// One sample of the TVMS at mesh phase whole + frac (base pitches).
+void SampleTvms(const TvmsSetup& st, int whole, double frac, Tvms& out) {
+  const TvmsOptions& o = *st.options;
+  std::map<int, ToothPairContact> touching;
+  std::vector<SliceSpring> springs = SampleSprings(st, whole, frac, touching);
+  const std::map<int, CoupledPair> coupled = SplitCoupledPairs(o, springs);
+  // The deflection: slices only, piecewise linear in closed form; with coupled pairs, bisection
+  // on the monotone mesh force (to 1e-14 of the deflection) and the tangent there.
+  double k = 0, e_nl = 0, delta = std::numeric_limits<double>::infinity();
+  if (o.load_n > 0 && coupled.empty()) {
+    std::tie(k, delta) = SolveDeflection(springs, o.load_n);
+  } else if (o.load_n > 0) {
+    double lo = 0, hi = 1e-9;
+    while (MeshForce(springs, coupled, hi, nullptr) < o.load_n && hi < 1) hi *= 2;
+    if (MeshForce(springs, coupled, hi, nullptr) >= o.load_n) {
+      for (int it = 0; it < 200 && hi - lo > 1e-14 * hi; ++it)
+        (MeshForce(springs, coupled, 0.5 * (lo + hi), nullptr) < o.load_n ? lo : hi) = 0.5 * (lo + hi);
+      delta = hi;
+      MeshForce(springs, coupled, delta, &k);
+      // The exact deflection of the piece the bisection ended on.
+      if (k > 0) delta -= (MeshForce(springs, coupled, delta, nullptr) - o.load_n) / k;
+    }
+  }
+  if (o.load_n > 0 && k > 0) e_nl = delta - o.load_n / k;
+  // Each pair's share: its touching slices (with a load: below the deflection), or its coupled
+  // tangent.
   for (const SliceSpring& sp : springs) {
     const bool touches = o.load_n > 0 ? sp.d < delta : sp.d == 0;
     if (touches) touching[sp.pair_e].stiffness_n_per_m += sp.k;
+  }
+  for (const auto& [e, p] : coupled) {
+    double kp = 0;
+    if (o.load_n > 0) {
+      p.Force(delta, &kp);
+    } else {
+      p.Force(1.0, &kp);  // linear without offsets: the tangent at any deflection
+    }
+    touching[e].stiffness_n_per_m += kp;
   }
   if (!(o.load_n > 0))
     for (const auto& [e, c] : touching) k += c.stiffness_n_per_m;

@@ -49,15 +49,23 @@
 //     crack leaves the tooth unchanged; a crack on the unloaded flank's side closes (no change);
 //   - broken tooth: a slice of the broken axial range whose contact point on that tooth lies
 //     beyond the fracture circle r_break never touches (d_j = infinity);
-//   - spall (Chaari, Baccar, Abbes & Haddar 2008, Eur. J. Mech. A/Solids 27:691, modelled a spall
-//     as lost contact width): a slice inside the spall's axial range whose contact point lies
-//     within its roll range on the loaded flank starts touching only when delta reaches the
-//     spall depth (d_j = depth): the Hertzian contact is lost while the depth exceeds the local
-//     deflection. Without a load (TvmsOptions::load_n = 0) such slices carry nothing; with a
-//     load F the deflection solves sum_j k_j (delta - d_j)_+ = F (piecewise linear), and the
-//     mesh is linearized there: k = sum of the touching k_j (the tangent), no-load transmission
+//   - spall: a slice inside the spall's axial range whose contact point lies within its roll
+//     range on the loaded flank touches only once its contact approach reaches the spall depth
+//     (offset d_j = depth): the Hertzian contact is lost over the spall's area while the depth
+//     exceeds the local deflection. Two models (TvmsOptions::spall_model):
+//       kHertzContact (default): only the contact is lost; the teeth stay one body across the
+//       width, so a pair with a spalled slice is its teeth spring k_t = sum_j dz_j / (c_1 + c_2)
+//       in series with its slices' Hertzian springs dz_j / c_h in parallel, each touching beyond
+//       its offset (the FE contact level agrees: a third of the face spalled costs ~5 % of the
+//       single-pair stiffness, the Hertzian share of the compliance, not a third);
+//       kSlices: the slice carries nothing at all, k_j = 0 (the lost-width model of Chaari,
+//       Baccar, Abbes & Haddar 2008, Eur. J. Mech. A/Solids 27:691; what rigid tooth contact
+//       shows, its calibrated penalty standing for the whole pair).
+//     Without a load (TvmsOptions::load_n = 0) spalled slices carry nothing; with a load F the
+//     mesh deflection solves sum over pairs F_p(delta) = F (piecewise linear and increasing),
+//     and the mesh is linearized there: k = dF/d(delta) (the tangent), no-load transmission
 //     error e = delta - F / k (so that k (delta - e) = F), the static loaded TE delta. A spall
-//     shallower than the deflection thus leaves k and raises the TE by about d k_spall / k.
+//     shallower than the deflection thus leaves k and raises the TE.
 //   Helical gears: the face width is cut into thin spur slices, slice j at z_j shifted along the
 //   line of action by z_j tan(beta_b) (Wan et al. 2014 slicing); stiffness in the transverse
 //   plane along the line of action. Slices: face_slices uniform ones (default 1 spur, 40
@@ -151,6 +159,12 @@ struct TvmsOptions {
   // > 0: the load (N, along the line of action) at which spalls are compared with the mesh
   // deflection and the mesh is linearized (header, "spall"); 0: spalled slices carry nothing.
   double load_n = 0;
+  // How a spall's lost contact acts (header): kHertzContact loses the Hertzian contact of the
+  // spalled slices while the teeth stay one body across the width (default; what the FE contact
+  // shows, docs/faults.md); kSlices drops whole independent slices (the lost-width model of
+  // Chaari et al. 2008; what rigid tooth contact, whose penalty lumps the whole pair, shows).
+  enum class SpallModel { kHertzContact, kSlices };
+  SpallModel spall_model = SpallModel::kHertzContact;
   // Number of mesh periods sampled; 0: 1 without faults, otherwise one revolution of the
   // faulty gear (z of that gear; lcm(z1, z2) when both gears carry faults).
   int periods = 0;

@@ -367,44 +367,62 @@ struct SpallCase {
 TEST(TvmsFaults, SpallLosesContactExactlyOverItsRollRange) {
   SpallCase c;
   const Tvms healthy = CalcTvms(c.pair, c.options);
-  TvmsOptions light = c.options;
-  light.faults = {TvmsFault(1, c.spall)};
-  light.load_n = 1.0;  // deflection ~ 2 nm, far below the 20 um depth
-  const Tvms k = CalcTvms(c.pair, light);
-  int inside = 0;
-  for (size_t i = 0; i < healthy.stiffness_n_per_m.size(); ++i) {
-    double lost = 0;
+  const double b = c.pair.face_width_m(), ch = 1 / HertzStiffness(1.0, {}, {});
+  // The spalled pair (planet mesh tooth 5 with its contact in the roll range): its healthy
+  // stiffness k_p = b / (c_h + c_t) gives the teeth's compliance c_t per unit width.
+  auto spalled_pair = [&](size_t i) -> const ToothPairContact* {
     for (const ToothPairContact& p : healthy.contacts[i])
-      if (p.tooth1 == 5 && p.position_m >= c.spall.roll_start_m && p.position_m <= c.spall.roll_end_m)
-        lost = p.stiffness_n_per_m / 3;  // a third of the face, uniform along a spur contact line
-    inside += lost > 0;
-    EXPECT_NEAR(k.stiffness_n_per_m[i], healthy.stiffness_n_per_m[i] - lost, 1e-9 * healthy.mean_n_per_m) << i;
-    EXPECT_EQ(k.no_load_te_m[i], 0.0);
-    EXPECT_NEAR(k.loaded_te_m[i], 1.0 / k.stiffness_n_per_m[i], 1e-12 / k.stiffness_n_per_m[i]);
-  }
-  // The roll range covers a quarter of the path: a quarter of the samples of one tooth's passage.
-  const double share = (c.spall.roll_end_m - c.spall.roll_start_m) / c.pair.transverse_base_pitch_m();
-  EXPECT_NEAR(inside, share * light.samples_per_period, 1.0);
-  // Heavy enough to reach the floor: the tangent is the healthy one, and the TE rises by
-  // d k_spall / k (the spalled slices, a third of the pair, touch once delta passes d).
-  TvmsOptions heavy = light;
-  heavy.load_n = 30e3;
-  const Tvms kh = CalcTvms(c.pair, heavy);
-  for (size_t i = 0; i < healthy.stiffness_n_per_m.size(); ++i) {
-    double spalled = 0;
-    for (const ToothPairContact& p : healthy.contacts[i])
-      if (p.tooth1 == 5 && p.position_m >= c.spall.roll_start_m && p.position_m <= c.spall.roll_end_m)
-        spalled = p.stiffness_n_per_m / 3;
-    const double kk = healthy.stiffness_n_per_m[i];
-    EXPECT_NEAR(kh.stiffness_n_per_m[i], kk, 1e-9 * kk);
-    EXPECT_NEAR(kh.no_load_te_m[i], c.spall.depth_m * spalled / kk, 1e-15);
-    // Equilibrium of the piecewise-linear springs at the solution.
-    EXPECT_NEAR((kk - spalled) * kh.loaded_te_m[i] + spalled * (kh.loaded_te_m[i] - c.spall.depth_m), heavy.load_n,
-                1e-9 * heavy.load_n);
+      if (p.tooth1 == 5 && p.position_m >= c.spall.roll_start_m && p.position_m <= c.spall.roll_end_m) return &p;
+    return nullptr;
+  };
+  for (const auto model : {TvmsOptions::SpallModel::kSlices, TvmsOptions::SpallModel::kHertzContact}) {
+    const bool slices = model == TvmsOptions::SpallModel::kSlices;
+    TvmsOptions light = c.options;
+    light.faults = {TvmsFault(1, c.spall)};
+    light.spall_model = model;
+    light.load_n = 1.0;  // deflection ~ 2 nm, far below the 20 um depth
+    const Tvms k = CalcTvms(c.pair, light);
+    int inside = 0;
+    for (size_t i = 0; i < healthy.stiffness_n_per_m.size(); ++i) {
+      double lost = 0;
+      if (const ToothPairContact* p = spalled_pair(i)) {
+        // Slices: a third of the face (uniform along a spur contact line) carries nothing.
+        // Hertz contact: the teeth spring b / c_t in series with two thirds of the contact.
+        const double kp = p->stiffness_n_per_m, ct = b / kp - ch;
+        lost = slices ? kp / 3 : kp - 1 / (ct / b + ch / (2.0 / 3 * b));
+      }
+      inside += lost > 0;
+      EXPECT_NEAR(k.stiffness_n_per_m[i], healthy.stiffness_n_per_m[i] - lost, 1e-9 * healthy.mean_n_per_m) << i;
+      EXPECT_NEAR(k.no_load_te_m[i], 0.0, 1e-12 * k.loaded_te_m[i]);
+      EXPECT_NEAR(k.loaded_te_m[i], 1.0 / k.stiffness_n_per_m[i], 1e-9 / k.stiffness_n_per_m[i]);
+    }
+    // The roll range covers a quarter of the path: a quarter of the samples of one passage.
+    const double share = (c.spall.roll_end_m - c.spall.roll_start_m) / c.pair.transverse_base_pitch_m();
+    EXPECT_NEAR(inside, share * light.samples_per_period, 1.0);
+    // Heavy enough to reach the floor (slices: the mesh deflection passes the depth at 30 kN;
+    // Hertz contact: the contact approach alone must, ~8 % of the deflection: 300 kN): the
+    // tangent is the healthy one, and the TE rises by d k_spall / k (slices) or by
+    // d k_t K_s / ((k_t + K_h) k) (Hertz contact: K_h the pair's contact, K_s its spalled third,
+    // k_t its teeth), k (delta - e) = F.
+    TvmsOptions heavy = light;
+    heavy.load_n = slices ? 30e3 : 300e3;
+    const Tvms kh = CalcTvms(c.pair, heavy);
+    for (size_t i = 0; i < healthy.stiffness_n_per_m.size(); ++i) {
+      const double kk = healthy.stiffness_n_per_m[i];
+      double e = 0;
+      if (const ToothPairContact* p = spalled_pair(i)) {
+        const double kp = p->stiffness_n_per_m, ct = b / kp - ch, kt = b / ct, Kh = b / ch;
+        e = slices ? c.spall.depth_m * (kp / 3) / kk : kt * (Kh / 3) * c.spall.depth_m / ((kt + Kh) * kk);
+      }
+      EXPECT_NEAR(kh.stiffness_n_per_m[i], kk, 1e-9 * kk) << i;
+      EXPECT_NEAR(kh.no_load_te_m[i], e, 1e-9 * c.spall.depth_m) << i;
+      EXPECT_NEAR(kh.stiffness_n_per_m[i] * (kh.loaded_te_m[i] - kh.no_load_te_m[i]), heavy.load_n, 1e-9 * heavy.load_n);
+    }
   }
   // A spall on the unloaded (minus) flank changes nothing (up to the rounding of the three face
   // slices' sum against one).
-  TvmsOptions other = light;
+  TvmsOptions other = c.options;
+  other.faults = {TvmsFault(1, c.spall)};
   other.faults[0].fault.flank = ToothFaultSpec::Flank::kMinus;
   const Tvms unloaded_flank = CalcTvms(c.pair, other);
   for (size_t i = 0; i < healthy.stiffness_n_per_m.size(); ++i)
