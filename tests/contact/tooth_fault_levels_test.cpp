@@ -21,7 +21,10 @@
 // A spall is compared with the TVMS model of the same physics: the rigid level with the
 // lost-slice model (its penalty lumps the whole pair into the contact), the flexible level with
 // the Hertz-contact model (its teeth stay one body across the width): mesh_stiffness.h.
-// The table of docs/faults.md is printed. Spall, light load: the rigid contact on the spalled
+// The table of docs/faults.md is printed. Broken tooth, load path: where the lost tip would mesh
+// the broken tooth's partner touches nothing at both contact levels, its neighbour carries alone
+// (the rigid dynamic run of broken_tooth_test.cpp, quasi-statically and for flexible gears).
+// Spall, light load: the rigid contact on the spalled
 // tooth leaves the spall's axial band exactly over its roll range (within the contact strip).
 #include <gtest/gtest.h>
 
@@ -136,11 +139,14 @@ TEST(ToothFaultLevels, Seed001SunPlanetTable) {
   ro.calibration_load_n = kLoad;
   ro.rim_radius1_m = 0.4 * pair.gear1().reference_radius_m();
   ro.rim_radius2_m = 0.4 * pair.gear2().reference_radius_m();
+  std::vector<MeshSweepPoint> rigid_broken, flexible_broken;  // for the load path below
   auto rigid_k = [&](const std::vector<ToothFaultSpec>& faults) {
     GearContactOptions o = ro;
     o.faults2 = faults;
     std::vector<double> k;
-    for (const MeshSweepPoint& p : SweepGearMesh(pair, o, kLoad, kPoints, range).points) k.push_back(p.stiffness_n_per_m);
+    const MeshSweep s = SweepGearMesh(pair, o, kLoad, kPoints, range);
+    for (const MeshSweepPoint& p : s.points) k.push_back(p.stiffness_n_per_m);
+    if (!faults.empty() && faults[0].kind == ToothFaultSpec::Kind::kBrokenTooth) rigid_broken = s.points;
     return k;
   };
   rigid.healthy = rigid_k({});
@@ -154,6 +160,7 @@ TEST(ToothFaultLevels, Seed001SunPlanetTable) {
     EXPECT_EQ(s.inflation_exceeded, 0);
     std::vector<double> k;
     for (const MeshSweepPoint& p : s.points) k.push_back(p.stiffness_n_per_m);
+    if (!faults.empty() && faults[0].kind == ToothFaultSpec::Kind::kBrokenTooth) flexible_broken = s.points;
     return k;
   };
   flexible.healthy = flexible_k({});
@@ -209,6 +216,27 @@ TEST(ToothFaultLevels, Seed001SunPlanetTable) {
       // How much: within the level's healthy disagreement with the TVMS.
       EXPECT_LE(std::abs(mean - tvms_mean), sigma + 1e-12) << kinds[f] << " " << l->name << " step " << step;
     }
+  }
+  // Broken tooth, load path: where the lost tip would mesh (the TVMS's zone, but its last point:
+  // there the loaded contact reaches down to the fracture's edge, one step early as in "where")
+  // the sun's tooth 0, partner of the broken planet tooth, touches nothing; its neighbour carries
+  // alone.
+  {
+    std::vector<double> r;
+    for (int i = 0; i < kPoints; ++i) r.push_back(tvms.faulty[0][i] / tvms.healthy[i]);
+    const std::vector<bool> zone = DropZone(r);
+    int checked = 0;
+    for (const std::vector<MeshSweepPoint>* pts : {&rigid_broken, &flexible_broken})
+      for (int i = 0; i + 1 < kPoints; ++i) {
+        if (!zone[i] || !zone[i + 1]) continue;
+        const MeshSweepPoint& p = (*pts)[i];
+        EXPECT_EQ(p.teeth_in_contact, 1) << "roll " << angles[i] / kDeg << " deg";
+        for (int t : p.teeth) EXPECT_NE(t, 0) << "roll " << angles[i] / kDeg << " deg";
+        ++checked;
+      }
+    EXPECT_GE(checked, 4);
+    std::printf("broken tooth: %d sweep points of the rigid and flexible runs with the partner out of contact\n",
+                checked);
   }
   // The spall under the lost-slice model, for the table.
   double slice_drop = 0;
