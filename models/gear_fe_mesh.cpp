@@ -595,9 +595,11 @@ flex::FeMesh AssembleGearFeMesh(const Gear& gear, const GearFeMeshSpec& s, const
 
 }  // namespace
 
-flex::FeMesh MakeGearFeMesh(const Gear& gear, const GearFeMeshSpec& s) {
+namespace {
+
+// Validates the spec (MakeGearFeMesh's header) and its faults.
+void ValidateFeSpec(const Gear& gear, const GearFeMeshSpec& s) {
   using flex::ElementType;
-  // Validate.
   if (gear.internal()) Fail("internal gears are not supported (external spur and helical gears only)");
   if (s.type != ElementType::kHex8 && s.type != ElementType::kHex20) Fail("type must be kHex8 or kHex20");
   CheckDivisions(s.flank_divisions, "flank_divisions");
@@ -617,72 +619,168 @@ flex::FeMesh MakeGearFeMesh(const Gear& gear, const GearFeMeshSpec& s) {
       if (s.faults[i].tooth == s.faults[j].tooth && s.faults[i].kind != ToothFaultSpec::Kind::kSpall &&
           s.faults[j].kind != ToothFaultSpec::Kind::kSpall)
         Fail("tooth ", s.faults[i].tooth, " carries a broken part and a crack: not modelled in the FE mesh");
-
-  const int z_teeth = gear.teeth();
-  const double mn = gear.spec().normal_module_m, b_face = gear.spec().face_width_m;
-  const double r_f = gear.root_radius_m();
-  const double r_base = r_f - s.root_layer_depth_coef * mn;
-  const double half_pitch = kPi / z_teeth;
+  const double r_base = gear.root_radius_m() - s.root_layer_depth_coef * gear.spec().normal_module_m;
   if (!(s.bore_radius_m > 0 && s.bore_radius_m < r_base))
     Fail("bore_radius_m = ", s.bore_radius_m, " m must lie in (0, r_base = r_f - root_layer_depth_coef m_n = ", r_base,
-         " m); root radius r_f = ", r_f, " m");
+         " m); root radius r_f = ", gear.root_radius_m(), " m");
+}
 
-  // Web geometry: radii of the rim's inner edge and of the hub; axial web faces.
-  const int q = s.type == ElementType::kHex20 ? 2 : 1;
-  double r_rim_in = 0, z_web0 = 0, z_web1 = 0;
-  if (s.web) {
-    const GearWebSpec& w = *s.web;
-    CheckDivisions(w.web_radial_divisions, "web.web_radial_divisions");
-    CheckDivisions(w.hub_radial_divisions, "web.hub_radial_divisions");
-    CheckDivisions(w.web_axial_divisions, "web.web_axial_divisions");
-    r_rim_in = r_f - w.rim_thickness_m;
-    if (!(w.rim_thickness_m > r_f - r_base))
-      Fail("web.rim_thickness_m = ", w.rim_thickness_m, " m must exceed the root layer depth ", r_f - r_base, " m");
-    if (!(w.hub_radius_m > s.bore_radius_m && w.hub_radius_m < r_rim_in))
-      Fail("web.hub_radius_m = ", w.hub_radius_m, " m must lie in (bore_radius_m = ", s.bore_radius_m,
-           " m, r_f - web.rim_thickness_m = ", r_rim_in, " m)");
-    if (!(w.web_thickness_m > 0 && w.web_thickness_m < b_face))
-      Fail("web.web_thickness_m = ", w.web_thickness_m, " m must lie in (0, face width ", b_face, " m)");
-    const int rest = s.face_divisions - w.web_axial_divisions;
-    if (rest < 2 || rest % 2 != 0)
-      Fail("face_divisions - web.web_axial_divisions = ", rest,
-           " must be even and >= 2 (divisions on both sides of the web)");
-    z_web0 = 0.5 * (b_face - w.web_thickness_m);
-    z_web1 = 0.5 * (b_face + w.web_thickness_m);
+// Radial and axial layout below the teeth: the rim block's radii (bore to r_base, q points per
+// element edge) with the web's element rows, and the web's axial faces.
+struct RimLayout {
+  std::vector<double> radii;
+  int web_row0 = 0, web_row1 = 0;
+  double z_web0 = 0, z_web1 = 0;
+};
+
+RimLayout MakeRimLayout(const Gear& gear, const GearFeMeshSpec& s, double r_base, int q) {
+  RimLayout out;
+  const double r_f = gear.root_radius_m(), b_face = gear.spec().face_width_m;
+  if (!s.web) {
+    for (double t : Refine(Geometric(s.rim_divisions, 1.0 / s.rim_bias), q))
+      out.radii.push_back(s.bore_radius_m + (r_base - s.bore_radius_m) * t);
+    return out;
   }
+  const GearWebSpec& w = *s.web;
+  CheckDivisions(w.web_radial_divisions, "web.web_radial_divisions");
+  CheckDivisions(w.hub_radial_divisions, "web.hub_radial_divisions");
+  CheckDivisions(w.web_axial_divisions, "web.web_axial_divisions");
+  const double r_rim_in = r_f - w.rim_thickness_m;
+  if (!(w.rim_thickness_m > r_f - r_base))
+    Fail("web.rim_thickness_m = ", w.rim_thickness_m, " m must exceed the root layer depth ", r_f - r_base, " m");
+  if (!(w.hub_radius_m > s.bore_radius_m && w.hub_radius_m < r_rim_in))
+    Fail("web.hub_radius_m = ", w.hub_radius_m, " m must lie in (bore_radius_m = ", s.bore_radius_m,
+         " m, r_f - web.rim_thickness_m = ", r_rim_in, " m)");
+  if (!(w.web_thickness_m > 0 && w.web_thickness_m < b_face))
+    Fail("web.web_thickness_m = ", w.web_thickness_m, " m must lie in (0, face width ", b_face, " m)");
+  const int rest = s.face_divisions - w.web_axial_divisions;
+  if (rest < 2 || rest % 2 != 0)
+    Fail("face_divisions - web.web_axial_divisions = ", rest, " must be even and >= 2 (divisions on both sides of the web)");
+  out.z_web0 = 0.5 * (b_face - w.web_thickness_m);
+  out.z_web1 = 0.5 * (b_face + w.web_thickness_m);
+  out.radii = Concat({{Refine(Geometric(w.hub_radial_divisions, 1.0), q), {s.bore_radius_m, w.hub_radius_m}},
+                      {Refine(Geometric(w.web_radial_divisions, 1.0), q), {w.hub_radius_m, r_rim_in}},
+                      {Refine(Geometric(s.rim_divisions, 1.0 / s.rim_bias), q), {r_rim_in, r_base}}});
+  out.web_row0 = w.hub_radial_divisions;
+  out.web_row1 = out.web_row0 + w.web_radial_divisions;
+  return out;
+}
 
-  // 1-D distributions (q points per element edge).
+// The transverse mesh of the whole gear: rotated sector copies of the tooth and rim blocks,
+// points on shared lines merged; cells of a faulted tooth above its fault row marked, the crack's
+// and the fracture's lattice points noted.
+struct TransverseMesh {
+  PointMerger merger{1.0};
+  std::vector<Cell> cells;
+  std::vector<int> cell_tooth;           // sector of the cell's faulted tooth block (-1: other)
+  std::vector<std::uint8_t> cell_above;  // above the fault row
+  std::vector<std::vector<std::pair<int, double>>> crack_points;  // (merged point, distance)
+  std::vector<std::vector<int>> fracture_points;
+};
+
+TransverseMesh MakeTransverseMesh(const Gear& gear, const ToothBlock& healthy, const std::vector<ToothBlock>& faulted,
+                                  const std::vector<const ToothFaultSpec*>& tooth_fault, const Block& rim, int q) {
+  const int z_teeth = gear.teeth();
+  TransverseMesh t;
+  t.merger = PointMerger(1e-9 * gear.root_radius_m());
+  t.crack_points.resize(z_teeth);
+  t.fracture_points.resize(z_teeth);
+  for (int k = 0; k < z_teeth; ++k) {
+    const double angle = 2 * kPi * k / z_teeth;
+    const ToothBlock& tb = tooth_fault[k] ? faulted[k] : healthy;
+    for (const Block* blk : std::array<const Block*, 2>{&tb.block, &rim}) {
+      std::vector<int> index(blk->p.size());
+      for (std::size_t n = 0; n < blk->p.size(); ++n) index[n] = t.merger.Add(Rotate(blk->p[n], angle), blk->tag[n], k);
+      const bool tooth_block = blk == &tb.block && tooth_fault[k] != nullptr;
+      if (tooth_block) {
+        for (std::size_t c = 0; c < tb.crack_columns.size(); ++c)
+          t.crack_points[k].push_back({index[blk->Index(tb.crack_columns[c], tb.fault_row)], tb.crack_distance[c]});
+        if (tooth_fault[k]->kind == ToothFaultSpec::Kind::kBrokenTooth)
+          for (int i = 0; i <= blk->ni; ++i) t.fracture_points[k].push_back(index[blk->Index(i, tb.fault_row)]);
+      }
+      for (int cj = 0; cj < blk->nj / q; ++cj)
+        for (int ci = 0; ci < blk->ni / q; ++ci) {
+          Cell c;
+          c.web = !blk->web_row.empty() && blk->web_row[cj];
+          // Counter-clockwise (a, b) axes: i, j or swapped, from the signed area of the corners.
+          const Vec2 d_i = blk->p[blk->Index(q * ci + q, q * cj)] - blk->p[blk->Index(q * ci, q * cj)];
+          const Vec2 d_j = blk->p[blk->Index(q * ci, q * cj + q)] - blk->p[blk->Index(q * ci, q * cj)];
+          const bool swap = d_i.x() * d_j.y() - d_i.y() * d_j.x() < 0;
+          for (int a = 0; a <= q; ++a)
+            for (int bb = 0; bb <= q; ++bb)
+              c.p[a][bb] = swap ? index[blk->Index(q * ci + bb, q * cj + a)] : index[blk->Index(q * ci + a, q * cj + bb)];
+          t.cells.push_back(c);
+          t.cell_tooth.push_back(tooth_block ? k : -1);
+          t.cell_above.push_back(tooth_block && q * cj >= tb.fault_row);
+        }
+    }
+  }
+  return t;
+}
+
+// Axial levels (q per element layer): uniform face divisions (with a web: the web's layers
+// centred), split at the faulted teeth's axial limits; which layers belong to the web.
+std::pair<std::vector<double>, std::vector<std::uint8_t>> MakeAxialLevels(
+    const Gear& gear, const GearFeMeshSpec& s, const RimLayout& rim, const std::vector<const ToothFaultSpec*>& tooth_fault,
+    int q) {
+  const double b_face = gear.spec().face_width_m;
+  std::vector<double> z_edges;
+  if (!s.web) {
+    for (double t : Geometric(s.face_divisions, 1.0)) z_edges.push_back(b_face * t);
+  } else {
+    const int n_side = (s.face_divisions - s.web->web_axial_divisions) / 2;
+    z_edges = Concat({{Geometric(n_side, 1.0), {0.0, rim.z_web0}},
+                      {Geometric(s.web->web_axial_divisions, 1.0), {rim.z_web0, rim.z_web1}},
+                      {Geometric(n_side, 1.0), {rim.z_web1, b_face}}});
+  }
+  for (const ToothFaultSpec* f : tooth_fault) {
+    if (f == nullptr) continue;
+    const auto [za, zb] = FaultAxialRange(gear, *f);
+    z_edges.insert(z_edges.end(), {za, zb});
+  }
+  std::sort(z_edges.begin(), z_edges.end());
+  z_edges.erase(std::unique(z_edges.begin(), z_edges.end(), [&](double x, double y) { return y - x < 1e-9 * b_face; }),
+                z_edges.end());
+  z_edges.back() = b_face;
+  const int n_layers = static_cast<int>(z_edges.size()) - 1;
+  std::vector<std::uint8_t> web_layer(n_layers, 1);
+  if (s.web)
+    for (int l = 0; l < n_layers; ++l) {
+      const double zm = 0.5 * (z_edges[l] + z_edges[l + 1]);
+      web_layer[l] = zm > rim.z_web0 && zm < rim.z_web1;
+    }
+  std::vector<double> z_levels;
+  for (int l = 0; l < n_layers; ++l)
+    for (int k = (l == 0 ? 0 : 1); k <= q; ++k) z_levels.push_back(z_edges[l] + (z_edges[l + 1] - z_edges[l]) * k / q);
+  return {z_levels, web_layer};
+}
+
+}  // namespace
+
+flex::FeMesh MakeGearFeMesh(const Gear& gear, const GearFeMeshSpec& s) {
+  ValidateFeSpec(gear, s);
+  const int z_teeth = gear.teeth(), q = s.type == flex::ElementType::kHex20 ? 2 : 1;
+  const double r_base = gear.root_radius_m() - s.root_layer_depth_coef * gear.spec().normal_module_m;
+  const RimLayout rim_layout = MakeRimLayout(gear, s, r_base, q);
+
+  // 1-D distributions (q points per element edge) of the tooth blocks.
   ToothLayout L;
   L.q = q;
   L.root_layer = s.root_layer_divisions;
   L.fillet = s.fillet_divisions;
   L.flank = s.flank_divisions;
   L.r_base = r_base;
-  L.half_pitch = half_pitch;
+  L.half_pitch = kPi / z_teeth;
   L.across = Refine(Symmetric(s.tooth_divisions, s.flank_bias), q);
   L.layer = Refine(Geometric(s.root_layer_divisions, 1.0), q);  // r_base -> r_f
   L.smoothing = s.smoothing_iterations;
-  std::vector<double> radii;  // bore -> r_base
-  int web_row0 = 0, web_row1 = 0;  // element rows of the web in the rim block
-  if (!s.web) {
-    for (double t : Refine(Geometric(s.rim_divisions, 1.0 / s.rim_bias), q))
-      radii.push_back(s.bore_radius_m + (r_base - s.bore_radius_m) * t);
-  } else {
-    const GearWebSpec& w = *s.web;
-    radii = Concat({{Refine(Geometric(w.hub_radial_divisions, 1.0), q), {s.bore_radius_m, w.hub_radius_m}},
-                    {Refine(Geometric(w.web_radial_divisions, 1.0), q), {w.hub_radius_m, r_rim_in}},
-                    {Refine(Geometric(s.rim_divisions, 1.0 / s.rim_bias), q), {r_rim_in, r_base}}});
-    web_row0 = w.hub_radial_divisions;
-    web_row1 = web_row0 + w.web_radial_divisions;
-  }
 
   // Tooth blocks T: the healthy one, and one per tooth with a break or a crack (minus side
   // i = 0, plus side i = ni; j from r_base up to the tip: radial segment at the space middle,
-  // root curve, involute).
+  // root curve, involute). Breaks and cracks change the mesh (a zero break or crack does not;
+  // spalls, tens of micrometres deep, belong to the contact surface: gear_fe_mesh.h).
   const ProfileLength len(gear);
   const ToothBlock healthy = MakeToothBlock(gear, L, len, nullptr);
-  // Breaks and cracks change the mesh (a zero break or crack does not; spalls, tens of
-  // micrometres deep, belong to the contact surface: gear_fe_mesh.h).
   std::vector<const ToothFaultSpec*> tooth_fault(z_teeth, nullptr);
   for (const ToothFaultSpec& f : s.faults) {
     const bool broken = f.kind == ToothFaultSpec::Kind::kBrokenTooth && f.height_fraction > 0 && f.face_fraction > 0;
@@ -701,85 +799,20 @@ flex::FeMesh MakeGearFeMesh(const Gear& gear, const GearFeMeshSpec& s) {
     }
   // Rim block R (polar, bore..r_base), matching T's base.
   std::vector<double> base_angles(healthy.block.ni + 1);
-  for (int i = 0; i <= healthy.block.ni; ++i) base_angles[i] = -half_pitch + 2 * half_pitch * L.across[i];
-  Block rim = PolarBlock(base_angles, radii);
+  for (int i = 0; i <= healthy.block.ni; ++i) base_angles[i] = -L.half_pitch + 2 * L.half_pitch * L.across[i];
+  Block rim = PolarBlock(base_angles, rim_layout.radii);
   for (int i = 0; i <= rim.ni; ++i) rim.tag[rim.Index(i, 0)] |= kBore;
   rim.web_row.assign(rim.nj / q, 0);
   if (s.web)
-    for (int r = web_row0; r < web_row1; ++r) rim.web_row[r] = 1;
+    for (int r = rim_layout.web_row0; r < rim_layout.web_row1; ++r) rim.web_row[r] = 1;
 
-  // Transverse mesh of the whole gear: rotated sector copies, points on shared lines merged.
-  // Cells of a faulted tooth above its fault row are marked; the crack's lattice points noted.
-  PointMerger merger(1e-9 * r_f);
-  std::vector<Cell> cells;
-  std::vector<int> cell_tooth;       // sector of the cell's tooth block (-1: rim or healthy)
-  std::vector<std::uint8_t> cell_above;  // above the fault row
-  std::vector<std::vector<std::pair<int, double>>> crack_points(z_teeth);  // (merged point, distance)
-  std::vector<std::vector<int>> fracture_points(z_teeth);
-  for (int k = 0; k < z_teeth; ++k) {
-    const double angle = 2 * kPi * k / z_teeth;
-    const ToothBlock& tb = tooth_fault[k] ? faulted[k] : healthy;
-    for (const Block* blk : std::array<const Block*, 2>{&tb.block, &rim}) {
-      std::vector<int> index(blk->p.size());
-      for (std::size_t n = 0; n < blk->p.size(); ++n) index[n] = merger.Add(Rotate(blk->p[n], angle), blk->tag[n], k);
-      const bool tooth_block = blk == &tb.block && tooth_fault[k] != nullptr;
-      if (tooth_block) {
-        for (std::size_t c = 0; c < tb.crack_columns.size(); ++c)
-          crack_points[k].push_back({index[blk->Index(tb.crack_columns[c], tb.fault_row)], tb.crack_distance[c]});
-        if (tooth_fault[k]->kind == ToothFaultSpec::Kind::kBrokenTooth)
-          for (int i = 0; i <= blk->ni; ++i) fracture_points[k].push_back(index[blk->Index(i, tb.fault_row)]);
-      }
-      for (int cj = 0; cj < blk->nj / q; ++cj)
-        for (int ci = 0; ci < blk->ni / q; ++ci) {
-          Cell c;
-          c.web = !blk->web_row.empty() && blk->web_row[cj];
-          // Counter-clockwise (a, b) axes: i, j or swapped, from the signed area of the corners.
-          const Vec2 d_i = blk->p[blk->Index(q * ci + q, q * cj)] - blk->p[blk->Index(q * ci, q * cj)];
-          const Vec2 d_j = blk->p[blk->Index(q * ci, q * cj + q)] - blk->p[blk->Index(q * ci, q * cj)];
-          const bool swap = d_i.x() * d_j.y() - d_i.y() * d_j.x() < 0;
-          for (int a = 0; a <= q; ++a)
-            for (int bb = 0; bb <= q; ++bb)
-              c.p[a][bb] = swap ? index[blk->Index(q * ci + bb, q * cj + a)] : index[blk->Index(q * ci + a, q * cj + bb)];
-          cells.push_back(c);
-          cell_tooth.push_back(tooth_block ? k : -1);
-          cell_above.push_back(tooth_block && q * cj >= tb.fault_row);
-        }
-    }
-  }
-
-  // Element layers over z: uniform face divisions (with a web: the web's layers centred), split
-  // at every fault's axial limits; which layers belong to the web.
-  std::vector<double> z_edges;
-  if (!s.web) {
-    for (double t : Geometric(s.face_divisions, 1.0)) z_edges.push_back(b_face * t);
-  } else {
-    const int n_side = (s.face_divisions - s.web->web_axial_divisions) / 2;
-    z_edges = Concat({{Geometric(n_side, 1.0), {0.0, z_web0}},
-                      {Geometric(s.web->web_axial_divisions, 1.0), {z_web0, z_web1}},
-                      {Geometric(n_side, 1.0), {z_web1, b_face}}});
-  }
-  for (const ToothFaultSpec* f : tooth_fault) {
-    if (f == nullptr) continue;
-    const auto [za, zb] = FaultAxialRange(gear, *f);
-    z_edges.insert(z_edges.end(), {za, zb});
-  }
-  std::sort(z_edges.begin(), z_edges.end());
-  z_edges.erase(std::unique(z_edges.begin(), z_edges.end(), [&](double x, double y) { return y - x < 1e-9 * b_face; }),
-                z_edges.end());
-  z_edges.back() = b_face;
-  const int n_layers = static_cast<int>(z_edges.size()) - 1;
-  std::vector<std::uint8_t> web_layer(n_layers, 1);
-  if (s.web)
-    for (int l = 0; l < n_layers; ++l) {
-      const double zm = 0.5 * (z_edges[l] + z_edges[l + 1]);
-      web_layer[l] = zm > z_web0 && zm < z_web1;
-    }
-  std::vector<double> z_levels;
-  for (int l = 0; l < n_layers; ++l)
-    for (int k = (l == 0 ? 0 : 1); k <= q; ++k) z_levels.push_back(z_edges[l] + (z_edges[l + 1] - z_edges[l]) * k / q);
-  return AssembleGearFeMesh(gear, s, merger, cells, cell_tooth, cell_above, crack_points, fracture_points, tooth_fault,
-                            z_levels, web_layer, q);
+  // The transverse mesh, the axial levels, then nodes, elements and sets.
+  const TransverseMesh t = MakeTransverseMesh(gear, healthy, faulted, tooth_fault, rim, q);
+  const auto [z_levels, web_layer] = MakeAxialLevels(gear, s, rim_layout, tooth_fault, q);
+  return AssembleGearFeMesh(gear, s, t.merger, t.cells, t.cell_tooth, t.cell_above, t.crack_points, t.fracture_points,
+                            tooth_fault, z_levels, web_layer, q);
 }
+
 std::vector<int> SelectNodesOnCylinder(const flex::FeMesh& mesh, const Eigen::Vector3d& p_axis_m,
                                        const Eigen::Vector3d& axis, double radius_m, double tolerance_m) {
   if (!(axis.norm() > 0)) throw std::invalid_argument("SelectNodesOnCylinder: axis must be nonzero");
