@@ -132,6 +132,18 @@ std::shared_ptr<const Model> BuildModel() {
   b.AddJoint(Joint("flex", JointType::kRevolute, kWorldBody, flex, Transform::Translation(Vec3(2, 0, 0))));
   const FrameIndex node = b.AddNodeFrame("flex_node", flex, 1, Transform::Translation(Vec3(0.3, 0.2, -0.1)));
   b.AddTranslationalSpring({"flex_spring", anchor, node, 100, 1, 0.4, 0});
+  // A lumped gear mesh with stiffness and transmission-error tables (mbd/gear_mesh.h).
+  const BodyIndex ga = b.AddBody("gear_a", 1.0, Vec3::Zero(), I), gb = b.AddBody("gear_b", 2.0, Vec3::Zero(), I);
+  const double rba = 0.03, rbb = 0.05, alpha = 0.35, centre = (rba + rbb) / std::cos(alpha);
+  b.AddJoint(Joint("gear_a", JointType::kRevolute, kWorldBody, ga, Transform::Translation(Vec3(5, 0, 0))));
+  b.AddJoint(Joint("gear_b", JointType::kRevolute, kWorldBody, gb, Transform::Translation(Vec3(5 + centre, 0, 0))));
+  GearMeshSpec mesh{.name = "mesh", .gear_a = b.body_frame(ga), .gear_b = b.body_frame(gb), .teeth_a = 30,
+                    .teeth_b = 50, .base_radius_a = rba, .base_radius_b = rbb, .working_pressure_angle = alpha};
+  mesh.stiffness_table = {4e8, 3e8, 4.5e8, 3.5e8};
+  mesh.table_cycles = 2;
+  mesh.ste_table_m = {0, 1e-6, 2e-6};
+  mesh.ste_amplitudes = {0.5e-6};
+  b.AddGearMesh(mesh);
   const double s = std::sin(theta), x = r * std::cos(theta) + std::sqrt(l * l - r * r * s * s);
   b.SetJointPosition(jc, Eigen::VectorXd::Constant(1, theta));
   b.SetJointPosition(jr, Eigen::Vector2d(std::atan2(-r * s, x - r * std::cos(theta)) - theta, 0));
