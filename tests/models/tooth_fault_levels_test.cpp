@@ -34,11 +34,14 @@
 #include <string>
 #include <vector>
 
-#include "contact/flexible_gear_mesh.h"
-#include "contact/gear_contact.h"
+#include "contact/contact_element.h"
+#include "models/flexible_gear_mesh.h"
+#include "models/gear_contact.h"
 #include "models/mesh_stiffness.h"
 
-namespace orrery::contact {
+namespace orrery::gears {
+
+using namespace orrery::contact;
 namespace {
 
 using gears::ToothFaultSpec;
@@ -308,4 +311,4 @@ TEST(ToothFaultLevels, SpallLosesRigidContactExactlyOverItsRollRange) {
 }
 
 }  // namespace
-}  // namespace orrery::contact
+}  // namespace orrery::gears
