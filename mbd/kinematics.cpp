@@ -144,6 +144,16 @@ void CalcVelocityKinematics(const Model& model, const Eigen::Ref<const Eigen::Ve
   CalcFrameVelocities(model, v, data);
 }
 
+void CalcAccelerationKinematics(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& vdot,
+                                Data& data) {
+  data.A_WB[kWorldBody] << Vec3::Zero(), -model.gravity;
+  for (const JointIndex j : model.tree_order) {
+    const Joint& jt = model.joints[j];
+    data.A_WB[jt.spec.child] =
+        data.A_WB[jt.spec.parent] + JointMotion(data, jt.v_start, jt.nv, vdot) + data.c_J[j];
+  }
+}
+
 void CalcBodyJacobians(const Model& model, Data& data) {
   data.J_WB[kWorldBody].setZero();
   for (const JointIndex j : model.tree_order) {

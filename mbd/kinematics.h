@@ -18,6 +18,13 @@ void CalcPositionKinematics(const Model& model, const Eigen::Ref<const Eigen::Ve
 void CalcVelocityKinematics(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& v,
                             Data& data);
 
+// Fills data.A_WB (nbodies, world-origin spatial accelerations) from accelerations vdot (nv):
+// A_WB = A_WP + S_j vdot_j + c_J, with the world accelerating at (0, -g) as in
+// CalcInverseDynamics (which fills the same values), so a body's own acceleration is
+// A_WB - (0, -g). Needs CalcVelocityKinematics first.
+void CalcAccelerationKinematics(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& vdot,
+                                Data& data);
+
 // Fills data.J_WB: each body's spatial velocity (world origin) as V_WB = J_WB v, the sums of the
 // motion subspaces S of the joints from the root to the body (a flexible body's own modal
 // coordinates do not move its frame). Needs CalcPositionKinematics first and data.J_WB sized
