@@ -91,10 +91,16 @@ FirLowPass DesignKaiserLowPass(double fp, double fs, double attenuation_db) {
   const double dw = 2 * kPi * (fs - fp), wc = kPi * (fp + fs);
   int order = static_cast<int>(std::ceil((attenuation_db - 8) / (2.285 * dw)));
   order = std::max(2, order + (order % 2));
-  // Raise the order until the measured stopband attenuation meets the design value.
-  for (; order <= 1000000; order += 2) {
+  // Raise the order until the measured stopband attenuation meets the design value: first on
+  // the lobes next to the stopband edge (the highest ones of a Kaiser design), then on all.
+  for (bool whole = false; order <= 1000000; order += 2) {
     f.taps = KaiserTaps(order, wc, f.kaiser_beta);
-    f.stopband_attenuation_db = Extreme(f.taps, fs, 0.5, true);
+    const double near_end = std::min(0.5, fs + 8.0 / f.taps.size());
+    f.stopband_attenuation_db = Extreme(f.taps, fs, whole ? 0.5 : near_end, true);
+    if (f.stopband_attenuation_db < attenuation_db) continue;
+    if (!whole && near_end < 0.5)
+      f.stopband_attenuation_db = std::min(f.stopband_attenuation_db, Extreme(f.taps, near_end, 0.5, true));
+    whole = true;
     if (f.stopband_attenuation_db >= attenuation_db) break;
   }
   if (f.stopband_attenuation_db < attenuation_db)
