@@ -59,21 +59,23 @@ std::vector<int> ReadAxes(const Context& ctx, const Item& it) {
   return axes;
 }
 
-// Where a frame sensor sits: `frame`, or `body` with `position`/`rotation` or `node`.
-int ReadSensorFrame(const MapReader& m, const std::string& name, double length_unit, ModelBuilder& b) {
+// Where a frame sensor sits: `frame`, or `body` with `position`/`rotation` (the sensor's pose on
+// the body's own frame: no frame is added) or `node` (a node frame "sensor:<name>").
+void ReadSensorPlace(const MapReader& m, const std::string& name, double length_unit, ModelBuilder& b,
+                     SensorSpec& spec) {
   const Context& ctx = m.ctx();
   const Model& draft = b.draft();
   if (m.Has("frame")) {
     for (const char* key : {"body", "position", "rotation", "node"})
       if (const auto it = m.Find(key))
         ctx.Fail(*it, std::string("give either 'frame' or 'body' (with position, rotation, node), not both"));
-    return ResolveName(m, "frame", FrameNames(draft), "frame", "frames");
+    spec.frame = ResolveName(m, "frame", FrameNames(draft), "frame", "frames");
+    return;
   }
   if (!m.Has("body")) m.FailMissing("frame", "missing 'frame' (or 'body' with 'position' or 'node')");
   const BodyIndex body = ResolveName(m, "body", BodyNames(draft), "body", "bodies");
-  Transform X_BF;
-  if (const auto r = m.Find("rotation")) X_BF.R = ToRotation(ctx, *r);
-  const std::string frame_name = "sensor:" + name;
+  Transform X;
+  if (const auto r = m.Find("rotation")) X.R = ToRotation(ctx, *r);
   if (const auto node_item = m.Find("node")) {
     // A node of a flexible body (by its FE id): the frame follows the node's elastic motion.
     if (draft.bodies[body].flexible < 0)
@@ -81,13 +83,14 @@ int ReadSensorFrame(const MapReader& m, const std::string& name, double length_u
     const int id = ToInt(ctx, *node_item);
     const int node = Build(m, {{"node", "node"}}, [&] { return b.FindNode(body, id); });
     const auto& modes = *draft.flexible_bodies[draft.bodies[body].flexible].modes;
-    X_BF.p = m.Has("position") ? Vec3(m.Vector("position", Vec3::Zero()) * length_unit)
-                               : modes.nodes[node].position;
-    return Build(m, {{"frame", "name"}}, [&] { return b.AddNodeFrame(frame_name, body, node, X_BF); });
+    X.p = m.Has("position") ? Vec3(m.Vector("position", Vec3::Zero()) * length_unit)
+                            : modes.nodes[node].position;
+    spec.frame = Build(m, {{"frame", "name"}}, [&] { return b.AddNodeFrame("sensor:" + name, body, node, X); });
+    return;
   }
-  X_BF.p = m.Vector("position", Vec3::Zero()) * length_unit;
-  return Build(m, {{"frame", "name"}, {"rotation", "rotation"}},
-               [&] { return b.AddFrame(frame_name, body, X_BF); });
+  X.p = m.Vector("position", Vec3::Zero()) * length_unit;
+  spec.frame = b.body_frame(body);
+  spec.X_FS = X;
 }
 
 void ReadSensor(const Context& ctx, const Item& item, double length_unit, ModelBuilder& b) {
@@ -121,7 +124,7 @@ void ReadSensor(const Context& ctx, const Item& item, double length_unit, ModelB
   spec.name = m.String("name");
   const Model& draft = b.draft();
   if (frame_kind) {
-    spec.frame = ReadSensorFrame(m, spec.name, length_unit, b);
+    ReadSensorPlace(m, spec.name, length_unit, b, spec);
     // measured_in: sensor (own axes) | world | a frame; a displacement defaults to the world.
     const bool displacement = spec.kind == SensorKind::kDisplacement;
     const std::string in = m.Has("measured_in") ? ToString(ctx, m.Need("measured_in"))

@@ -15,7 +15,8 @@ namespace orrery::scene_reader {
 
 // Reads the list (absent or null: no sensors) and adds each sensor to `builder`. Lengths
 // (positions on bodies) are in the scene's unit, `length_unit` metres each. A sensor given by
-// `body` and `position` (or `node`) gets a frame of its own named "sensor:<name>".
+// `body` and `position` sits on the body's own frame at that pose (SensorSpec::X_FS); one on a
+// flexible body's `node` gets a node frame of its own named "sensor:<name>".
 void ReadSensors(const Context& ctx, const std::optional<Item>& list, double length_unit,
                  ModelBuilder& builder);
 

@@ -49,9 +49,9 @@ std::vector<double> KaiserTaps(int order, double wc, double beta) {
 }
 
 // Largest |20 log10 |H|| over [f0, f1] (passband: deviation) or smallest -20 log10 |H|
-// (stopband), on a grid of 16 points per side-lobe width 1 / (order + 1).
-double Extreme(const std::vector<double>& h, double f0, double f1, bool stopband) {
-  const double step = 1.0 / (16.0 * static_cast<double>(h.size()));
+// (stopband), on a grid of `per_lobe` points per side-lobe width 1 / (order + 1).
+double Extreme(const std::vector<double>& h, double f0, double f1, bool stopband, int per_lobe) {
+  const double step = 1.0 / (per_lobe * static_cast<double>(h.size()));
   const long n = std::max<long>(2, static_cast<long>(std::ceil((f1 - f0) / step)) + 1);
   double worst = stopband ? std::numeric_limits<double>::infinity() : 0;
   for (long i = 0; i < n; ++i) {
@@ -61,6 +61,16 @@ double Extreme(const std::vector<double>& h, double f0, double f1, bool stopband
     worst = stopband ? std::min(worst, -db) : std::max(worst, std::abs(db));
   }
   return worst;
+}
+
+// Stopband attenuation: 16 points per lobe over the 16 lobes next to the stopband edge (a Kaiser
+// design's highest), 4 per lobe over the rest (its lobes fall off away from the edge); with
+// `near_only` the first part alone (while the order is searched).
+double StopbandAttenuation(const std::vector<double>& h, double fs, bool near_only) {
+  const double near_end = std::min(0.5, fs + 16.0 / static_cast<double>(h.size()));
+  double a = Extreme(h, fs, near_end, true, 16);
+  if (!near_only && near_end < 0.5) a = std::min(a, Extreme(h, near_end, 0.5, true, 4));
+  return a;
 }
 
 }  // namespace
@@ -91,22 +101,21 @@ FirLowPass DesignKaiserLowPass(double fp, double fs, double attenuation_db) {
   const double dw = 2 * kPi * (fs - fp), wc = kPi * (fp + fs);
   int order = static_cast<int>(std::ceil((attenuation_db - 8) / (2.285 * dw)));
   order = std::max(2, order + (order % 2));
-  // Raise the order until the measured stopband attenuation meets the design value: first on
-  // the lobes next to the stopband edge (the highest ones of a Kaiser design), then on all.
+  // Raise the order until the measured stopband attenuation meets the design value (searched on
+  // the lobes next to the edge, then confirmed over the whole stopband).
   for (bool whole = false; order <= 1000000; order += 2) {
     f.taps = KaiserTaps(order, wc, f.kaiser_beta);
-    const double near_end = std::min(0.5, fs + 8.0 / f.taps.size());
-    f.stopband_attenuation_db = Extreme(f.taps, fs, whole ? 0.5 : near_end, true);
+    f.stopband_attenuation_db = StopbandAttenuation(f.taps, fs, true);
     if (f.stopband_attenuation_db < attenuation_db) continue;
-    if (!whole && near_end < 0.5)
-      f.stopband_attenuation_db = std::min(f.stopband_attenuation_db, Extreme(f.taps, near_end, 0.5, true));
+    f.stopband_attenuation_db = StopbandAttenuation(f.taps, fs, whole);
+    if (!whole) f.stopband_attenuation_db = StopbandAttenuation(f.taps, fs, false);
     whole = true;
     if (f.stopband_attenuation_db >= attenuation_db) break;
   }
   if (f.stopband_attenuation_db < attenuation_db)
     throw std::runtime_error("anti-alias filter: no order up to 1e6 reaches " +
                              std::to_string(attenuation_db) + " dB");
-  f.passband_ripple_db = Extreme(f.taps, 0, fp, false);
+  f.passband_ripple_db = Extreme(f.taps, 0, fp, false, 16);
   return f;
 }
 
@@ -119,6 +128,14 @@ DecimatingFilter::DecimatingFilter(std::vector<double> taps, int channels, long 
   history_ = std::max<long>(history, static_cast<long>(taps_.size()));
   ring_.assign(static_cast<size_t>(channels_) * 2 * history_, 0.0);
   window_.assign(taps_.size(), 0.0);
+}
+
+double DecimatingFilter::FoldedDot(const double* x) const {
+  // Symmetric taps: h[a] x[a] + sum_{j < a} h[j] (x[j] + x[2a - j]) (Eigen vectorizes the
+  // reversed half).
+  const int a = delay_;
+  const Eigen::Map<const Eigen::VectorXd> h(taps_.data(), a), lo(x, a), hi(x + a + 1, a);
+  return taps_[a] * x[a] + h.dot(lo + hi.reverse());
 }
 
 void DecimatingFilter::Push(const double* x) {
@@ -141,12 +158,11 @@ void DecimatingFilter::Output(long n, double* y) const {
     throw std::logic_error("DecimatingFilter: the window of sample " + std::to_string(n) +
                            " has left the history");
   const long ntaps = static_cast<long>(taps_.size());
-  const Eigen::Map<const Eigen::VectorXd> h(taps_.data(), ntaps);
   for (int c = 0; c < channels_; ++c) {
     const double* ring = ring_.data() + c * 2 * history_;
     // Inside the record: one contiguous window of the doubled ring.
     if (first >= 0 && end <= last) {
-      y[c] = h.dot(Eigen::Map<const Eigen::VectorXd>(ring + first % history_, ntaps));
+      y[c] = FoldedDot(ring + first % history_);
       continue;
     }
     // Across an end: odd reflection (clamped for records shorter than the delay).
@@ -164,7 +180,7 @@ void DecimatingFilter::Output(long n, double* y) const {
       }
       window_[j] = value;
     }
-    y[c] = h.dot(Eigen::Map<const Eigen::VectorXd>(window_.data(), ntaps));
+    y[c] = FoldedDot(window_.data());
   }
 }
 

@@ -77,6 +77,7 @@ class DecimatingFilter {
 
  private:
   double Sample(long i, int c) const { return ring_[c * 2 * history_ + i % history_]; }
+  double FoldedDot(const double* window) const;  // taps . window (taps long)
 
   std::vector<double> taps_;
   int channels_ = 0, delay_ = 0;

@@ -13,6 +13,11 @@ namespace orrery {
 void CalcPositionKinematics(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& q,
                             Data& data);
 
+// The poses part of CalcPositionKinematics: data.q_normalized, X_WF, X_FM, X_WB, S, X_WFrame
+// (node frames with their modal Jacobians J_frame_modal) and the modal coordinates, without the
+// inertias I_W and the flexible bodies' inertia terms (what sensors need).
+void CalcFramePoses(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& q, Data& data);
+
 // Fills data.V_WB and data.c_J from velocities v (nv); needs CalcPositionKinematics first.
 // c_J = S-dot v = V_WP x (S v) + Ad(X_WF) (dS_F/dt v) is the velocity-product acceleration.
 void CalcVelocityKinematics(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& v,

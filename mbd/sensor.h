@@ -2,12 +2,13 @@
 // Virtual sensors: the channels a data-acquisition system would record on the model.
 //
 // A sensor is a model element (ModelBuilder::AddSensor) that reads one quantity:
-// - at a frame (its origin is the measuring point, its axes the sensor's axes): acceleration
+// - at a point fixed in a frame (the sensor's pose X_FS in the frame: its origin is the measuring
+//   point, its axes the sensor's axes): acceleration
 //   (accelerometer), velocity, displacement, angular velocity (gyroscope) and angular
 //   acceleration. The frame may be on any body: rigid, the reference frame of a flexible body, or
 //   a node frame of a flexible body (ModelBuilder::AddNodeFrame), whose motion includes the
 //   elastic deformation at the node. Vectors are expressed in the axes of `measured_in`: the
-//   sensor's own frame (co-rotating, a sensor glued to the part), the world (a fixed housing) or
+//   sensor's own axes (co-rotating, a sensor glued to the part), the world (a fixed housing) or
 //   any other frame; one to three components are recorded.
 // - on a joint coordinate: its position (encoder: an angle or a length) or its rate (tachometer).
 // - on a lumped gear mesh (GearMeshSpec): tooth force, flank deflection or transmission error.
@@ -23,19 +24,19 @@
 //   u-ddot = sum_k (Phi_k + Psi_k x d) q-ddot_k + w_e x (w_e x d),  w_e = Psi_P q-dot,
 //   omega_P = omega + R w_e,   alpha_P = alpha + R Psi_P q-ddot + omega x R w_e
 // (the floating frame of reference: Shabana, "Dynamics of Multibody Systems", 4th ed., ch. 5).
-// The displacement of P is its position relative to frame E = measured_in (origin and axes),
+// Frames cost every evaluation of the dynamics a pose; a sensor's own point and axes (X_FS)
+// cost only its samples. The displacement of P is its position relative to frame
+// E = measured_in (origin and axes),
 // minus the same at the model's initial configuration: E = world gives the absolute
 // displacement, E = the flexible body's own frame the elastic deflection at a node, E = a housing
 // frame what a proximity probe on the housing sees.
 //
 // Sampling and the anti-alias filter are not part of the model: see sensor_sampler.h.
 //
-// Usage:
-//   SensorSpec s;
-//   s.name = "housing_x"; s.kind = SensorKind::kAccelerometer;
-//   s.frame = b.AddFrame("housing_mount", housing, Transform::Translation(Vec3(0.2, 0, 0)));
-//   s.measured_in = kSensorAxes;  s.axes = {0};
-//   b.AddSensor(s);
+// Usage (a one-axis accelerometer on a housing, 0.2 m from its origin, along its radius):
+//   b.AddSensor({.name = "housing_x", .kind = SensorKind::kAccelerometer,
+//                .frame = b.body_frame(housing), .X_FS = Transform::Translation(Vec3(0.2, 0, 0)),
+//                .measured_in = kSensorAxes, .axes = {0}});
 #include <string>
 #include <vector>
 
@@ -71,7 +72,11 @@ struct SensorSpec {
   std::string name;  // unique among sensors; the result group /sensors/<name>
   SensorKind kind = SensorKind::kAccelerometer;
   // Frame sensors (accelerometer ... angular accelerometer).
-  int frame = -1;                 // FrameIndex of the sensor
+  int frame = -1;                 // FrameIndex the sensor is fixed to (a body's own frame, a
+                                  //   marker, a node frame)
+  Transform X_FS;                 // the sensor's pose S in that frame: its point and its axes
+                                  //   (a point on a body needs no frame of its own: give the
+                                  //   body's frame and the point here)
   int measured_in = kSensorAxes;  // kSensorAxes, or a FrameIndex (0: the world); a displacement
                                   //   needs a frame other than its own
   std::vector<int> axes{0, 1, 2}; // components recorded (0 x, 1 y, 2 z), 1 to 3, no repeats

@@ -90,6 +90,10 @@ int ModelBuilder::AddSensor(const SensorSpec& spec) {
       Fail(what + ": frame index " + std::to_string(spec.frame) + " does not exist");
     if (spec.measured_in != kSensorAxes && (spec.measured_in < 0 || spec.measured_in >= nframes))
       Fail(what + ": measured_in frame index " + std::to_string(spec.measured_in) + " does not exist");
+    const Transform& X = spec.X_FS;
+    if (!X.p.allFinite() || !X.R.allFinite() || (X.R.transpose() * X.R - Mat3::Identity()).norm() > 1e-9 ||
+        X.R.determinant() < 0)
+      Fail(what + ": its pose in the frame (X_FS) is not finite or its rotation not proper");
     if (spec.axes.empty() || spec.axes.size() > 3) Fail(what + ": axes must list 1 to 3 components");
     for (size_t i = 0; i < spec.axes.size(); ++i) {
       if (spec.axes[i] < 0 || spec.axes[i] > 2)
@@ -193,7 +197,7 @@ void ModelBuilder::FinalizeSensors() {
   for (Sensor& s : m.sensors) {
     if (s.spec.kind != SensorKind::kDisplacement) continue;
     const Transform& X_WE = data.X_WFrame[s.spec.measured_in];
-    s.p0_E = X_WE.R.transpose() * (data.X_WFrame[s.spec.frame].p - X_WE.p);
+    s.p0_E = X_WE.R.transpose() * (data.X_WFrame[s.spec.frame] * s.spec.X_FS.p - X_WE.p);
   }
 }
 

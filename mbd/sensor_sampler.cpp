@@ -143,7 +143,7 @@ void SensorSampler::DescribeInFile(const SensorSamplingOptions& options) {
         const Frame& f = model_.frames[spec.frame];
         out_.SetAttribute(sg, "body", model_.bodies[f.body].name);
         out_.SetAttribute(sg, "frame", f.name);
-        out_.SetAttribute(sg, "position_in_body_m", Vec3Text(f.X_BF.p));
+        out_.SetAttribute(sg, "position_in_body_m", Vec3Text(f.X_BF * spec.X_FS.p));
         if (f.node >= 0) {
           const auto& modes = *model_.flexible_bodies[model_.bodies[f.body].flexible].modes;
           out_.SetAttribute(sg, "node", std::int64_t(modes.nodes[f.node].id));
@@ -170,6 +170,7 @@ void SensorSampler::Start(const State& state, const Eigen::VectorXd& vdot) {
 
 void SensorSampler::OnStep(Integrator& integrator, double t_begin, double t_end) {
   if (!started_ || finished_) return;
+  ++steps_;
   while (next_sample_ <= last_sample_index_) {
     const double t = t0_ + next_sample_ * dt_;
     if (t > t_end + kGridTolerance * dt_) break;
@@ -221,6 +222,10 @@ void SensorSampler::Release(double t) {
 void SensorSampler::Finish(double t_last) {
   if (!started_ || finished_) return;
   finished_ = true;
+  // Steps per internal sample above 1: the integrator resolved faster motion than the internal
+  // rate samples, which could fold at the internal sampling (sensor_sampler.h).
+  out_.SetAttribute("/sensors", "integrator_steps_per_sample",
+                    double(steps_) / double(std::max(1L, filter_rows_.samples())));
   Release(t_last);
   // Rows up to t_last whose windows reach beyond the last sample: reflected there.
   const long k_last = released_ - 1;

@@ -102,6 +102,7 @@ class SensorSampler final : public StepObserver {
   Eigen::MatrixXd rows_;          // channels x kRowRing
   long next_written_ = 0, next_computed_ = 0, released_ = 0;  // rows [0, released_) releasable
   bool started_ = false, finished_ = false;
+  long steps_ = 0;                // integrator steps observed (for integrator_steps_per_sample)
   Eigen::VectorXd q_, v_, vdot_;  // dense-output scratch
 };
 

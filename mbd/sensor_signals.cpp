@@ -6,20 +6,21 @@
 namespace orrery {
 namespace {
 
-// Motion of a frame's origin P and of the frame's axes (world axes, classical vectors).
+// Motion of a sensor's point P and of its axes (world axes, classical vectors).
 struct PointMotion {
   Vec3 p, v, a;        // position, velocity, acceleration of P
-  Vec3 omega, alpha;   // angular velocity and acceleration of the frame
+  Vec3 omega, alpha;   // angular velocity and acceleration of the sensor's axes
 };
 
-// The motion of frame f from the kinematics in `data` (accelerations only if `accelerations`):
-// the rigid motion of its body, plus for a node frame the elastic terms of sensor.h.
-PointMotion FrameMotion(const Model& model, const Data& data, int f, bool accelerations,
-                        const Eigen::Ref<const Eigen::VectorXd>& vdot) {
+// The motion of point P = X_WF p_FS fixed in frame f, from the kinematics in `data`
+// (accelerations only if `accelerations`): the rigid motion of its body, plus for a node frame
+// the elastic terms of sensor.h (P turns with the node).
+PointMotion SensorMotion(const Model& model, const Data& data, int f, const Vec3& p_FS,
+                         bool accelerations, const Eigen::Ref<const Eigen::VectorXd>& vdot) {
   const Frame& frame = model.frames[f];
   const BodyIndex b = frame.body;
   PointMotion m;
-  m.p = data.X_WFrame[f].p;
+  m.p = data.X_WFrame[f] * p_FS;
   const Vec6& V_B = data.V_WB[b];
   const Vec3 w_B = V_B.head<3>();
   const Vec3 v_rigid = PointVelocity(V_B, m.p);
@@ -33,7 +34,8 @@ PointMotion FrameMotion(const Model& model, const Data& data, int f, bool accele
   m.a = a_o + alpha_B.cross(m.p) + w_B.cross(v_rigid);
   m.alpha = alpha_B;
   if (frame.node < 0) return m;
-  // Node frame: J_frame_modal's columns are (R psi_k, R (phi_k + psi_k x d) + p x R psi_k).
+  // Node frame: J_frame_modal's columns are (R psi_k, R (phi_k + psi_k x d) + p x R psi_k), the
+  // modal velocity of a point x turning with the node is their v + w x x.
   const FlexibleBody& fb = model.flexible_bodies[model.bodies[b].flexible];
   const auto& J = data.J_frame_modal[f];
   const Eigen::VectorXd& qf_dot = data.flex[model.bodies[b].flexible].qf_dot;
@@ -64,9 +66,9 @@ void WriteAxes(const Sensor& s, const Mat3& R_WE, const Vec3& x_W, Data& data) {
 void FrameSensor(const Model& model, const Sensor& s, const Eigen::Ref<const Eigen::VectorXd>& vdot,
                  Data& data) {
   const SensorSpec& spec = s.spec;
-  const int e = spec.measured_in == kSensorAxes ? spec.frame : spec.measured_in;
-  const Transform& X_WE = data.X_WFrame[e];
-  const PointMotion m = FrameMotion(model, data, spec.frame, s.needs_accelerations, vdot);
+  const Transform& X_WF = data.X_WFrame[spec.frame];
+  const Transform X_WE = spec.measured_in == kSensorAxes ? X_WF * spec.X_FS : data.X_WFrame[spec.measured_in];
+  const PointMotion m = SensorMotion(model, data, spec.frame, spec.X_FS.p, s.needs_accelerations, vdot);
   switch (spec.kind) {
     case SensorKind::kAccelerometer:
       WriteAxes(s, X_WE.R, spec.include_gravity ? Vec3(m.a - model.gravity) : m.a, data);
@@ -88,7 +90,9 @@ void FrameSensor(const Model& model, const Sensor& s, const Eigen::Ref<const Eig
 void CalcSensorSignals(const Model& model, double t, const Eigen::Ref<const Eigen::VectorXd>& q,
                        const Eigen::Ref<const Eigen::VectorXd>& v,
                        const Eigen::Ref<const Eigen::VectorXd>& vdot, Data& data) {
-  CalcPositionKinematics(model, q, data);
+  // Poses (elements get the whole position stage, inertias included, as in a step).
+  if (model.sensor_elements.empty()) CalcFramePoses(model, q, data);
+  else CalcPositionKinematics(model, q, data);
   CalcVelocityKinematics(model, v, data);
   bool accelerations = false;
   for (const Sensor& s : model.sensors) accelerations = accelerations || s.needs_accelerations;

@@ -441,12 +441,12 @@ TEST(SceneSensorTest, EveryFrameAndJointKindLoads) {
   EXPECT_EQ(a.spec.measured_in, kWorldFrame);
   EXPECT_EQ(a.spec.axes, (std::vector<int>{1, 0}));
   EXPECT_TRUE(a.spec.include_gravity);
-  EXPECT_EQ(m.frames[a.spec.frame].name, "sensor:a");
-  EXPECT_EQ(m.frames[a.spec.frame].X_BF.p, Vec3(0, -1, 0));
+  EXPECT_EQ(a.spec.frame, m.frame("bob"));
+  EXPECT_EQ(a.spec.X_FS.p, Vec3(0, -1, 0));
   EXPECT_EQ(m.sensors[m.sensor("v")].spec.measured_in, kSensorAxes);
   const Sensor& d = m.sensors[m.sensor("d")];
   EXPECT_EQ(d.spec.measured_in, kWorldFrame);  // a displacement's default
-  EXPECT_NEAR((m.frames[d.spec.frame].X_BF.R * Vec3::UnitX() - Vec3::UnitY()).norm(), 0, 1e-15);
+  EXPECT_NEAR((d.spec.X_FS.R * Vec3::UnitX() - Vec3::UnitY()).norm(), 0, 1e-15);
   EXPECT_EQ(m.sensors[m.sensor("g")].channels, 1);
   EXPECT_EQ(m.sensors[m.sensor("al")].spec.measured_in, m.frame("bob"));
   EXPECT_EQ(m.sensors[m.sensor("e")].quantity, "angle");
@@ -461,7 +461,7 @@ TEST(SceneSensorTest, SamplingOptionsAndLengthUnits) {
       "sensors.yaml",
       {"output.sensors={oversampling: 16, passband_fraction: 0.7, stopband_attenuation_db: 90}"});
   const Model& m = *scene.model;
-  EXPECT_EQ(m.frames[m.sensors[0].spec.frame].X_BF.p, Vec3(0, -1, 0));
+  EXPECT_EQ(m.sensors[0].spec.X_FS.p, Vec3(0, -1, 0));
   EXPECT_EQ(scene.simulation.sensors.oversampling, 16);
   EXPECT_EQ(scene.simulation.sensors.passband_fraction, 0.7);
   EXPECT_EQ(scene.simulation.sensors.stopband_attenuation_db, 90);

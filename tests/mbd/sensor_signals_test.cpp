@@ -78,7 +78,9 @@ std::shared_ptr<FlexibleBodyModes> TwoModeBody() {
 // the universal one, gravity; frames with offsets and rotations on each.
 struct Chain {
   std::shared_ptr<const Model> model;
-  FrameIndex rigid_mark, floater_mark, node_frame, offset_node_frame, crank;
+  FrameIndex rigid_mark, floater_mark, node_frame, offset_node_frame, crank, arm;
+  // Sensor places: (frame, pose in the frame); sensors "acc<k>", ... sit at place k.
+  std::vector<std::pair<FrameIndex, Transform>> places;
 };
 
 Chain BuildChain() {
@@ -103,18 +105,24 @@ Chain BuildChain() {
   c.offset_node_frame = b.AddNodeFrame("node_offset", flex, 1,
                                        Transform(AxisAngle(Vec3::UnitZ(), 0.5), Vec3(0.35, 0.2, 0.0)));
   c.crank = b.body_frame(crank);
-  // Every frame sensor kind on every kind of frame, measured in various axes.
+  c.arm = b.body_frame(arm);
+  // Every frame sensor kind at every kind of place, measured in various axes: at frames, and at
+  // poses on a body's frame and on a turning node's frame.
+  const Transform X_FS(AxisAngle(Vec3(0.2, -1, 0.4).normalized(), 1.1), Vec3(-0.04, 0.06, 0.03));
+  c.places = {{c.rigid_mark, Transform()}, {c.floater_mark, Transform()}, {c.node_frame, Transform()},
+              {c.offset_node_frame, Transform()}, {c.arm, X_FS}, {c.offset_node_frame, X_FS}};
   int k = 0;
-  for (const FrameIndex f : {c.rigid_mark, c.floater_mark, c.node_frame, c.offset_node_frame}) {
+  for (const auto& [f, X] : c.places) {
     const std::string s = std::to_string(k++);
-    b.AddSensor({.name = "acc" + s, .kind = SensorKind::kAccelerometer, .frame = f});
-    b.AddSensor({.name = "accg" + s, .kind = SensorKind::kAccelerometer, .frame = f,
+    b.AddSensor({.name = "acc" + s, .kind = SensorKind::kAccelerometer, .frame = f, .X_FS = X});
+    b.AddSensor({.name = "accg" + s, .kind = SensorKind::kAccelerometer, .frame = f, .X_FS = X,
                  .measured_in = kWorldFrame, .axes = {2, 0}, .include_gravity = true});
-    b.AddSensor({.name = "vel" + s, .kind = SensorKind::kVelocity, .frame = f, .measured_in = c.crank});
-    b.AddSensor({.name = "disp" + s, .kind = SensorKind::kDisplacement, .frame = f,
+    b.AddSensor({.name = "vel" + s, .kind = SensorKind::kVelocity, .frame = f, .X_FS = X,
+                 .measured_in = c.crank});
+    b.AddSensor({.name = "disp" + s, .kind = SensorKind::kDisplacement, .frame = f, .X_FS = X,
                  .measured_in = kWorldFrame});
-    b.AddSensor({.name = "gyro" + s, .kind = SensorKind::kGyroscope, .frame = f});
-    b.AddSensor({.name = "alpha" + s, .kind = SensorKind::kAngularAccelerometer, .frame = f,
+    b.AddSensor({.name = "gyro" + s, .kind = SensorKind::kGyroscope, .frame = f, .X_FS = X});
+    b.AddSensor({.name = "alpha" + s, .kind = SensorKind::kAngularAccelerometer, .frame = f, .X_FS = X,
                  .measured_in = kWorldFrame, .axes = {1}});
   }
   b.AddSensor({.name = "deflection", .kind = SensorKind::kDisplacement, .frame = c.node_frame,
@@ -141,12 +149,13 @@ TestState MakeState(const Model& m, double modal_scale) {
   return s;
 }
 
-// Frame pose at q(tau) = q (+) (tau v + tau^2 / 2 vdot).
-Transform PoseAt(const Model& m, const TestState& s, double tau, FrameIndex f, Data& data) {
+// Pose of S (pose X_FS in frame f) at q(tau) = q (+) (tau v + tau^2 / 2 vdot).
+Transform PoseAt(const Model& m, const TestState& s, double tau, FrameIndex f, Data& data,
+                 const Transform& X_FS = Transform()) {
   Eigen::VectorXd q = s.q;
   IntegratePositions(m, tau * s.v + 0.5 * tau * tau * s.vdot, q);
   CalcPositionKinematics(m, q, data);
-  return data.X_WFrame[f];
+  return data.X_WFrame[f] * X_FS;
 }
 
 Vec3 Vee(const Mat3& S) { return 0.5 * Vec3(S(2, 1) - S(1, 2), S(0, 2) - S(2, 0), S(1, 0) - S(0, 1)); }
@@ -155,9 +164,10 @@ Vec3 Vee(const Mat3& S) { return 0.5 * Vec3(S(2, 1) - S(1, 2), S(0, 2) - S(2, 0)
 struct Differences {
   Vec3 v, a, w, alpha;
 };
-Differences Differentiate(const Model& m, const TestState& s, FrameIndex f, double h, Data& data) {
+Differences Differentiate(const Model& m, const TestState& s, FrameIndex f, const Transform& X_FS,
+                          double h, Data& data) {
   Transform X[5];
-  for (int i = 0; i < 5; ++i) X[i] = PoseAt(m, s, (i - 2) * h, f, data);
+  for (int i = 0; i < 5; ++i) X[i] = PoseAt(m, s, (i - 2) * h, f, data, X_FS);
   auto omega = [&](int i) -> Vec3 { return Vee((X[i + 1].R - X[i - 1].R) * X[i].R.transpose()) / (2 * h); };
   Differences d;
   d.v = (X[3].p - X[1].p) / (2 * h);
@@ -176,19 +186,21 @@ void ExpectReading(const Model& m, const Data& data, const std::string& name, co
     EXPECT_NEAR(data.sensor_values(s.channel_start + c), x_E(s.spec.axes[c]), tol) << name << " column " << c;
 }
 
-// Checks every frame sensor on frame f (index k in BuildChain's list) against differences of
-// its poses; `extra` widens the tolerance of velocities (first) and accelerations (second).
-void CheckFrame(const Chain& c, const TestState& s, FrameIndex f, int k, const Data& data,
-                Data& scratch, double extra_v, double extra_a) {
+// Checks every frame sensor at place k of BuildChain against differences of its poses; `extra`
+// widens the tolerance of velocities (first) and accelerations (second).
+void CheckFrame(const Chain& c, const TestState& s, int k, const Data& data, Data& scratch,
+                double extra_v, double extra_a) {
   const Model& m = *c.model;
-  SCOPED_TRACE("frame " + m.frames[f].name);
+  const auto& [f, X_FS] = c.places[k];
+  SCOPED_TRACE("place " + std::to_string(k) + ": frame " + m.frames[f].name);
   const std::string n = std::to_string(k);
   const double h = 1e-3;
-  const Differences d1 = Differentiate(m, s, f, h, scratch), d2 = Differentiate(m, s, f, h / 2, scratch);
+  const Differences d1 = Differentiate(m, s, f, X_FS, h, scratch);
+  const Differences d2 = Differentiate(m, s, f, X_FS, h / 2, scratch);
   // Tolerance: the step-h/2 differences' error, about a third of their change from step h
   // (O(h^2)), plus their rounding (eps |x| / h^2 for second differences, 1e-9 here).
   auto tol = [&](const Vec3& a, const Vec3& b, double extra) { return (a - b).norm() + 1e-7 + extra; };
-  const Mat3 R_WS = PoseAt(m, s, 0, f, scratch).R;
+  const Mat3 R_WS = PoseAt(m, s, 0, f, scratch, X_FS).R;
   const Mat3 R_WC = PoseAt(m, s, 0, c.crank, scratch).R;
   ExpectReading(m, data, "acc" + n, d2.a, R_WS, tol(d1.a, d2.a, extra_a));
   ExpectReading(m, data, "accg" + n, d2.a - m.gravity, Mat3::Identity(), tol(d1.a, d2.a, extra_a));
@@ -197,8 +209,8 @@ void CheckFrame(const Chain& c, const TestState& s, FrameIndex f, int k, const D
   ExpectReading(m, data, "alpha" + n, d2.alpha, Mat3::Identity(), tol(d1.alpha, d2.alpha, extra_a));
   // Displacement: world position minus the one at the initial configuration.
   CalcPositionKinematics(m, m.q_initial, scratch);
-  const Vec3 p0 = scratch.X_WFrame[f].p;
-  ExpectReading(m, data, "disp" + n, PoseAt(m, s, 0, f, scratch).p - p0, Mat3::Identity(), 1e-14);
+  const Vec3 p0 = scratch.X_WFrame[f] * X_FS.p;
+  ExpectReading(m, data, "disp" + n, PoseAt(m, s, 0, f, scratch, X_FS).p - p0, Mat3::Identity(), 1e-14);
 }
 
 TEST(SensorSignals, FrameKinematicsMatchDifferencesOfPoses) {
@@ -208,9 +220,7 @@ TEST(SensorSignals, FrameKinematicsMatchDifferencesOfPoses) {
   // Rigid frames and a node that only translates: exact at any amplitude.
   const TestState s = MakeState(m, 1.0);
   CalcSensorSignals(m, 0.0, s.q, s.v, s.vdot, data);
-  CheckFrame(c, s, c.rigid_mark, 0, data, scratch, 0, 0);
-  CheckFrame(c, s, c.floater_mark, 1, data, scratch, 0, 0);
-  CheckFrame(c, s, c.node_frame, 2, data, scratch, 0, 0);
+  for (const int k : {0, 1, 2, 4}) CheckFrame(c, s, k, data, scratch, 0, 0);
   // A frame off a node that turns: the engine takes the node's rotation theta = Psi q_f as small
   // (angular velocity Psi q_f-dot; the exact one is dexp(theta) theta-dot = theta-dot +
   // theta x theta-dot / 2 + ...), as elastic rotations are. At modal amplitudes of 1e-3 its error,
@@ -223,10 +233,13 @@ TEST(SensorSignals, FrameKinematicsMatchDifferencesOfPoses) {
   const double th = (psi * small.q.segment(fb.q_start, fb.nf)).norm();
   const double th_d = (psi * small.v.segment(fb.v_start, fb.nf)).norm();
   const double th_dd = (psi * small.vdot.segment(fb.v_start, fb.nf)).norm();
-  const double lever = 1 + (m.frames[c.offset_node_frame].X_BF.p - fb.modes->nodes[1].position).norm();
-  const double w_body = 3;  // bound on the body's angular velocity here (rad/s)
-  CheckFrame(c, small, c.offset_node_frame, 3, data, scratch, th * th_d * lever,
-             (th * th_dd + th_d * th_d + 2 * w_body * th * th_d) * lever);
+  for (const int k : {3, 5}) {
+    const Vec3 p_B = m.frames[c.offset_node_frame].X_BF * c.places[k].second.p;
+    const double lever = 1 + (p_B - fb.modes->nodes[1].position).norm();
+    const double w_body = 3;  // bound on the body's angular velocity here (rad/s)
+    CheckFrame(c, small, k, data, scratch, th * th_d * lever,
+               (th * th_dd + th_d * th_d + 2 * w_body * th * th_d) * lever);
+  }
   // A node's deflection in its body's frame: the node's translation shapes times q_f.
   CalcSensorSignals(m, 0.0, s.q, s.v, s.vdot, data);
   const Vec3 u = fb.modes->nodes[0].translation_shapes * s.q.segment(fb.q_start, fb.nf);
@@ -348,6 +361,7 @@ TEST(SensorSignals, BuilderRefusesBadSensorsNamingThem) {
   fails({.name = "h", .kind = SensorKind::kGearMesh, .gear_mesh = 0}, "gear mesh index 0");
   fails({.name = "i", .kind = SensorKind::kElementOutput, .element = 0}, "external element index 0");
   fails({.name = "j", .kind = SensorKind::kGyroscope, .frame = f, .include_gravity = true}, "accelerometers");
+  fails({.name = "l", .frame = f, .X_FS = Transform(2 * Mat3::Identity(), Vec3::Zero())}, "X_FS");
   b.AddSensor({.name = "ok", .frame = f});
   fails({.name = "ok", .frame = f}, "already used");
   b.AddExternalForce(std::make_shared<TetherElement>(f, 1.0));
