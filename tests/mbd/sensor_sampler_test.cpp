@@ -24,6 +24,7 @@
 
 #include <Eigen/Dense>
 
+#include "mbd/data.h"
 #include "mbd/model.h"
 #include "mbd/result_file.h"
 #include "mbd/simulation.h"
@@ -373,6 +374,58 @@ TEST(SensorSampler, ResultFileLayoutAndAttributes) {
   const Eigen::MatrixXd a = r->Read("/sensors/acc_body/acceleration");
   const double delay = r->Attribute("/sensors", "group_delay_s");
   EXPECT_NEAR(a(124, 0), DiskBody(0.1234)(0), 20 * delay * delay * taps.cwiseAbs().sum());
+}
+
+// ---------------------------------------------------------------------------------------------
+// A run that stops: the sensors end with /time.
+
+// Throws once the simulated time passes t_fail (a solver failure in the middle of a run).
+class FailingElement final : public ExternalForceElement {
+ public:
+  explicit FailingElement(double t_fail) : t_fail_(t_fail) {}
+  const std::string& name() const override { return name_; }
+  std::unique_ptr<ExternalForceWorkspace> MakeWorkspace(const Model&) const override {
+    return std::make_unique<ExternalForceWorkspace>();
+  }
+  void Apply(const Model&, double t, Data&, ExternalForceWorkspace&) const override {
+    if (t > t_fail_) throw std::runtime_error("failing element: t > " + std::to_string(t_fail_));
+  }
+
+ private:
+  std::string name_ = "failing";
+  double t_fail_;
+};
+
+TEST(SensorSampler, ARunThatStopsEndsItsSensorsWithTime) {
+  for (const IntegratorKind kind : {IntegratorKind::kIda, IntegratorKind::kGeneralizedAlpha}) {
+    ModelBuilder b;
+    const BodyIndex disk = b.AddBody("disk", 2.0, Vec3::Zero(), Vec3(0.01, 0.01, 0.02).asDiagonal());
+    const JointIndex j = b.AddJoint(Joint("spin", JointType::kRevolute, kWorldBody, disk));
+    b.SetJointVelocity(j, Eigen::VectorXd::Constant(1, 5.0));
+    b.AddExternalForce(std::make_shared<FailingElement>(0.0735));
+    b.AddSensor({.name = "acc", .kind = SensorKind::kAccelerometer, .frame = b.body_frame(disk),
+                 .X_FS = Transform::Translation(Vec3(0.1, 0, 0))});
+    const std::shared_ptr<const Model> model = std::move(b).Finalize();
+    SimulationOptions o;
+    o.end_time = 1.0;
+    o.output_interval = 1e-3;
+    o.integrator.kind = kind;
+    o.integrator.step = 1e-4;
+    const std::string path = ::testing::TempDir() + "orrery_sensors_stop_" + std::to_string(::getpid()) + ".h5";
+    {
+      ResultFile out = ResultFile::Create(path);
+      EXPECT_THROW(Simulate(*model, o, &out), std::runtime_error);
+    }
+    ResultReader in(path);
+    const Eigen::MatrixXd t = in.ReadMatrix("/time"), a = in.ReadMatrix("/sensors/acc/acceleration");
+    // The last row before the failure (IDA may have stepped past an output time and failed there).
+    EXPECT_LE(t(t.rows() - 1, 0), 0.0735);
+    EXPECT_GE(t(t.rows() - 1, 0), 0.06);
+    EXPECT_EQ(a.rows(), t.rows());
+    // A free disk turning at 5 rad/s: -omega^2 r along its radius, to the last row.
+    EXPECT_NEAR(a(a.rows() - 1, 0), -2.5, 1e-6);
+    std::filesystem::remove(path);
+  }
 }
 
 }  // namespace

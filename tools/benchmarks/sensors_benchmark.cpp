@@ -12,6 +12,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -116,14 +117,17 @@ void RunModel(benchmark::State& state, const Model& model, SimulationOptions o) 
   state.counters["channels"] = model.n_sensor_channels;
 }
 
-void RunStage(benchmark::State& state, bool sensors) {
+// oversampling -1: without sensors; 0: the default (10 for IDA).
+void RunStage(benchmark::State& state, int oversampling) {
   const Stage& s = LoadStage();
   SimulationOptions o = s.scene.simulation;
   o.end_time = 0.2;
-  RunModel(state, sensors ? *s.with_sensors : *s.without_sensors, o);
+  o.sensors.oversampling = std::max(0, oversampling);
+  RunModel(state, oversampling >= 0 ? *s.with_sensors : *s.without_sensors, o);
 }
-BENCHMARK_CAPTURE(RunStage, seed003_lumped_without_sensors, false)->Unit(benchmark::kMillisecond)->Iterations(3);
-BENCHMARK_CAPTURE(RunStage, seed003_lumped_with_sensors, true)->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK_CAPTURE(RunStage, seed003_lumped_without_sensors, -1)->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK_CAPTURE(RunStage, seed003_lumped_with_sensors, 0)->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK_CAPTURE(RunStage, seed003_lumped_with_sensors_M4, 4)->Unit(benchmark::kMillisecond)->Iterations(3);
 
 void RunSliderCrank(benchmark::State& state, bool sensors) {
   const std::string path = std::string(ORRERY_SOURCE_DIR) + "/models/scenes/slider_crank.yaml";
