@@ -22,6 +22,7 @@
 
 #include "import/gear_scene.h"
 #include "import/scene_reader.h"
+#include "import/sensor_reader.h"
 
 namespace orrery {
 namespace {
@@ -542,7 +543,7 @@ void Loader::ReadSolver(const MapReader& root, Scene& scene) {
 }
 
 void Loader::ReadOutput(const MapReader& root, Scene& scene) {
-  const MapReader m(ctx_, root.Need("output"), {"interval", "file", "flush_interval"});
+  const MapReader m(ctx_, root.Need("output"), {"interval", "file", "flush_interval", "sensors"});
   scene.simulation.output_interval = m.Number("interval");
   if (!(scene.simulation.output_interval > 0))
     ctx_.Fail(m.Need("interval"), "must be > 0, got " + Num(scene.simulation.output_interval));
@@ -550,12 +551,13 @@ void Loader::ReadOutput(const MapReader& root, Scene& scene) {
   if (!(scene.simulation.flush_interval_s > 0))
     ctx_.Fail(m.Need("flush_interval"), "must be > 0 (wall-clock seconds)");
   if (const auto f = m.Find("file")) scene.output_path = ToString(ctx_, *f);
+  if (const auto s = m.Find("sensors")) scene.simulation.sensors = ReadSensorSampling(ctx_, *s);
 }
 
 Scene Loader::Load(const YAML::Node& root_node) {
   const MapReader root(ctx_, Item{root_node, "", root_node.Mark()},
                        {"name", "units", "gravity", "bodies", "world_frames", "joints",
-                        "loop_closures", "drivers", "force_elements", "solver", "output",
+                        "loop_closures", "drivers", "force_elements", "sensors", "solver", "output",
                         "lumped_stage", "gear_train"});
   Scene scene;
   scene.name = root.Has("name") ? root.String("name") : name_;
@@ -571,6 +573,9 @@ Scene Loader::Load(const YAML::Node& root_node) {
         ctx_.Fail(*it, std::string("key not allowed with ") + section + ": a scene has exactly one " +
                            "model section (bodies + joints, lumped_stage or gear_train); " + section +
                            " values are SI or carry their unit in the key (_mm, _deg, _rpm)");
+    if (const auto it = root.Find("sensors"))
+      ctx_.Fail(*it, "sensors are read for bodies + joints scenes; for " + section +
+                         " scenes add them in C++ (ModelBuilder::AddSensor) for now");
     ReadSolver(root, scene);
     ReadOutput(root, scene);
     if (lumped) ReadLumpedStage(ctx_, *lumped, scene);
@@ -595,6 +600,7 @@ Scene Loader::Load(const YAML::Node& root_node) {
   ReadLoopClosures(root);
   ReadDrivers(root);
   ReadForceElements(root);
+  ReadSensors(ctx_, root.Find("sensors"), length_, builder_);
   builder_.SetGravity(Length(root.Vector("gravity", Vec3::Zero())));
   // Finalize; its errors name a joint, or concern the constraints as a whole.
   try {

@@ -1,5 +1,7 @@
 #include "mbd/data.h"
 
+#include <algorithm>
+
 namespace orrery {
 
 Data::Data(const Model& model) {
@@ -64,6 +66,10 @@ Data::Data(const Model& model) {
     flex[i].qf_dot = Eigen::VectorXd::Zero(n);
   }
   for (const auto& element : model.external_forces) external.push_back(element->MakeWorkspace(model));
+  sensor_values = Eigen::VectorXd::Zero(model.n_sensor_channels);
+  int element_values = 0;
+  for (const Sensor& s : model.sensors) element_values = std::max(element_values, s.element_values);
+  element_outputs = Eigen::VectorXd::Zero(element_values);
 }
 
 void AddFrameForce(const Model& model, Data& data, FrameIndex frame, const Vec6& f) {

@@ -73,7 +73,8 @@ struct Data {
 
   // --- CalcInverseDynamics (dynamics.cpp) ---
   std::vector<Vec6> A_WB;             // nbodies: body spatial accelerations (gravity included
-                                      //   as a base acceleration -g, Featherstone's trick)
+                                      //   as a base acceleration -g, Featherstone's trick); also
+                                      //   filled alone by CalcAccelerationKinematics
   std::vector<Vec6> f_joint;          // nbodies: spatial force transmitted by each body's parent
                                       //   joint from parent to child, world origin
   Eigen::VectorXd tau_id;             // nv: M v-dot + C(q, v) - Q_ext(q, v, t)
@@ -91,6 +92,12 @@ struct Data {
                                       //   spatial velocities of bodies a and b (world origin)
   std::vector<Vec6> c_gear_a, c_gear_b, c_gear_c;  // n_gear_constraints: partials w.r.t. the
                                       //   spatial velocities of gears a, b and the reference body
+
+  // --- CalcSensorSignals (sensor_signals.cpp) ---
+  Eigen::VectorXd sensor_values;      // model.n_sensor_channels: every sensor's reading, in the
+                                      //   order of Model::sensors (Sensor::channel_start)
+  Eigen::VectorXd element_outputs;    // largest Sensor::element_values: scratch for the outputs
+                                      //   of an external element a sensor reads
 
   // --- scratch for the stages above ---
   Eigen::VectorXd scratch_nv;         // nv

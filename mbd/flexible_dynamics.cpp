@@ -10,13 +10,12 @@ inline Vec3 Axial(const Mat3& ab) {
 
 }  // namespace
 
-void CalcFlexiblePositionTerms(const Model& model, const Eigen::VectorXd& q, Data& data) {
+void CalcFlexibleInertiaTerms(const Model& model, Data& data) {
   for (size_t i = 0; i < model.flexible_bodies.size(); ++i) {
     const FlexibleBody& fb = model.flexible_bodies[i];
     const FlexibleBodyModes& m = *fb.modes;
     Data::FlexibleBodyTerms& T = data.flex[i];
     const int n = fb.nf, N = m.nf;
-    T.qf = q.segment(fb.q_start, n);
     // First moment, D_l = I4_l + sum_k q_k I5_kl, U = I3 + sum_l q_l (I4_l^T + D_l).
     T.S = m.I1;
     Mat3 U = m.I3;
@@ -41,8 +40,15 @@ void CalcFlexiblePositionTerms(const Model& model, const Eigen::VectorXd& q, Dat
       T.F_W.col(l) << X.R * T.L.col(l) + X.p.cross(f), f;
     }
   }
-  // Frames on nodes: origin at x_P + Phi_P q + R_theta d, axes R_theta R_BF0, theta = Psi_P q.
+}
+
+void CalcNodeFramePoses(const Model& model, const Eigen::VectorXd& q, Data& data) {
   if (model.flexible_bodies.empty()) return;
+  for (size_t i = 0; i < model.flexible_bodies.size(); ++i) {
+    const FlexibleBody& fb = model.flexible_bodies[i];
+    data.flex[i].qf = q.segment(fb.q_start, fb.nf);
+  }
+  // Frames on nodes: origin at x_P + Phi_P q + R_theta d, axes R_theta R_BF0, theta = Psi_P q.
   for (size_t f = 0; f < model.frames.size(); ++f) {
     const Frame& frame = model.frames[f];
     if (frame.node < 0) continue;

@@ -9,10 +9,13 @@
 
 namespace orrery {
 
-// Position stage (CalcPositionKinematics, after the body poses): data.flex terms (S, J, D, L,
-// F_W), the deformed spatial inertia data.I_W of each flexible body, and the poses of node frames
-// with their modal Jacobians data.J_frame_modal.
-void CalcFlexiblePositionTerms(const Model& model, const Eigen::VectorXd& q, Data& data);
+// Position stage, poses (CalcFramePoses, after the body poses): the modal coordinates
+// data.flex[i].qf and the poses of node frames with their modal Jacobians data.J_frame_modal.
+void CalcNodeFramePoses(const Model& model, const Eigen::VectorXd& q, Data& data);
+
+// Position stage, inertias (CalcPositionKinematics, after CalcNodeFramePoses): data.flex terms
+// (S, J, D, L, F_W) and the deformed spatial inertia data.I_W of each flexible body.
+void CalcFlexibleInertiaTerms(const Model& model, Data& data);
 
 // Velocity stage: data.V_WFrame of every frame (node frames add J_frame_modal q_f-dot) and the
 // modal rates data.flex[i].qf_dot.

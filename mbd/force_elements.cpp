@@ -140,42 +140,27 @@ void CalcForceElements(const Model& model, double t, const Eigen::Ref<const Eige
   for (size_t i = 0; i < model.gear_meshes.size(); ++i) {
     const GearMesh& mesh = model.gear_meshes[i];
     const GearMeshSpec& s = mesh.spec;
-    const bool two_sided = s.contact == GearMeshSpec::Contact::kTwoSided;
-    const MeshState st = CalcMeshState(mesh.geometry, data, s.gear_a, s.gear_b, s.reference,
-                                       s.base_radius_a, s.base_radius_b, two_sided ? s.backlash : 0.0);
-    if (mesh.small_rotations_only && (std::abs(st.theta_a) > 1 || std::abs(st.theta_b) > 1))
-      throw std::runtime_error("gear mesh '" + s.name +
-                               "' has no tooth counts and holds for small rotations only, but its "
-                               "gears turned more than 1 rad; give teeth_a and teeth_b");
-    const double psi = MeshPhase(s, mesh.geometry, st);
-    const double k = MeshStiffness(s, psi);
-    const double ste = MeshTransmissionError(s, psi);
-    // Engaged flank.
-    int side = s.contact == GearMeshSpec::Contact::kLinearCoast ? -1 : 1;
-    if (two_sided) side = st.delta_drive - ste > 0 ? 1 : (st.delta_coast - ste > 0 ? -1 : 0);
-    double force = 0, delta = 0;
-    if (side != 0) {
-      const Vec3& n = side > 0 ? st.n_drive_W : st.n_coast_W;
-      delta = side > 0 ? st.delta_drive : st.delta_coast;
-      const double rate = side * CalcMeshRate(model, data, s.gear_a, s.gear_b, s.reference, st, n);
-      force = k * (delta - ste) + mesh.c * rate;
-      if (two_sided) force = std::max(force, 0.0);  // teeth push, never pull
-      const Vec3 f_b = (side * force) * n;
+    const MeshEvaluation e = EvaluateGearMesh(model, mesh, data);
+    if (e.side != 0) {
+      const MeshState& st = e.state;
+      const Vec3& n = e.side > 0 ? st.n_drive_W : st.n_coast_W;
+      const Vec3 f_b = (e.side * e.force) * n;
       AddFrameForce(model, data, s.gear_b, ForceAtPoint(st.p_b_W, f_b));
       AddFrameForce(model, data, s.gear_a, ForceAtPoint(st.p_a_W, -f_b));
       // Reaction moment on the reference body (zero for consistent, undisplaced geometry).
       Vec6 moment_c;
-      moment_c << (side * force * st.KSpin(n)) * st.z_W, Vec3::Zero();
+      moment_c << (e.side * e.force * st.KSpin(n)) * st.z_W, Vec3::Zero();
       AddFrameForce(model, data, s.reference, moment_c);
-      energy += 0.5 * k * (delta - ste) * (delta - ste);
+      energy += 0.5 * e.k * (e.delta - e.ste) * (e.delta - e.ste);
       // Damping power; a clamped (releasing) contact dissipates only what its force does.
-      dissipated += force > 0 || !two_sided ? mesh.c * rate * rate : 0.0;
+      const bool two_sided = s.contact == GearMeshSpec::Contact::kTwoSided;
+      dissipated += e.force > 0 || !two_sided ? mesh.c * e.rate * e.rate : 0.0;
     }
-    data.mesh_force[i] = force;
-    data.mesh_deflection[i] = delta;
-    data.mesh_stiffness[i] = k;
-    data.mesh_phase[i] = psi;
-    data.mesh_contact[i] = side;
+    data.mesh_force[i] = e.force;
+    data.mesh_deflection[i] = e.delta;
+    data.mesh_stiffness[i] = e.k;
+    data.mesh_phase[i] = e.psi;
+    data.mesh_contact[i] = e.side;
   }
   // Flexible bodies: elastic, damping and geometric-stiffening forces on the modal coordinates.
   const auto [elastic, modal_dissipated] = CalcFlexibleInternalForces(model, data);

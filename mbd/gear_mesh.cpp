@@ -1,5 +1,6 @@
 #include "mbd/gear_mesh.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -133,6 +134,32 @@ double MeshTransmissionError(const GearMeshSpec& spec, double psi) {
   for (size_t k = 0; k < spec.ste_amplitudes.size(); ++k)
     e += spec.ste_amplitudes[k] *
          std::cos(kTwoPi * double(k + 1) * psi + (k < spec.ste_phases.size() ? spec.ste_phases[k] : 0.0));
+  return e;
+}
+
+MeshEvaluation EvaluateGearMesh(const Model& model, const GearMesh& mesh, const Data& data) {
+  const GearMeshSpec& s = mesh.spec;
+  const bool two_sided = s.contact == GearMeshSpec::Contact::kTwoSided;
+  MeshEvaluation e;
+  e.state = CalcMeshState(mesh.geometry, data, s.gear_a, s.gear_b, s.reference, s.base_radius_a,
+                          s.base_radius_b, two_sided ? s.backlash : 0.0);
+  const MeshState& st = e.state;
+  if (mesh.small_rotations_only && (std::abs(st.theta_a) > 1 || std::abs(st.theta_b) > 1))
+    throw std::runtime_error("gear mesh '" + s.name +
+                             "' has no tooth counts and holds for small rotations only, but its "
+                             "gears turned more than 1 rad; give teeth_a and teeth_b");
+  e.psi = MeshPhase(s, mesh.geometry, st);
+  e.k = MeshStiffness(s, e.psi);
+  e.ste = MeshTransmissionError(s, e.psi);
+  // Engaged flank.
+  e.side = s.contact == GearMeshSpec::Contact::kLinearCoast ? -1 : 1;
+  if (two_sided) e.side = st.delta_drive - e.ste > 0 ? 1 : (st.delta_coast - e.ste > 0 ? -1 : 0);
+  if (e.side == 0) return e;
+  const Vec3& n = e.side > 0 ? st.n_drive_W : st.n_coast_W;
+  e.delta = e.side > 0 ? st.delta_drive : st.delta_coast;
+  e.rate = e.side * CalcMeshRate(model, data, s.gear_a, s.gear_b, s.reference, st, n);
+  e.force = e.k * (e.delta - e.ste) + mesh.c * e.rate;
+  if (two_sided) e.force = std::max(e.force, 0.0);  // teeth push, never pull
   return e;
 }
 

@@ -57,4 +57,21 @@ double MeshTransmissionError(const GearMeshSpec& spec, double psi);
 // Mesh phase (cycles) of the mesh's phase gear from the gear angles.
 double MeshPhase(const GearMeshSpec& spec, const MeshGeometry& g, const MeshState& s);
 
+// A lumped mesh's law (GearMeshSpec) at the configuration and velocities in `data` (needs
+// position and velocity kinematics): the engaged flank, its compression and rate, the stiffness
+// and static transmission error at the mesh phase, and the tooth force along the flank's normal
+// (on gear b; zero with the teeth apart). CalcForceElements applies it; sensors read it.
+// Throws std::runtime_error when a mesh without tooth counts has turned more than 1 rad.
+struct MeshEvaluation {
+  MeshState state;
+  double psi = 0;     // mesh phase (cycles)
+  double k = 0;       // stiffness at the phase (N/m)
+  double ste = 0;     // static transmission error at the phase (m)
+  int side = 0;       // +1 drive flank, -1 coast flank, 0 apart
+  double delta = 0;   // compression of the engaged flank (m)
+  double rate = 0;    // its rate (m/s)
+  double force = 0;   // tooth force k (delta - ste) + c rate, >= 0 for two-sided contact (N)
+};
+MeshEvaluation EvaluateGearMesh(const Model& model, const GearMesh& mesh, const Data& data);
+
 }  // namespace orrery

@@ -14,6 +14,7 @@
 // velocities are what state() reports; the recurrence carries its own, unprojected ones (v_alpha_):
 // feeding projected velocities back into it leaves the pseudo-acceleration a inconsistent with v,
 // which costs an O(h) error in vdot and lambda (driver efforts, reactions) instead of O(h^2).
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -68,6 +69,11 @@ class GeneralizedAlpha final : public Integrator {
     proj_.setZero(nv + nc, nv + nc);
     proj_rhs_.setZero(nv + nc);
     proj_lu_ = Eigen::PartialPivLU<Eigen::MatrixXd>(nv + nc);
+    q_start_.setZero(model.nq);
+    v_start_.setZero(nv);
+    vdot_start_.setZero(nv);
+    dq_step_.setZero(nv);
+    dq_interp_.setZero(nv);
   }
 
   void Initialize(const State& initial) override {
@@ -94,6 +100,26 @@ class GeneralizedAlpha final : public Integrator {
   const Eigen::VectorXd& vdot() const override { return vdot_; }
   const Eigen::VectorXd& lambda() const override { return lambda_; }
   std::string name() const override { return "generalized-alpha"; }
+
+  void Interpolate(double t, Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::VectorXd> v,
+                   Eigen::Ref<Eigen::VectorXd> vdot) override {
+    const double h = h_step_;
+    const double s = std::clamp((t - t_start_) / h, 0.0, 1.0);
+    // Cubic Hermite basis and its derivative (per unit s).
+    const double s2 = s * s, s3 = s2 * s;
+    const double h00 = 2 * s3 - 3 * s2 + 1, h10 = s3 - 2 * s2 + s, h01 = 3 * s2 - 2 * s3, h11 = s3 - s2;
+    const double d00 = 6 * s2 - 6 * s, d10 = 3 * s2 - 4 * s + 1, d01 = -d00, d11 = 3 * s2 - 2 * s;
+    v = h00 * v_start_ + (h10 * h) * vdot_start_ + h01 * state_.v + (h11 * h) * vdot_;
+    vdot = (d00 / h) * v_start_ + d10 * vdot_start_ + (d01 / h) * state_.v + d11 * vdot_;
+    // Positions: q_n (+) d(s), d the Hermite cubic through 0 and the increment.
+    if (s == 1.0) {
+      q = state_.q;
+      return;
+    }
+    dq_interp_ = (h10 * h) * v_start_ + h01 * dq_step_ + (h11 * h) * state_.v;
+    q = q_start_;
+    IntegratePositions(model_, dq_interp_, q);
+  }
   IntegratorStats stats() const override {
     IntegratorStats s = stats_;
     s.residual_evaluations = dae_.residual_evaluations() + pipeline_evaluations_;
@@ -260,6 +286,7 @@ class GeneralizedAlpha final : public Integrator {
       throw std::runtime_error(s.str());
     }
     // Accept, then project velocities onto G v + g_t = 0 in the metric of M.
+    if (observer_) KeepStepStart(h);
     state_.t = t;
     state_.q = q_new_;
     NormalizeQuaternions(model_, state_.q);
@@ -271,6 +298,17 @@ class GeneralizedAlpha final : public Integrator {
     if (nc > 0) ProjectVelocities();
     ++stats_.steps;
     stats_.last_step = h;
+    if (observer_) observer_->OnStep(*this, t_start_, state_.t);
+  }
+
+  // The step's start and increment, for Interpolate (only with an observer).
+  void KeepStepStart(double h) {
+    t_start_ = state_.t;
+    q_start_ = state_.q;
+    v_start_ = state_.v;
+    vdot_start_ = vdot_;
+    dq_step_ = dq_;
+    h_step_ = h;
   }
 
   void ProjectVelocities() {
@@ -318,6 +356,9 @@ class GeneralizedAlpha final : public Integrator {
   long pipeline_evaluations_ = 0;
   double position_floor_ = 0;  // set by Residual
   double matrix_h_ = 0;         // step the iteration matrix was built for (0: none)
+  // Dense output (KeepStepStart, with an observer): the last step's start and increment.
+  Eigen::VectorXd q_start_, v_start_, vdot_start_, dq_step_, dq_interp_;
+  double t_start_ = 0, h_step_ = 1;
 };
 
 }  // namespace

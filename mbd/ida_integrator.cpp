@@ -32,7 +32,7 @@ class IdaIntegrator final : public Integrator {
     if (mem_) IDAFree(&mem_);
     if (ls_) SUNLinSolFree(ls_);
     if (A_) SUNMatDestroy(A_);
-    for (N_Vector v : {y_, yp_, atol_, id_, y_out_, yp_out_})
+    for (N_Vector v : {y_, yp_, atol_, id_, y_out_, yp_out_, y_dense_, yp_dense_})
       if (v) N_VDestroy(v);
     if (ctx_) SUNContext_Free(&ctx_);
   }
@@ -47,6 +47,8 @@ class IdaIntegrator final : public Integrator {
     id_ = N_VNew_Serial(n, ctx_);
     y_out_ = N_VNew_Serial(n, ctx_);
     yp_out_ = N_VNew_Serial(n, ctx_);
+    y_dense_ = N_VNew_Serial(n, ctx_);
+    yp_dense_ = N_VNew_Serial(n, ctx_);
     drift_scratch_.setZero(model_.n_constraints);
     t_step_ = state_.t;
     VecMap y(N_VGetArrayPointer(y_), n), yp(N_VGetArrayPointer(yp_), n);
@@ -102,9 +104,11 @@ class IdaIntegrator final : public Integrator {
     // IDA's interpolating polynomial.
     for (long steps = 0; t_step_ < t_out; ++steps) {
       if (steps == options_.max_steps_per_output) Fail("IDASolve", IDA_TOO_MUCH_WORK);
+      const double t_begin = t_step_;
       const int flag = IDASolve(mem_, t_out, &t_step_, y_, yp_, IDA_ONE_STEP);
       if (flag < 0) Fail("IDASolve", flag);
       RecordStepDrift();
+      if (observer_) observer_->OnStep(*this, t_begin, t_step_);
     }
     Check(IDAGetDky(mem_, t_out, 0, y_out_), "IDAGetDky");
     Check(IDAGetDky(mem_, t_out, 1, yp_out_), "IDAGetDky");
@@ -125,6 +129,17 @@ class IdaIntegrator final : public Integrator {
   const Eigen::VectorXd& vdot() const override { return vdot_; }
   const Eigen::VectorXd& lambda() const override { return lambda_; }
   std::string name() const override { return "ida"; }
+
+  void Interpolate(double t, Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::VectorXd> v,
+                   Eigen::Ref<Eigen::VectorXd> vdot) override {
+    const int n = dae_.size();
+    Check(IDAGetDky(mem_, t, 0, y_dense_), "IDAGetDky");
+    Check(IDAGetDky(mem_, t, 1, yp_dense_), "IDAGetDky");
+    const VecMap y(N_VGetArrayPointer(y_dense_), n), yp(N_VGetArrayPointer(yp_dense_), n);
+    q = y.head(dae_.nq());
+    v = y.segment(dae_.nq(), dae_.nv());
+    vdot = yp.segment(dae_.nq(), dae_.nv());
+  }
 
   IntegratorStats stats() const override {
     IntegratorStats s = drift_;
@@ -229,6 +244,7 @@ class IdaIntegrator final : public Integrator {
   void* mem_ = nullptr;
   N_Vector y_ = nullptr, yp_ = nullptr, atol_ = nullptr, id_ = nullptr;  // IDA's own (at t_step_)
   N_Vector y_out_ = nullptr, yp_out_ = nullptr;  // interpolated at the output time
+  N_Vector y_dense_ = nullptr, yp_dense_ = nullptr;  // interpolated for a step observer
   double t_step_ = 0;                            // time of IDA's last internal step
   Eigen::VectorXd drift_scratch_;
   SUNMatrix A_ = nullptr;

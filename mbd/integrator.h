@@ -84,6 +84,19 @@ struct IntegratorStats {
   double max_abs_phidot = 0;  // max |G v + g_t| seen at output points
 };
 
+class Integrator;
+
+// Dense output: told of every step an integrator accepts, so it can sample the solution inside
+// the step (Integrator::Interpolate) at times of its own choosing, such as the fixed internal rate
+// of the sensors (sensor_sampler.h). Called from inside AdvanceTo().
+class StepObserver {
+ public:
+  virtual ~StepObserver() = default;
+  // The integrator accepted a step from t_begin to t_end (t_end may lie beyond the t_out of the
+  // AdvanceTo() call: IDA steps past its output times and interpolates back).
+  virtual void OnStep(Integrator& integrator, double t_begin, double t_end) = 0;
+};
+
 class Integrator {
  public:
   virtual ~Integrator() = default;
@@ -98,6 +111,20 @@ class Integrator {
   virtual const Eigen::VectorXd& lambda() const = 0;   // n_constraints, at state().t
   virtual IntegratorStats stats() const = 0;
   virtual std::string name() const = 0;
+
+  // The solution at t inside the last accepted step [t_begin, t_end] (of the last OnStep):
+  // q (nq), v (nv), vdot (nv). IDA: its interpolating polynomial (IDAGetDky, orders 0 and 1).
+  // Generalized-alpha: cubic Hermite interpolation between the step's ends, v from (v, vdot) at
+  // both ends (vdot its derivative), q as q_n (+) d(s) with d the Hermite cubic in velocity space
+  // through 0 and the step's increment with end slopes h v_n and h v_{n+1}; exact at the ends.
+  // Allocation-free.
+  virtual void Interpolate(double t, Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::VectorXd> v,
+                           Eigen::Ref<Eigen::VectorXd> vdot) = 0;
+  // Observer of accepted steps (not owned; nullptr: none).
+  void set_step_observer(StepObserver* observer) { observer_ = observer; }
+
+ protected:
+  StepObserver* observer_ = nullptr;
 };
 
 std::unique_ptr<Integrator> MakeIntegrator(const Model& model, const IntegratorOptions& options);

@@ -12,8 +12,19 @@ void NormalizeQuaternions(const Model& model, Eigen::Ref<Eigen::VectorXd> q) {
   }
 }
 
-void CalcPositionKinematics(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& q_in,
+void CalcPositionKinematics(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& q,
                             Data& data) {
+  CalcFramePoses(model, q, data);
+  for (BodyIndex b = 1; b < model.nbodies; ++b) {
+    const Body& body = model.bodies[b];
+    const Transform& X = data.X_WB[b];
+    data.I_W[b] = SpatialInertia::FromCentral(body.mass, X * body.com_B,
+                                              X.R * body.inertia_cm_B * X.R.transpose());
+  }
+  CalcFlexibleInertiaTerms(model, data);
+}
+
+void CalcFramePoses(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& q_in, Data& data) {
   data.q_normalized = q_in;
   NormalizeQuaternions(model, data.q_normalized);
   const Eigen::VectorXd& q = data.q_normalized;
@@ -36,18 +47,12 @@ void CalcPositionKinematics(const Model& model, const Eigen::Ref<const Eigen::Ve
     if (!jt.X_MC_is_identity) data.X_WB[b] = data.X_WB[b] * jt.X_MC;
   }
 
-  // Named frames and world-origin inertias.
+  // Named frames (those on nodes follow their node).
   for (size_t f = 0; f < model.frames.size(); ++f) {
     const Frame& frame = model.frames[f];
     data.X_WFrame[f] = frame.is_body_frame ? data.X_WB[frame.body] : data.X_WB[frame.body] * frame.X_BF;
   }
-  for (BodyIndex b = 1; b < model.nbodies; ++b) {
-    const Body& body = model.bodies[b];
-    const Transform& X = data.X_WB[b];
-    data.I_W[b] = SpatialInertia::FromCentral(body.mass, X * body.com_B,
-                                              X.R * body.inertia_cm_B * X.R.transpose());
-  }
-  CalcFlexiblePositionTerms(model, q, data);
+  CalcNodeFramePoses(model, q, data);
 }
 
 void CalcVelocityKinematics(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& v,
@@ -67,6 +72,16 @@ void CalcVelocityKinematics(const Model& model, const Eigen::Ref<const Eigen::Ve
     data.c_J[j] = c;
   }
   CalcFrameVelocities(model, v, data);
+}
+
+void CalcAccelerationKinematics(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& vdot,
+                                Data& data) {
+  data.A_WB[kWorldBody] << Vec3::Zero(), -model.gravity;
+  for (const JointIndex j : model.tree_order) {
+    const Joint& jt = model.joints[j];
+    data.A_WB[jt.spec.child] =
+        data.A_WB[jt.spec.parent] + JointMotion(data, jt.v_start, jt.nv, vdot) + data.c_J[j];
+  }
 }
 
 void CalcBodyJacobians(const Model& model, Data& data) {

@@ -13,10 +13,22 @@ namespace orrery {
 void CalcPositionKinematics(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& q,
                             Data& data);
 
+// The poses part of CalcPositionKinematics: data.q_normalized, X_WF, X_FM, X_WB, S, X_WFrame
+// (node frames with their modal Jacobians J_frame_modal) and the modal coordinates, without the
+// inertias I_W and the flexible bodies' inertia terms (what sensors need).
+void CalcFramePoses(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& q, Data& data);
+
 // Fills data.V_WB and data.c_J from velocities v (nv); needs CalcPositionKinematics first.
 // c_J = S-dot v = V_WP x (S v) + Ad(X_WF) (dS_F/dt v) is the velocity-product acceleration.
 void CalcVelocityKinematics(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& v,
                             Data& data);
+
+// Fills data.A_WB (nbodies, world-origin spatial accelerations) from accelerations vdot (nv):
+// A_WB = A_WP + S_j vdot_j + c_J, with the world accelerating at (0, -g) as in
+// CalcInverseDynamics (which fills the same values), so a body's own acceleration is
+// A_WB - (0, -g). Needs CalcVelocityKinematics first.
+void CalcAccelerationKinematics(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& vdot,
+                                Data& data);
 
 // Fills data.J_WB: each body's spatial velocity (world origin) as V_WB = J_WB v, the sums of the
 // motion subspaces S of the joints from the root to the body (a flexible body's own modal

@@ -23,6 +23,7 @@
 #include "mbd/external_force.h"
 #include "mbd/flexible_body.h"
 #include "mbd/joint_types.h"
+#include "mbd/sensor.h"
 #include "mbd/spatial.h"
 #include "mbd/time_function.h"
 
@@ -337,6 +338,9 @@ class Model {
   std::vector<int> gear_constraint_row;  // constraint row of each gear constraint (holonomic)
   std::vector<std::shared_ptr<const ExternalForceElement>> external_forces;
   std::vector<FlexibleBody> flexible_bodies;
+  std::vector<Sensor> sensors;      // virtual sensors (sensor.h), in the order added
+  int n_sensor_channels = 0;        // sum of the sensors' channels (Data::sensor_values)
+  std::vector<int> sensor_elements; // external elements some sensor reads (indices, ascending)
 
   Vec3 gravity = Vec3::Zero();  // m/s^2, world axes
   Eigen::VectorXd q_initial;    // nq, from joint defaults (quaternions identity) and user values
@@ -350,6 +354,7 @@ class Model {
   FrameIndex frame(const std::string& name) const;
   JointIndex joint(const std::string& name) const;
   int driver(const std::string& name) const;
+  int sensor(const std::string& name) const;
 
   // True if any joint uses a quaternion (q-dot != v).
   bool has_quaternions = false;
@@ -361,6 +366,7 @@ class Model {
   std::unordered_map<std::string, FrameIndex> frame_by_name_;
   std::unordered_map<std::string, JointIndex> joint_by_name_;
   std::unordered_map<std::string, int> driver_by_name_;
+  std::unordered_map<std::string, int> sensor_by_name_;
 };
 
 // Builds and validates a model. Every Add* validates its input and throws std::invalid_argument
@@ -407,6 +413,10 @@ class ModelBuilder {
   void AddGearMesh(const GearMeshSpec& spec);
   void AddGearConstraint(const GearConstraintSpec& spec);
   void AddExternalForce(std::shared_ptr<const ExternalForceElement> element);
+  // A virtual sensor (sensor.h); returns its index. Validates the references (frame, joint and
+  // coordinate, gear mesh, element and output), the axes and the kind's requirements; throws
+  // std::invalid_argument naming the sensor and the offending value.
+  int AddSensor(const SensorSpec& spec);
 
   int num_bodies() const { return static_cast<int>(model_->bodies.size()); }
   const Model& draft() const { return *model_; }
@@ -420,6 +430,7 @@ class ModelBuilder {
   void CheckFrame(const std::string& what, FrameIndex f) const;
   void CheckCoordinate(const std::string& what, JointIndex j, int coordinate) const;
   void FinalizeFlexibleBodies();  // modal coordinates and matrices (flexible_body.cpp)
+  void FinalizeSensors();         // channels, units, initial positions (sensor_builder.cpp)
   void CheckGears(const std::string& what, FrameIndex gear_a, FrameIndex gear_b,
                   FrameIndex reference, int teeth_a, int teeth_b) const;
 

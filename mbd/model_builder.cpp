@@ -38,6 +38,7 @@ BodyIndex Model::body(const std::string& name) const { return LookUp(body_by_nam
 FrameIndex Model::frame(const std::string& name) const { return LookUp(frame_by_name_, "frame", name); }
 JointIndex Model::joint(const std::string& name) const { return LookUp(joint_by_name_, "joint", name); }
 int Model::driver(const std::string& name) const { return LookUp(driver_by_name_, "driver", name); }
+int Model::sensor(const std::string& name) const { return LookUp(sensor_by_name_, "sensor", name); }
 
 ModelBuilder::ModelBuilder() : model_(new Model()) {
   // Body 0 is the world, frame 0 its frame.
@@ -479,6 +480,7 @@ std::shared_ptr<const Model> ModelBuilder::Finalize() && {
                                         s.check_centre_distance);
     }
   }
+  FinalizeSensors();
   return std::shared_ptr<const Model>(std::move(model_));
 }
 

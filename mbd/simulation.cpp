@@ -30,6 +30,26 @@ void WriteStats(ResultFile& out, const IntegratorStats& s, const std::string& in
   out.SetAttribute(g, "wall_time_s", wall_s);
 }
 
+// The sensors' sampler, observing the integrator's steps, when the model has sensors.
+std::unique_ptr<SensorSampler> MakeSensorSampler(const Model& model, const SimulationOptions& options,
+                                                 ResultFile& out, Integrator& integrator) {
+  if (model.sensors.empty()) return nullptr;
+  auto sampler = std::make_unique<SensorSampler>(model, options.sensors, options.integrator,
+                                                 options.output_interval, options.end_time, out);
+  integrator.set_step_observer(sampler.get());
+  return sampler;
+}
+
+// After a failure: the sensors' rows up to the last /time row (an error there is dropped, the
+// run's own is reported).
+void FinishSensors(SensorSampler* sensors, double last_row_t) {
+  if (!sensors) return;
+  try {
+    sensors->Finish(last_row_t);
+  } catch (const std::exception&) {
+  }
+}
+
 }  // namespace
 
 SimulationReport Simulate(const Model& model, const SimulationOptions& options, ResultFile* out,
@@ -43,6 +63,7 @@ SimulationReport Simulate(const Model& model, const SimulationOptions& options, 
 
   std::unique_ptr<Integrator> integrator = MakeIntegrator(model, options.integrator);
   std::unique_ptr<ResultRecorder> recorder;
+  std::unique_ptr<SensorSampler> sensors;
   if (out) {
     out->SetAttribute("/", "engine", std::string("orrery"));
     out->SetAttribute("/", "engine_version", std::string(ORRERY_VERSION));
@@ -53,21 +74,27 @@ SimulationReport Simulate(const Model& model, const SimulationOptions& options, 
     out->SetAttribute("/", "end_time", options.end_time);
     out->SetAttribute("/", "output_interval", options.output_interval);
     recorder = std::make_unique<ResultRecorder>(model, *out);
+    sensors = MakeSensorSampler(model, options, *out, *integrator);
   }
   SimulationReport report;
   report.integrator = integrator->name();
   double last_flush = 0;
+  double last_row_t = 0;  // time of the last /time row (for the sensors' last rows)
   try {
     integrator->Initialize(initial ? *initial : State::Initial(model));
     const double t0 = integrator->state().t;
     if (recorder) recorder->Record(integrator->state(), integrator->vdot(), integrator->lambda());
+    if (sensors) sensors->Start(integrator->state(), integrator->vdot());
+    last_row_t = t0;
     ++report.output_rows;
     const long n_out = std::lround(std::ceil((options.end_time - t0) / options.output_interval - 1e-9));
     for (long k = 1; k <= n_out; ++k) {
       const double t = std::min(t0 + k * options.output_interval, options.end_time);
       integrator->AdvanceTo(t);
       if (recorder) recorder->Record(integrator->state(), integrator->vdot(), integrator->lambda());
+      if (sensors) sensors->Release(t);
       ++report.output_rows;
+      last_row_t = t;
       const double w = wall();
       if (out && w - last_flush >= options.flush_interval_s) {
         out->Flush();
@@ -76,12 +103,14 @@ SimulationReport Simulate(const Model& model, const SimulationOptions& options, 
       if (progress) progress({integrator->state().t, options.end_time, integrator->stats().steps, w});
     }
   } catch (...) {
+    FinishSensors(sensors.get(), last_row_t);
     if (out) {
       WriteStats(*out, integrator->stats(), integrator->name(), wall(), false);
       out->Flush();
     }
     throw;
   }
+  if (sensors) sensors->Finish(last_row_t);
   report.stats = integrator->stats();
   report.final_state = integrator->state();
   report.wall_s = wall();

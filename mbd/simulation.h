@@ -12,6 +12,7 @@
 #include "mbd/integrator.h"
 #include "mbd/model.h"
 #include "mbd/result_file.h"
+#include "mbd/sensor_sampler.h"
 #include "mbd/state.h"
 
 namespace orrery {
@@ -21,6 +22,7 @@ struct SimulationOptions {
   double output_interval = 1e-3;  // s, > 0: rows written every this much simulated time
   double flush_interval_s = 1.0;  // wall-clock seconds between flushes of the result file
   IntegratorOptions integrator;
+  SensorSamplingOptions sensors;  // how the model's sensors are sampled (sensor_sampler.h)
   std::string scene_text;         // stored as attribute "scene" of the result file
   std::string scene_name;
 };
@@ -41,7 +43,8 @@ struct SimulationReport {
 
 // Runs the model from its initial state (or `initial` if given) to options.end_time. Writes to
 // `out` if non-null (series declared by RecordingLayout, flushed every flush_interval_s and at the
-// end, statistics written at the end, also when the run fails). Throws std::runtime_error with
+// end, statistics written at the end, also when the run fails; the model's sensors through a
+// SensorSampler, one row per /time row). Throws std::runtime_error with
 // the reason if the integrator stops; rows written until then stay in the file.
 SimulationReport Simulate(const Model& model, const SimulationOptions& options, ResultFile* out,
                           const std::function<void(const SimulationProgress&)>& progress = {},

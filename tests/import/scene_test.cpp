@@ -3,12 +3,14 @@
 #include "import/scene.h"
 
 #include <cmath>
+#include <filesystem>
 #include <numbers>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
 
+#include "mbd/result_file.h"
 #include "mbd/simulation.h"
 
 namespace orrery {
@@ -411,6 +413,145 @@ TEST(SceneTest, ExampleSliderCrankLoadsAndRuns) {
   EXPECT_NEAR(q(m.joints[m.joint("slider_guide")].q_start),
               r * std::cos(theta) + std::sqrt(L * L - r * r * std::sin(theta) * std::sin(theta)),
               1e-6);
+}
+
+// Sensors ------------------------------------------------------------------------------------
+
+// The pendulum with a sensors section (its first item on line 22).
+std::string WithSensors(const std::string& sensors) {
+  return std::string(kPendulum) + "sensors:\n" + sensors;
+}
+
+TEST(SceneSensorTest, EveryFrameAndJointKindLoads) {
+  const Scene scene = LoadSceneFromString(
+      WithSensors("  - {name: a, type: accelerometer, body: bob, position: [0, -1, 0], measured_in: world, "
+                  "axes: [y, x], include_gravity: true}\n"
+                  "  - {name: v, type: velocity, frame: bob}\n"
+                  "  - {name: d, type: displacement, body: bob, position: [0, -1, 0], "
+                  "rotation: {axis: [0, 0, 1], angle_deg: 90}}\n"
+                  "  - {name: g, type: gyroscope, frame: bob, axes: [z]}\n"
+                  "  - {name: al, type: angular_accelerometer, frame: bob, measured_in: bob}\n"
+                  "  - {name: e, type: encoder, joint: hinge}\n"
+                  "  - {name: t, type: tachometer, joint: hinge, coordinate: 0}\n"),
+      "sensors.yaml");
+  const Model& m = *scene.model;
+  ASSERT_EQ(m.sensors.size(), 7u);
+  const Sensor& a = m.sensors[m.sensor("a")];
+  EXPECT_EQ(a.spec.kind, SensorKind::kAccelerometer);
+  EXPECT_EQ(a.spec.measured_in, kWorldFrame);
+  EXPECT_EQ(a.spec.axes, (std::vector<int>{1, 0}));
+  EXPECT_TRUE(a.spec.include_gravity);
+  EXPECT_EQ(a.spec.frame, m.frame("bob"));
+  EXPECT_EQ(a.spec.X_FS.p, Vec3(0, -1, 0));
+  EXPECT_EQ(m.sensors[m.sensor("v")].spec.measured_in, kSensorAxes);
+  const Sensor& d = m.sensors[m.sensor("d")];
+  EXPECT_EQ(d.spec.measured_in, kWorldFrame);  // a displacement's default
+  EXPECT_NEAR((d.spec.X_FS.R * Vec3::UnitX() - Vec3::UnitY()).norm(), 0, 1e-15);
+  EXPECT_EQ(m.sensors[m.sensor("g")].channels, 1);
+  EXPECT_EQ(m.sensors[m.sensor("al")].spec.measured_in, m.frame("bob"));
+  EXPECT_EQ(m.sensors[m.sensor("e")].quantity, "angle");
+  EXPECT_EQ(m.sensors[m.sensor("t")].unit, "rad/s");
+  EXPECT_TRUE(scene.simulation.sensors.anti_alias);
+}
+
+TEST(SceneSensorTest, SamplingOptionsAndLengthUnits) {
+  const Scene scene = LoadSceneFromString(
+      "units: {length: mm}\n" +
+          WithSensors("  - {name: a, type: accelerometer, body: bob, position: [0, -1000, 0]}\n"),
+      "sensors.yaml",
+      {"output.sensors={oversampling: 16, passband_fraction: 0.7, stopband_attenuation_db: 90}"});
+  const Model& m = *scene.model;
+  EXPECT_EQ(m.sensors[0].spec.X_FS.p, Vec3(0, -1, 0));
+  EXPECT_EQ(scene.simulation.sensors.oversampling, 16);
+  EXPECT_EQ(scene.simulation.sensors.passband_fraction, 0.7);
+  EXPECT_EQ(scene.simulation.sensors.stopband_attenuation_db, 90);
+  const Scene point = LoadSceneFromString(kPendulum, "p.yaml", {"output.sensors={anti_alias: false}"});
+  EXPECT_FALSE(point.simulation.sensors.anti_alias);
+}
+
+TEST(SceneSensorTest, ErrorsAtTheirKey) {
+  auto error = [](const std::string& sensor) { return ErrorOf(WithSensors("  - " + sensor + "\n")); };
+  ExpectError(error("{name: a, type: accelerometer, body: bobb}"), 22, "sensors[a].body",
+              "no body named 'bobb'; did you mean 'bob'?");
+  ExpectError(error("{name: a, type: accelerometer, frame: tip}"), 22, "sensors[a].frame",
+              "no frame named 'tip'");
+  ExpectError(error("{name: a, type: acelerometer, frame: bob}"), 22, "sensors[a].type",
+              "did you mean 'accelerometer'?");
+  ExpectError(error("{name: a, type: accelerometer, frame: bob, axes: [x, w]}"), 22,
+              "sensors[a].axes[1]", "unknown axis 'w'");
+  ExpectError(error("{name: a, type: accelerometer, frame: bob, axes: [x, x]}"), 22,
+              "sensors[a].axes[1]", "axis x given twice");
+  ExpectError(error("{name: a, type: accelerometer, frame: bob, axes: []}"), 22, "sensors[a].axes",
+              "1 to 3 axes");
+  ExpectError(error("{name: a, type: accelerometer, frame: bob, measured_in: housing}"), 22,
+              "sensors[a].measured_in", "no frame named 'housing'");
+  ExpectError(error("{name: a, type: accelerometer, frame: bob, joint: hinge}"), 22,
+              "sensors[a].joint", "reads no joint");
+  ExpectError(error("{name: a, type: gyroscope, frame: bob, include_gravity: true}"), 22,
+              "sensors[a].include_gravity", "only accelerometers");
+  ExpectError(error("{name: a, type: accelerometer, frame: bob, body: bob}"), 22, "sensors[a].body",
+              "either 'frame' or 'body'");
+  ExpectError(error("{name: a, type: accelerometer}"), 22, "sensors[a].frame", "missing 'frame'");
+  ExpectError(error("{name: a, type: accelerometer, body: bob, node: 3}"), 22, "sensors[a].node",
+              "rigid");
+  ExpectError(error("{name: a, type: displacement, frame: bob, measured_in: sensor}"), 22,
+              "sensors[a].measured_in", "relative to another frame");
+  ExpectError(error("{name: a, type: encoder, joint: hing}"), 22, "sensors[a].joint",
+              "did you mean 'hinge'?");
+  ExpectError(error("{name: a, type: encoder, joint: hinge, coordinate: 1}"), 22,
+              "sensors[a].coordinate", "no coordinate 1");
+  ExpectError(error("{name: a, type: gear_mesh, mesh: m}"), 22, "sensors[a].mesh",
+              "there are no lumped gear meshes");
+  ExpectError(error("{name: a, type: element_output, element: contact, output: force}"), 22,
+              "sensors[a].element", "no element named 'contact'");
+  ExpectError(ErrorOf(WithSensors("  - {name: a, type: encoder, joint: hinge}\n"
+                                  "  - {name: a, type: tachometer, joint: hinge}\n")),
+              23, "sensors[a].name", "name already used");
+  const std::string sampling = ErrorOf(kPendulum, {"output.sensors={passband_fraction: 1.2}"});
+  EXPECT_NE(sampling.find("--set output.sensors: output.sensors.passband_fraction: must be in (0, 1)"),
+            std::string::npos) << sampling;
+  const std::string point = ErrorOf(kPendulum, {"output.sensors={anti_alias: false, oversampling: 4}"});
+  EXPECT_NE(point.find("oversampling: has no effect with anti_alias: false"), std::string::npos) << point;
+}
+
+TEST(SceneSensorTest, SliderCrankSensorsMatchTheClosedForm) {
+  // The example scene's sensors: the crank pin at 120 rpm sees -omega^2 r along the crank and
+  // nothing across; the slider's acceleration is the second derivative of
+  // s(theta) = r cos(theta) + sqrt(L^2 - r^2 sin^2(theta)) at theta = omega t (central
+  // differences of that formula, step 1e-4 rad: error ~1e-9 m/s^2, far below the filter's
+  // ripple times the amplitude, 25 m/s^2 at most).
+  const Scene scene = LoadScene(ORRERY_SOURCE_DIR "/models/scenes/slider_crank.yaml",
+                                {"solver.end_time=0.3", "solver.rtol=1e-10", "solver.atol=1e-12"});
+  const std::string path = ::testing::TempDir() + "orrery_slider_crank_sensors.h5";
+  {
+    ResultFile out = ResultFile::Create(path);
+    Simulate(*scene.model, scene.simulation, &out);
+  }
+  ResultReader in(path);
+  const Eigen::MatrixXd t = in.ReadMatrix("/time");
+  const Eigen::MatrixXd slider = in.ReadMatrix("/sensors/slider_acc/acceleration");
+  const Eigen::MatrixXd pin = in.ReadMatrix("/sensors/pin_acc/acceleration");
+  const double delay = std::stod(in.ReadAttribute("/sensors", "group_delay_s"));
+  const double ripple =
+      std::pow(10.0, std::stod(in.ReadAttribute("/sensors", "passband_ripple_db")) / 20) - 1;
+  const double w = 4 * kPi, r = 0.1, L = 0.3, h = 1e-4;
+  auto s = [&](double th) {
+    return r * std::cos(th) + std::sqrt(L * L - r * r * std::sin(th) * std::sin(th));
+  };
+  ASSERT_EQ(slider.rows(), t.rows());
+  int checked = 0;
+  for (int i = 0; i < t.rows(); ++i) {
+    if (t(i, 0) < delay + 1e-3 || t(i, 0) > 0.3 - delay - 1e-3) continue;
+    const double th = w * t(i, 0);
+    const double a = w * w * (s(th + h) - 2 * s(th) + s(th - h)) / (h * h);
+    // Harmonics of 2 Hz, far inside the passband: within the ripple (plus integration, 1e-6).
+    EXPECT_NEAR(slider(i, 0), a, 25 * (ripple + 1e-6)) << t(i, 0);
+    EXPECT_NEAR(pin(i, 0), -w * w * r, 16 * (ripple + 1e-6));
+    EXPECT_NEAR(pin(i, 1), 0, 16 * (ripple + 1e-6));
+    ++checked;
+  }
+  EXPECT_GT(checked, 200);
+  std::filesystem::remove(path);
 }
 
 // Errors -------------------------------------------------------------------------------------

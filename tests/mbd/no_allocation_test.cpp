@@ -25,6 +25,8 @@
 #include "mbd/model.h"
 #include "mbd/result_file.h"
 #include "mbd/result_recorder.h"
+#include "mbd/sensor_sampler.h"
+#include "mbd/sensor_signals.h"
 #include "mbd/state.h"
 
 #include "tests/common/counting_allocator.h"
@@ -144,6 +146,17 @@ std::shared_ptr<const Model> BuildModel() {
   mesh.ste_table_m = {0, 1e-6, 2e-6};
   mesh.ste_amplitudes = {0.5e-6};
   b.AddGearMesh(mesh);
+  // Sensors of every frame kind on rigid and node frames, and on joints.
+  b.AddSensor({.name = "acc", .kind = SensorKind::kAccelerometer, .frame = mark});
+  b.AddSensor({.name = "node_acc", .kind = SensorKind::kAccelerometer, .frame = node,
+               .measured_in = kWorldFrame, .axes = {1, 2}, .include_gravity = true});
+  b.AddSensor({.name = "node_vel", .kind = SensorKind::kVelocity, .frame = node});
+  b.AddSensor({.name = "node_disp", .kind = SensorKind::kDisplacement, .frame = node,
+               .measured_in = b.body_frame(flex)});
+  b.AddSensor({.name = "gyro", .kind = SensorKind::kGyroscope, .frame = rod_end});
+  b.AddSensor({.name = "alpha", .kind = SensorKind::kAngularAccelerometer, .frame = node});
+  b.AddSensor({.name = "encoder", .kind = SensorKind::kEncoder, .joint = jc});
+  b.AddSensor({.name = "tacho", .kind = SensorKind::kTachometer, .joint = js});
   const double s = std::sin(theta), x = r * std::cos(theta) + std::sqrt(l * l - r * r * s * s);
   b.SetJointPosition(jc, Eigen::VectorXd::Constant(1, theta));
   b.SetJointPosition(jr, Eigen::Vector2d(std::atan2(-r * s, x - r * std::cos(theta)) - theta, 0));
@@ -207,6 +220,51 @@ TEST(NoAllocation, ResultRecorderBetweenBlocks) {
     EXPECT_EQ(AllocationsIn([&] { rec.Record(s, vdot, lambda); }, 2), 0);
   }
   std::filesystem::remove(path);
+}
+
+TEST(NoAllocation, SensorSignals) {
+  const std::shared_ptr<const Model> model = BuildModel();
+  Data data(*model);
+  const State s = TestState(*model);
+  const Eigen::VectorXd vdot = Eigen::VectorXd::LinSpaced(model->nv, -1, 1);
+  EXPECT_EQ(AllocationsIn([&] { CalcSensorSignals(*model, s.t, s.q, s.v, vdot, data); }), 0);
+}
+
+// The sensor path inside the step: dense output at the internal rate, the signals, the filter,
+// the rows written (within the series' blocks), for both integrators.
+TEST(NoAllocation, SensorSamplingInsideSteps) {
+  const std::shared_ptr<const Model> model = BuildModel();
+  for (const IntegratorKind kind : {IntegratorKind::kGeneralizedAlpha, IntegratorKind::kIda}) {
+    const std::string path = ::testing::TempDir() + "orrery_no_alloc_sensors_" + std::to_string(::getpid()) + ".h5";
+    {
+      IntegratorOptions o;
+      o.kind = kind;
+      o.step = 1e-4;
+      ResultFile out = ResultFile::Create(path);
+      SensorSampler sampler(*model, {}, o, 1e-3, 1.0, out);
+      std::unique_ptr<Integrator> integ = MakeIntegrator(*model, o);
+      integ->set_step_observer(&sampler);
+      integ->Initialize(State::Initial(*model));
+      sampler.Start(integ->state(), integ->vdot());
+      int k = 0;
+      // Past the filter's delay, so rows are computed and written too.
+      for (; k < 50; ++k) {
+        integ->AdvanceTo((k + 1) * 1e-3);
+        sampler.Release((k + 1) * 1e-3);
+      }
+      const long samples = sampler.samples();
+      EXPECT_EQ(AllocationsIn([&] {
+                  for (int i = 0; i < 5; ++i, ++k) {
+                    integ->AdvanceTo((k + 1) * 1e-3);
+                    sampler.Release((k + 1) * 1e-3);
+                  }
+                }),
+                0)
+          << integ->name();
+      EXPECT_GE(sampler.samples() - samples, 5 * sampler.oversampling());
+    }
+    std::filesystem::remove(path);
+  }
 }
 
 }  // namespace

@@ -1,0 +1,26 @@
+#pragma once
+// The `sensors:` section of a scene (docs/scene_format.md, "Sensors"; docs/sensors.md): a list of
+// sensors added to a ModelBuilder, every name resolved against what the builder holds so far
+// (bodies, frames, joints, gear meshes, external elements), so that any reader that assembles a
+// model through a ModelBuilder (the generic multibody scene, the gear train) can read the same
+// section once its elements are added. Errors are "FILE:LINE: sensors[NAME].KEY: reason".
+// Internal to import/ (it includes yaml-cpp through scene_reader.h).
+#include <optional>
+
+#include "import/scene_reader.h"
+#include "mbd/model.h"
+#include "mbd/sensor_sampler.h"
+
+namespace orrery::scene_reader {
+
+// Reads the list (absent or null: no sensors) and adds each sensor to `builder`. Lengths
+// (positions on bodies) are in the scene's unit, `length_unit` metres each. A sensor given by
+// `body` and `position` sits on the body's own frame at that pose (SensorSpec::X_FS); one on a
+// flexible body's `node` gets a node frame of its own named "sensor:<name>".
+void ReadSensors(const Context& ctx, const std::optional<Item>& list, double length_unit,
+                 ModelBuilder& builder);
+
+// The `output.sensors:` map: how the sensors are sampled (SensorSamplingOptions).
+SensorSamplingOptions ReadSensorSampling(const Context& ctx, const Item& item);
+
+}  // namespace orrery::scene_reader
