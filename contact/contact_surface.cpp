@@ -13,7 +13,7 @@
 
 namespace orrery::contact {
 
-ContactSurface::ContactSurface(const std::vector<gears::TriangleMesh>& parts, double margin_m,
+ContactSurface::ContactSurface(const std::vector<TriangleMesh>& parts, double margin_m,
                                double slack_m, std::optional<ToothRing> tooth_ring)
     : tooth_ring_(std::move(tooth_ring)), margin_m_(margin_m), slack_m_(slack_m) {
   if (!(margin_m > 0))
@@ -26,7 +26,7 @@ ContactSurface::ContactSurface(const std::vector<gears::TriangleMesh>& parts, do
   part_triangle_start_.push_back(0);
   part_vertex_start_.push_back(0);
   for (size_t j = 0; j < parts.size(); ++j) {
-    const gears::TriangleMesh& part = parts[j];
+    const TriangleMesh& part = parts[j];
     if (part.triangles.empty())
       throw std::invalid_argument("ContactSurface: part " + std::to_string(j) + " is empty");
     const int offset = static_cast<int>(vertices_.size());

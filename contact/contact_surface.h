@@ -38,7 +38,7 @@
 #include <vector>
 
 #include "mbd/spatial.h"
-#include "models/triangle_mesh.h"
+#include "mbd/triangle_mesh.h"
 
 namespace orrery::contact {
 
@@ -60,7 +60,7 @@ class ContactSurface {
   // std::invalid_argument for an empty surface, a triangle index out of range, a degenerate
   // triangle (zero area), margin_m <= 0, or a tooth ring whose angles do not match the parts or
   // whose radii are not 0 <= inner < outer.
-  ContactSurface(const std::vector<gears::TriangleMesh>& parts, double margin_m,
+  ContactSurface(const std::vector<TriangleMesh>& parts, double margin_m,
                  double slack_m = 0, std::optional<ToothRing> tooth_ring = std::nullopt);
   ~ContactSurface();
   ContactSurface(const ContactSurface&) = delete;

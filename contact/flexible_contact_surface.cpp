@@ -88,7 +88,7 @@ FlexibleContactSurface::FlexibleContactSurface(std::shared_ptr<const FlexibleBod
   const FlexibleBodyModes& m = *modes_;
   // Triangles in the sets, grouped by the angular sector of their centroid.
   const int np = spec_.angular_parts;
-  std::vector<gears::TriangleMesh> parts(np);
+  std::vector<TriangleMesh> parts(np);
   std::vector<std::vector<int>> part_nodes(np);
   std::vector<std::vector<int>> local(np);  // node -> vertex of the part (-1: none)
   for (int p = 0; p < np; ++p) local[p].assign(m.nodes.size(), -1);
@@ -114,7 +114,7 @@ FlexibleContactSurface::FlexibleContactSurface(std::shared_ptr<const FlexibleBod
     parts[p].triangles.push_back(tri);
   }
   // Drop empty sectors; the vertex order of the surface is the parts' order.
-  std::vector<gears::TriangleMesh> kept;
+  std::vector<TriangleMesh> kept;
   for (int p = 0; p < np; ++p) {
     if (parts[p].triangles.empty()) continue;
     vertex_node_.insert(vertex_node_.end(), part_nodes[p].begin(), part_nodes[p].end());
@@ -131,7 +131,7 @@ FlexibleContactSurface::FlexibleContactSurface(std::shared_ptr<const FlexibleBod
 }
 
 FlexibleContactSurface::FlexibleContactSurface(std::shared_ptr<const FlexibleBodyModes> modes,
-                                               const std::vector<gears::TriangleMesh>& parts,
+                                               const std::vector<TriangleMesh>& parts,
                                                const FlexibleContactSurfaceSpec& spec,
                                                double embed_tolerance_m)
     : modes_(std::move(modes)), spec_(spec) {
@@ -188,7 +188,7 @@ FlexibleContactSurface::FlexibleContactSurface(std::shared_ptr<const FlexibleBod
 }
 
 FlexibleContactSurface::FlexibleContactSurface(std::shared_ptr<const FlexibleBodyModes> modes,
-                                               const std::vector<gears::TriangleMesh>& parts,
+                                               const std::vector<TriangleMesh>& parts,
                                                Eigen::MatrixXd shapes,
                                                const FlexibleContactSurfaceSpec& spec)
     : modes_(std::move(modes)), spec_(spec), shapes_(std::move(shapes)) {

@@ -43,7 +43,7 @@
 
 #include "contact/contact_surface.h"
 #include "mbd/flexible_body.h"
-#include "models/triangle_mesh.h"
+#include "mbd/triangle_mesh.h"
 
 namespace orrery::contact {
 
@@ -66,14 +66,14 @@ class FlexibleContactSurface {
   // spec.node_sets (angular_parts is ignored: the parts are given). Throws
   // std::invalid_argument as above, and for a vertex farther than embed_tolerance_m from them.
   FlexibleContactSurface(std::shared_ptr<const FlexibleBodyModes> modes,
-                         const std::vector<gears::TriangleMesh>& parts,
+                         const std::vector<TriangleMesh>& parts,
                          const FlexibleContactSurfaceSpec& spec, double embed_tolerance_m);
 
   // An embedded surface whose vertex shapes are given (3 #V x nf, rows in the parts' vertex
   // order), e.g. from the FE faces' own shape functions (flexible_gear_mesh.cpp: 8-node
   // serendipity faces of hex20). spec.node_sets and angular_parts are ignored.
   FlexibleContactSurface(std::shared_ptr<const FlexibleBodyModes> modes,
-                         const std::vector<gears::TriangleMesh>& parts, Eigen::MatrixXd shapes,
+                         const std::vector<TriangleMesh>& parts, Eigen::MatrixXd shapes,
                          const FlexibleContactSurfaceSpec& spec);
 
   const FlexibleContactSurfaceSpec& spec() const { return spec_; }

@@ -245,7 +245,7 @@ FlexibleGearBody ReduceGearForContact(const gears::Gear& gear, bool second,
     std::vector<Eigen::MatrixXd> part_shapes;
     int total = 0;
     for (int k : body.teeth) {
-      const gears::TriangleMesh full = gears::MakeToothSurfaceMesh(gear, k, res, options.face_intervals_per_element * spec.face_divisions);
+      const TriangleMesh full = gears::MakeToothSurfaceMesh(gear, k, res, options.face_intervals_per_element * spec.face_divisions);
       // Each vertex on its FE face (closest within the tolerance), or none.
       const int nv = static_cast<int>(full.vertices.size());
       std::vector<int> face_of(nv, -1);
@@ -258,7 +258,7 @@ FlexibleGearBody ReduceGearForContact(const gears::Gear& gear, bool second,
           if (d <= best) best = d, face_of[v] = f, local[v] = {x, e};
         }
       }
-      gears::TriangleMesh part;
+      TriangleMesh part;
       std::vector<int> index(nv, -1), used;
       for (const auto& t : full.triangles) {
         if (face_of[t[0]] < 0 || face_of[t[1]] < 0 || face_of[t[2]] < 0) continue;

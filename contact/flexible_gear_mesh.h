@@ -99,7 +99,7 @@ struct FlexibleGearBody {
   // With options.embedded_flanks: the analytic loaded flank and tip of each of those teeth (one
   // part per tooth, gear frame) and their shapes (3 #V x nf) from the serendipity shape functions
   // of the FE faces they lie on.
-  std::vector<gears::TriangleMesh> fine_parts;
+  std::vector<TriangleMesh> fine_parts;
   Eigen::MatrixXd fine_shapes;
   int fe_nodes = 0;
   double reduce_seconds = 0;

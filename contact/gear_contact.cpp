@@ -57,7 +57,7 @@ std::shared_ptr<const ContactSurface> MakeGearContactSurface(const gears::Gear& 
                                      .fillet = options.fillet_intervals,
                                      .involute = options.involute_intervals,
                                      .tip = options.tip_intervals};
-  std::vector<gears::TriangleMesh> parts;
+  std::vector<TriangleMesh> parts;
   // The tooth ring of the mesh-zone test: tooth t about angle 2 pi t / z, radial band and half
   // angle measured on the vertices (gear frame).
   ToothRing ring;
@@ -65,7 +65,7 @@ std::shared_ptr<const ContactSurface> MakeGearContactSurface(const gears::Gear& 
   ring.inner_radius_m = 1e300;
   for (int t = 0; t < gear.teeth(); ++t) {
     if (std::find(missing.begin(), missing.end(), t) != missing.end()) continue;
-    gears::TriangleMesh m = gears::MakeToothSurfaceMesh(gear, t, res, options.face_intervals);
+    TriangleMesh m = gears::MakeToothSurfaceMesh(gear, t, res, options.face_intervals);
     const double angle = 2 * kPi * t / gear.teeth();
     for (const Vec3& v : m.vertices) {
       const double r = std::hypot(v.x(), v.y());

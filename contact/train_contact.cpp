@@ -110,10 +110,10 @@ std::shared_ptr<const FlexibleContactSurface> FlexiblePlanetSurface(
   const gears::ProfileResolution res{.root = c.gear.root_intervals, .fillet = c.gear.fillet_intervals,
                                      .involute = c.gear.involute_intervals, .tip = c.gear.tip_intervals};
   const Transform X_BG(AxisAngle(Vec3::UnitZ(), rot_B), Vec3(0, 0, *z0));
-  std::vector<gears::TriangleMesh> parts;
+  std::vector<TriangleMesh> parts;
   for (int t = 0; t < z; ++t) {
     if (std::find(missing.begin(), missing.end(), t) != missing.end()) continue;
-    const gears::TriangleMesh full = gears::MakeToothSurfaceMesh(gear, t, res, c.flexible.face_intervals);
+    const TriangleMesh full = gears::MakeToothSurfaceMesh(gear, t, res, c.flexible.face_intervals);
     const int nv = static_cast<int>(full.vertices.size());
     std::vector<char> on(nv);
     for (int v = 0; v < nv; ++v) {
@@ -124,7 +124,7 @@ std::shared_ptr<const FlexibleContactSurface> FlexiblePlanetSurface(
              " m from the FE surface (embed tolerance " + std::to_string(tol) +
              " m): does the reduce input's gear match the train's planet?");
     }
-    gears::TriangleMesh part;
+    TriangleMesh part;
     std::vector<int> index(nv, -1);
     for (const auto& tri : full.triangles) {
       if (!on[tri[0]] || !on[tri[1]] || !on[tri[2]]) continue;

@@ -48,9 +48,14 @@
 
 #include <Eigen/Core>
 
-#include "models/triangle_mesh.h"
+#include "mbd/triangle_mesh.h"
 
 namespace orrery::gears {
+
+// The triangle mesh type lives in mbd/ (orrery::TriangleMesh); gears:: names stay valid.
+using orrery::TriangleMesh;
+using orrery::EnclosedVolume;
+using orrery::CountOpenOrInconsistentEdges;
 
 using Vec2 = Eigen::Vector2d;
 
@@ -245,7 +250,7 @@ class GearPair {
   double b_ = 0, g_ = 0, s_start_ = 0, s_end_ = 0, r_b1_tan_ = 0, j_wt_ = 0;
 };
 
-// ---- 3-D surface meshes (triangle_mesh.h) ---------------------------------------------------
+// ---- 3-D surface meshes (mbd/triangle_mesh.h) ------------------------------------------------
 
 // Flank surface of tooth `tooth` (plus or minus involute flank) with n_profile intervals along
 // the involute (form circle to tip) and n_face intervals across the face width (z in [0, b]),

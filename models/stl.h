@@ -10,7 +10,7 @@
 // Usage: WriteStlBinary(MakeGearMesh(gear, {}, 20, 0.01), "planet.stl", {.scale = 1000});
 #include <string>
 
-#include "models/triangle_mesh.h"
+#include "mbd/triangle_mesh.h"
 
 namespace orrery::gears {
 

@@ -116,7 +116,7 @@ GearSurfaces MakeGearSurfaces(double margin, double slack = 0) {
   s.g2 = std::make_unique<Gear>(GearSpec{.teeth = 27, .normal_module_m = 2e-3, .face_width_m = 0.01});
   s.a = gears::GearPair(*s.g1, *s.g2).center_distance_m();
   const gears::ProfileResolution res{.root = 2, .fillet = 4, .involute = 10, .tip = 2};
-  std::vector<gears::TriangleMesh> p1, p2;
+  std::vector<TriangleMesh> p1, p2;
   for (int tooth : {18, 0, 1}) p1.push_back(gears::MakeToothSurfaceMesh(*s.g1, tooth, res, 4));
   for (int tooth : {26, 0, 1}) p2.push_back(gears::MakeToothSurfaceMesh(*s.g2, tooth, res, 4));
   s.s1 = std::make_unique<ContactSurface>(p1, margin, slack);
@@ -237,8 +237,8 @@ TEST(CandidatePairsTest, PairsKeptWithinTheSlackGiveTheBruteForceGaps) {
 TEST(CandidatePairsTest, SunkTriangleIsACandidate) {
   // A small triangle 0.1 mm below the middle of a large one and parallel to it intersects
   // nothing, yet its nodes penetrate: it must be listed.
-  gears::TriangleMesh big{{Vec3(-1, -1, 0), Vec3(2, -1, 0), Vec3(-1, 2, 0)}, {{0, 1, 2}}};
-  gears::TriangleMesh small{{Vec3(0, 0, 0), Vec3(0.01, 0, 0), Vec3(0, 0.01, 0)}, {{0, 2, 1}}};
+  TriangleMesh big{{Vec3(-1, -1, 0), Vec3(2, -1, 0), Vec3(-1, 2, 0)}, {{0, 1, 2}}};
+  TriangleMesh small{{Vec3(0, 0, 0), Vec3(0.01, 0, 0), Vec3(0, 0.01, 0)}, {{0, 2, 1}}};
   ContactSurface a({small}, 1e-3), b({big}, 1e-3);
   CandidateSearch search(a, b);
   std::vector<TrianglePair> pairs;

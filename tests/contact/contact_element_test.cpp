@@ -34,8 +34,8 @@ constexpr double kG = 9.81;
 
 // Grid of n_x by n_z cells of size h in the plane y = 0 starting at (x0, z0), normal +y (up) or
 // -y (down).
-gears::TriangleMesh Grid(double x0, double z0, int n_x, int n_z, double h, bool up) {
-  gears::TriangleMesh m;
+TriangleMesh Grid(double x0, double z0, int n_x, int n_z, double h, bool up) {
+  TriangleMesh m;
   for (int i = 0; i <= n_x; ++i)
     for (int k = 0; k <= n_z; ++k) m.vertices.push_back(Vec3(x0 + i * h, 0, z0 + k * h));
   auto id = [&](int i, int k) { return i * (n_z + 1) + k; };

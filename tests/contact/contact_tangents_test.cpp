@@ -57,8 +57,8 @@ TEST(ContactTangents, LawTangentMatchesCentralDifferences) {
 }
 
 // A 20 x 20 mm square of 4 x 4 cells in z = 0, normal -z (the block's bottom) or +z (a plane).
-gears::TriangleMesh Square(double half, int cells, double z_offset_cells, bool up) {
-  gears::TriangleMesh m;
+TriangleMesh Square(double half, int cells, double z_offset_cells, bool up) {
+  TriangleMesh m;
   const double h = 2 * half / cells, x0 = -half + z_offset_cells * h;
   for (int j = 0; j <= cells; ++j)
     for (int i = 0; i <= cells; ++i) m.vertices.push_back(Vec3(x0 + i * h, x0 + j * h, 0));

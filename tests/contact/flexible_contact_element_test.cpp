@@ -52,7 +52,7 @@ Block MakeBlock(int num_modes) {
 }
 
 std::shared_ptr<const ContactSurface> Plane() {
-  gears::TriangleMesh m;
+  TriangleMesh m;
   const int n = 9;
   const double h = 5e-3, x0 = -0.0225;
   for (int j = 0; j <= n; ++j)

@@ -27,7 +27,7 @@ struct Surfaces {
 Surfaces Make(const gears::Gear& gear, const GearContactOptions& o) {
   Surfaces s;
   s.zoned = MakeGearContactSurface(gear, o, {}, Transform());
-  std::vector<gears::TriangleMesh> parts;
+  std::vector<TriangleMesh> parts;
   for (int t = 0; t < gear.teeth(); ++t)
     parts.push_back(gears::MakeToothSurfaceMesh(
         gear, t, {.root = o.root_intervals, .fillet = o.fillet_intervals,

@@ -140,7 +140,7 @@ TEST(ContactNoAllocation, FlexibleContactEvaluation) {
   const std::vector<flex::FeInterface> ifs = {flex::MakeInterface(mesh, "ZMAX", flex::InterfaceKind::kRbe2)};
   const auto modes = std::make_shared<const FlexibleBodyModes>(flex::MakeFlexibleBodyModes(
       mesh, sys, flex::ReduceCraigBampton(mesh, sys, ifs, {.num_modes = 12}), ifs));
-  gears::TriangleMesh plane;
+  TriangleMesh plane;
   plane.vertices = {Vec3(-0.03, -0.03, 0), Vec3(0.03, -0.03, 0), Vec3(0.03, 0.03, 0), Vec3(-0.03, 0.03, 0)};
   plane.triangles = {{0, 1, 2}, {0, 2, 3}};
   ModelBuilder b;

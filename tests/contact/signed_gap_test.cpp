@@ -38,7 +38,7 @@ NodeGap ClosestGap(const ContactSurface& s, const Vec3& p) {
 
 // A flat square z = 0, normal +z, 4 x 4 cells of 5 mm (its rim fade: a tenth of 5 mm).
 ContactSurface Square() {
-  gears::TriangleMesh m;
+  TriangleMesh m;
   const int n = 4;
   const double h = 5e-3;
   for (int j = 0; j <= n; ++j)

@@ -35,7 +35,7 @@ GearPairContact& Setup() {
     gears::Gear g1({.teeth = 19, .normal_module_m = 2e-3, .face_width_m = 0.01});
     gears::Gear g2({.teeth = 27, .normal_module_m = 2e-3, .face_width_m = 0.01});
     const double a = gears::GearPair(g1, g2).center_distance_m();
-    std::vector<gears::TriangleMesh> p1, p2;
+    std::vector<TriangleMesh> p1, p2;
     for (int i = 0; i < g1.teeth(); ++i) p1.push_back(gears::MakeToothSurfaceMesh(g1, i, {}, 10));
     for (int i = 0; i < g2.teeth(); ++i) p2.push_back(gears::MakeToothSurfaceMesh(g2, i, {}, 10));
     auto s1 = std::make_shared<const ContactSurface>(p1, 50e-6, 50e-6);

@@ -1,12 +1,12 @@
 #pragma once
-// Indexed triangle surface mesh, the exchange type between gear geometry (gear_geometry.h), the
-// STL writer (stl.h) and, later, contact surfaces and FE meshing.
+// Indexed triangle surface mesh, the exchange type between gear geometry (models/gear_geometry.h),
+// the STL writer (models/stl.h), mesh import (import/) and contact surfaces (contact/).
 #include <array>
 #include <vector>
 
 #include "mbd/spatial.h"
 
-namespace orrery::gears {
+namespace orrery {
 
 // vertices: #V points (m, body frame); triangles: #T index triples into `vertices`, counter-
 // clockwise seen from outside the enclosed solid (right-hand normal points outward).
@@ -23,4 +23,4 @@ double EnclosedVolume(const TriangleMesh& mesh);
 // consistently oriented, manifold mesh).
 int CountOpenOrInconsistentEdges(const TriangleMesh& mesh);
 
-}  // namespace orrery::gears
+}  // namespace orrery

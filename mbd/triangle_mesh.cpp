@@ -1,9 +1,9 @@
-#include "models/triangle_mesh.h"
+#include "mbd/triangle_mesh.h"
 
 #include <map>
 #include <utility>
 
-namespace orrery::gears {
+namespace orrery {
 
 double EnclosedVolume(const TriangleMesh& mesh) {
   // Signed tetrahedra from the origin to each triangle.
@@ -33,4 +33,4 @@ int CountOpenOrInconsistentEdges(const TriangleMesh& mesh) {
   return bad;
 }
 
-}  // namespace orrery::gears
+}  // namespace orrery
