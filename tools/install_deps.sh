@@ -8,6 +8,11 @@ packages=(
   libeigen3-dev libspectra-dev libfcl-dev libassimp-dev libsundials-dev libhdf5-dev hdf5-tools
   libsuitesparse-dev libyaml-cpp-dev libcli11-dev libgtest-dev libgmock-dev libbenchmark-dev
   calculix-ccx
+  # gmsh (a separate program, GPL, never linked): STEP/IGES solids and tetrahedral meshing of
+  # imported parts (import/gmsh_mesher.h); its OpenCASCADE reads the CAD files.
+  gmsh
+  # clang 14 with libFuzzer: the fuzz harnesses of the file readers (tools/fuzz/).
+  clang-14 libfuzzer-14-dev
   # Optimized single-threaded BLAS/LAPACK: Debian's alternatives then point libblas.so.3 at it,
   # which CHOLMOD's supernodal factorization and the Lanczos solves use (a 100k-DOF gear
   # reduction: 49 s instead of 72 s on this project's 2-core machine).
