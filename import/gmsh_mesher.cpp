@@ -165,24 +165,23 @@ GmshMeshing MeshCad(const fs::path& cad, const GmshMeshOptions& o, int dim) {
   return m;
 }
 
-void WriteStlMetres(const TriangleMesh& mesh, const fs::path& path) {
-  std::ofstream out(path, std::ios::binary);
-  char header[80] = "orrery surface for gmsh (metres)";
-  out.write(header, 80);
-  const auto n = static_cast<std::uint32_t>(mesh.triangles.size());
-  out.write(reinterpret_cast<const char*>(&n), 4);
-  for (const auto& t : mesh.triangles) {
-    float rec[12] = {};
-    const Vec3 a = mesh.vertices[t[0]], b = mesh.vertices[t[1]], c = mesh.vertices[t[2]];
-    Vec3 normal = (b - a).cross(c - a);
-    if (normal.norm() > 0) normal.normalize();
-    const Vec3 p[4] = {normal, a, b, c};
-    for (int k = 0; k < 4; ++k)
-      for (int j = 0; j < 3; ++j) rec[3 * k + j] = static_cast<float>(p[k][j]);
-    out.write(reinterpret_cast<const char*>(rec), sizeof rec);
-    const std::uint16_t attribute = 0;
-    out.write(reinterpret_cast<const char*>(&attribute), 2);
+// A triangle surface as a gmsh 2.2 ASCII mesh with 17 significant digits (an STL would round the
+// coordinates to float).
+void WriteSurfaceMsh(const TriangleMesh& mesh, const fs::path& path) {
+  std::ofstream out(path);
+  out << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n" << mesh.vertices.size() << "\n";
+  char buf[96];
+  for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+    const Vec3& p = mesh.vertices[i];
+    std::snprintf(buf, sizeof buf, "%zu %.17g %.17g %.17g\n", i + 1, p.x(), p.y(), p.z());
+    out << buf;
   }
+  out << "$EndNodes\n$Elements\n" << mesh.triangles.size() << "\n";
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const auto& f = mesh.triangles[t];
+    out << t + 1 << " 2 2 0 1 " << f[0] + 1 << " " << f[1] + 1 << " " << f[2] + 1 << "\n";
+  }
+  out << "$EndElements\n";
   if (!out) throw std::runtime_error(path.string() + ": cannot write");
 }
 
@@ -252,8 +251,8 @@ GmshMeshing MeshCadVolume(const fs::path& cad, const GmshMeshOptions& options) {
 GmshMeshing MeshSurfaceVolume(const TriangleMesh& surface_m, const std::string& source, const GmshMeshOptions& o) {
   const fs::path gmsh = RequireGmsh();
   ScratchDir dir;
-  WriteStlMetres(surface_m, dir.path() / "surface.stl");
-  std::string script = "Merge " + GeoString(dir.path() / "surface.stl") + ";\n";
+  WriteSurfaceMsh(surface_m, dir.path() / "surface.msh");
+  std::string script = "Merge " + GeoString(dir.path() / "surface.msh") + ";\n";
   if (o.remesh_surface) {
     script += "ClassifySurfaces{" + Num(o.feature_angle_deg) + " * Pi / 180, 1, 1, Pi};\nCreateGeometry;\n";
   }

@@ -10,7 +10,8 @@
 //            volumes is written out and checked (one solid expected unless stated otherwise);
 //            every face a physical surface "FACE<tag>" (node sets, regions), the solid(s) a
 //            physical volume "SOLID"; Mesh 2 (triangles) or Mesh 3 (tetrahedra).
-//   Surface: a watertight triangle mesh in metres, written as a binary STL; ClassifySurfaces
+//   Surface: a watertight triangle mesh in metres, written as a gmsh 2.2 ASCII mesh (17 digits,
+//            where an STL would round to float); ClassifySurfaces
 //            (feature angle) and CreateGeometry make parametrizable patches from it so the volume
 //            is remeshed to the requested size (remesh_surface, default), or the triangles are
 //            kept as the boundary; Surface Loop + Volume; Mesh 3.

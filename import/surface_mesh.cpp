@@ -49,10 +49,11 @@ RawSurface ReadRaw(const std::filesystem::path& path, const SurfaceReadOptions& 
     case MeshFileFormat::kAssimp: return ReadAssimpSurface(path, o.max_bytes);
     case MeshFileFormat::kCad: {
       GmshMeshOptions cad = o.cad;
-      if (cad.curvature_elements == 0) cad.curvature_elements = 24;
+      if (cad.curvature_elements == 0) cad.curvature_elements = 48;
       GmshMeshing m = MeshCadSurface(path, cad);
       out.unit = m.file_unit;
       out.notes.push_back(m.description);
+      m.mesh.surface.format = "STEP/IGES, triangulated by gmsh";
       return std::move(m.mesh.surface);
     }
     case MeshFileFormat::kGmsh: {

@@ -56,7 +56,8 @@ struct SurfaceReadOptions {
   std::optional<LengthUnit> unit;        // nullopt: metres (with the millimetre warning)
   std::uintmax_t max_bytes = kDefaultMaxInputBytes;
   double max_coordinate_m = 1e5;         // |x|, |y|, |z| bound after the unit
-  GmshMeshOptions cad;                   // STEP/IGES triangulation (curvature_elements default 24)
+  GmshMeshOptions cad;                   // STEP/IGES triangulation (curvature_elements 0: 48 per
+                                         // 2 pi, chords within 0.2 % of a radius)
 };
 
 struct SurfaceMesh {
