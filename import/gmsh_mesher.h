@@ -16,8 +16,10 @@
 //            is remeshed to the requested size (remesh_surface, default), or the triangles are
 //            kept as the boundary; Surface Loop + Volume; Mesh 3.
 //   Sizes:   Mesh.MeshSizeMax / Mesh.MeshSizeMin (m; 0 = gmsh's defaults), Mesh.MeshSizeFromCurvature
-//            (elements per 2 pi of curvature; 0 = off); Mesh.ElementOrder 1 (tet4) or 2 (tet10,
-//            midside nodes on the geometry); Mesh.Optimize (and OptimizeNetgen off); General.NumThreads 1
+//            (elements per 2 pi of curvature; 0 = off); Mesh.ElementOrder 1 (tet4) or 2 (tet10:
+//            from CAD with midside nodes on the geometry and Mesh.HighOrderOptimize 2, which
+//            untangles curved elements; from a surface mesh with straight sides,
+//            Mesh.SecondOrderLinear, as its facets are flat); Mesh.Optimize (and OptimizeNetgen off); General.NumThreads 1
 //            so that a mesh is the same from run to run (reduced-body provenance hashes the mesh).
 // A run is limited in time (coreutils `timeout`, timeout_s) and its log's tail is quoted when it
 // fails.

@@ -249,13 +249,22 @@ GearReduction PrepareGearReduction(const ReduceInput& in) {
 Reduction ReduceBody(const flex::FeMesh& mesh, std::span<const flex::FeInterface> interfaces,
                      const flex::CraigBamptonOptions& cb_options, const flex::FlexibleBodyModesOptions& outputs,
                      const std::string& source) {
+  const auto start = std::chrono::steady_clock::now();
+  flex::FeSystem system = flex::AssembleFeSystem(mesh);
+  const double assembly_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  Reduction r = ReduceAssembledBody(mesh, std::move(system), interfaces, cb_options, outputs, source);
+  r.assembly_s = assembly_s;
+  return r;
+}
+
+Reduction ReduceAssembledBody(const flex::FeMesh& mesh, flex::FeSystem system,
+                              std::span<const flex::FeInterface> interfaces, const flex::CraigBamptonOptions& cb_options,
+                              const flex::FlexibleBodyModesOptions& outputs, const std::string& source) {
   using Clock = std::chrono::steady_clock;
   auto since = [](Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); };
   Reduction r;
+  r.system = std::move(system);
   auto start = Clock::now();
-  r.system = flex::AssembleFeSystem(mesh);
-  r.assembly_s = since(start);
-  start = Clock::now();
   r.cb = flex::ReduceCraigBampton(mesh, r.system, interfaces, cb_options);
   r.reduction_s = since(start);
   start = Clock::now();

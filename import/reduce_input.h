@@ -94,5 +94,10 @@ struct Reduction {
 Reduction ReduceBody(const flex::FeMesh& mesh, std::span<const flex::FeInterface> interfaces,
                      const flex::CraigBamptonOptions& cb_options, const flex::FlexibleBodyModesOptions& outputs,
                      const std::string& source);
+// The same for a system assembled elsewhere (external FE matrices, import/fe_matrices.h): `system`
+// is used as given (assembly_s = 0).
+Reduction ReduceAssembledBody(const flex::FeMesh& mesh, flex::FeSystem system,
+                              std::span<const flex::FeInterface> interfaces, const flex::CraigBamptonOptions& cb_options,
+                              const flex::FlexibleBodyModesOptions& outputs, const std::string& source);
 
 }  // namespace orrery

@@ -30,7 +30,7 @@ TriangleMesh Union(const TriangleMesh& a, const TriangleMesh& b) {
 }
 
 TEST(MeshChecksTest, ClosedPrimitivesAreValidSolids) {
-  for (const TriangleMesh& m : {Box(1, 2, 3), Prism(1, 1, 17), Sphere(1, 9, 14), Torus(2, 0.5, 20, 9)}) {
+  for (const TriangleMesh& m : {Box(1, 2, 3), Prism(1, 1, 17), Sphere(1, 9, 14), Torus(2, 0.5, 20, 9), Tube(0.5, 1, 0.3, 12)}) {
     const MeshCheckReport r = CheckMesh(m);
     EXPECT_TRUE(r.watertight());
     EXPECT_TRUE(r.valid_solid()) << r.Problems().front();

@@ -54,6 +54,25 @@ inline TriangleMesh Prism(double r, double h, int n) {
   return m;
 }
 
+// Tube about z: n-gon prisms of radii r_in < r_out (vertices on the circles), z in [0, h].
+inline TriangleMesh Tube(double r_in, double r_out, double h, int n) {
+  TriangleMesh m;
+  for (int k = 0; k < n; ++k) {
+    const double t = 2 * std::numbers::pi * k / n;
+    for (double r : {r_in, r_out})
+      for (double z : {0.0, h}) m.vertices.emplace_back(r * std::cos(t), r * std::sin(t), z);
+  }
+  // Vertex 4 k + {0: in bottom, 1: in top, 2: out bottom, 3: out top}
+  for (int k = 0; k < n; ++k) {
+    const int a = 4 * k, b = 4 * ((k + 1) % n);
+    Quad(m, a + 2, b + 2, b + 3, a + 3);  // outer wall, outward
+    Quad(m, a + 0, a + 1, b + 1, b + 0);  // bore wall, towards the axis
+    Quad(m, a + 0, b + 0, b + 2, a + 2);  // bottom, -z
+    Quad(m, a + 1, a + 3, b + 3, b + 1);  // top, +z
+  }
+  return m;
+}
+
 // UV sphere of radius r about the origin: n_lat bands, n_lon meridians.
 inline TriangleMesh Sphere(double r, int n_lat, int n_lon) {
   TriangleMesh m;
