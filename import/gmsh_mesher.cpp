@@ -147,8 +147,10 @@ GmshMeshing MeshCad(const fs::path& cad, const GmshMeshOptions& o, int dim) {
             "  Physical Surface(Sprintf(\"FACE%g\", orrery_s[orrery_i])) = {orrery_s[orrery_i]};\nEndFor\n";
   script += "If (#orrery_v[] > 0)\n  Physical Volume(\"SOLID\") = {orrery_v[]};\nEndIf\n";
   script += SizeOptions(o, order);
-  // Curved tet10: untangle and optimize the high-order elements (elastic analogy + optimization)
-  if (dim == 3 && order == 2) script += "Mesh.HighOrderOptimize = 2;\n";
+  // tet10: straight sides (always valid when the tet4 is), or curved onto the geometry with the
+  // high-order elements untangled and optimized (elastic analogy + optimization)
+  if (dim == 3 && order == 2)
+    script += o.curved ? "Mesh.HighOrderOptimize = 2;\n" : "Mesh.SecondOrderLinear = 1;\n";
   script += "Mesh " + std::to_string(dim) + ";\nSave " + GeoString(dir.path() / "mesh.msh") + ";\n";
   RunScript(gmsh, dir.path(), script, cad.string(), o.timeout_s);
 
@@ -159,7 +161,7 @@ GmshMeshing MeshCad(const fs::path& cad, const GmshMeshOptions& o, int dim) {
     throw std::runtime_error(cad.string() + ": " + std::to_string(m.solids) + " solids; one is expected");
   m.mesh = ReadGmshMsh(dir.path() / "mesh.msh");
   m.file_unit = ReadCadLengthUnit(cad);
-  std::string what = dim == 2 ? "triangles" : order == 2 ? "tet10" : "tet4";
+  std::string what = dim == 2 ? "triangles" : order == 2 ? (o.curved ? "curved tet10" : "tet10") : "tet4";
   m.description = "gmsh " + GmshVersion(gmsh) + ": " + what +
                   (o.max_size_m > 0 ? ", max size " + Num(o.max_size_m) + " m" : "") +
                   (o.curvature_elements > 0 ? ", " + std::to_string(o.curvature_elements) + " per 2 pi" : "") +

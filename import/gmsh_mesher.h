@@ -16,10 +16,12 @@
 //            is remeshed to the requested size (remesh_surface, default), or the triangles are
 //            kept as the boundary; Surface Loop + Volume; Mesh 3.
 //   Sizes:   Mesh.MeshSizeMax / Mesh.MeshSizeMin (m; 0 = gmsh's defaults), Mesh.MeshSizeFromCurvature
-//            (elements per 2 pi of curvature; 0 = off); Mesh.ElementOrder 1 (tet4) or 2 (tet10:
-//            from CAD with midside nodes on the geometry and Mesh.HighOrderOptimize 2, which
-//            untangles curved elements; from a surface mesh with straight sides,
-//            Mesh.SecondOrderLinear, as its facets are flat); Mesh.Optimize (and OptimizeNetgen off); General.NumThreads 1
+//            (elements per 2 pi of curvature; 0 = off); Mesh.ElementOrder 1 (tet4) or 2 (tet10,
+//            straight-sided by default, Mesh.SecondOrderLinear: valid whenever the tet4 is; from
+//            CAD optionally curved, midside nodes on the geometry with Mesh.HighOrderOptimize 2
+//            to untangle them, which is more accurate on curved faces (a 10 mm hole: 300 times
+//            less volume error) but slower and can fail on coarse meshes, which is then an
+//            error); Mesh.Optimize (and OptimizeNetgen off); General.NumThreads 1
 //            so that a mesh is the same from run to run (reduced-body provenance hashes the mesh).
 // A run is limited in time (coreutils `timeout`, timeout_s) and its log's tail is quoted when it
 // fails.
@@ -54,6 +56,7 @@ struct GmshMeshOptions {
   double min_size_m = 0;        // Mesh.MeshSizeMin (0: none)
   int curvature_elements = 0;   // Mesh.MeshSizeFromCurvature: elements per 2 pi (0: off)
   int order = 2;                // 1: tet4 / tri3, 2: tet10 / tri6 (3-D meshes; surfaces use 1)
+  bool curved = false;          // CAD tet10: midside nodes on the geometry (see above)
   bool one_solid = true;        // CAD: more than one volume is an error
   bool remesh_surface = true;   // surface input: reparametrize and remesh (else keep its triangles)
   double feature_angle_deg = 40;  // surface input: ClassifySurfaces angle

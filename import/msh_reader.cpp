@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <climits>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <map>
 #include <optional>
@@ -59,6 +60,12 @@ std::optional<TypeInfo> GmshType(std::int64_t type) {
     case 93: return TypeInfo{125, 3, "125-node hexahedron"};
     default: return std::nullopt;
   }
+}
+
+std::string Num(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", x);
+  return buf;
 }
 
 // CalculiX node k = gmsh node kFrom[k] (header).
@@ -282,10 +289,14 @@ void MshParser::AddNode(std::int64_t tag, double x, double y, double z) {
   if (tag < 1 || tag > INT_MAX) Fail("node tag " + std::to_string(tag) + " is not in 1.." + std::to_string(INT_MAX));
   if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z))
     Fail("node " + std::to_string(tag) + " has a non-finite coordinate");
+  const Vec3 p(x * options_.scale, y * options_.scale, z * options_.scale);
+  if (p.cwiseAbs().maxCoeff() > options_.max_coordinate_m)
+    Fail("node " + std::to_string(tag) + " lies beyond " + Num(options_.max_coordinate_m) +
+         " m from the origin (wrong unit or a corrupt file?)");
   if (!node_index_.emplace(static_cast<int>(tag), static_cast<int>(node_tags_.size())).second)
     Fail("node tag " + std::to_string(tag) + " appears twice");
   node_tags_.push_back(static_cast<int>(tag));
-  node_positions_.emplace_back(x * options_.scale, y * options_.scale, z * options_.scale);
+  node_positions_.push_back(p);
 }
 
 void MshParser::ReadNodes2() {

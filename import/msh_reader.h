@@ -35,7 +35,7 @@
 // Errors are std::runtime_error "FILE[:LINE]: $Section: reason": version 4.0 or unknown versions,
 // big-endian files, an unknown element type, an unsupported volume element, an element that
 // refers to a node not in $Nodes, a duplicate node or element tag, a truncated section, a
-// non-finite coordinate.
+// non-finite or huge coordinate.
 //
 // Usage:
 //   GmshMesh m = ReadGmshMsh("part.msh");           // m.mesh (FE), m.surface, m.notes
@@ -63,6 +63,7 @@ struct GmshMesh {
 
 struct GmshReadOptions {
   double scale = 1.0;  // coordinates are multiplied by this (file unit -> m)
+  double max_coordinate_m = 1e5;  // |x|, |y|, |z| bound after the scale
   std::uintmax_t max_bytes = kDefaultMaxInputBytes;
 };
 

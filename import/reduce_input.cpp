@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <numbers>
 #include <set>
@@ -200,6 +201,10 @@ ReduceInput ParseReduceInput(const std::string& text, const std::string& file) {
 }
 
 ReduceInput LoadReduceInput(const std::string& path) {
+  // A device or a pipe (/dev/zero) would be read without end
+  std::error_code ec;
+  if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
+    throw SceneError(path + ": not a regular file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw SceneError(path + ": cannot open the input file");
   std::ostringstream text;

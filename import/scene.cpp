@@ -958,6 +958,10 @@ Scene Load(const std::string& text, const std::string& file, const std::string& 
 }  // namespace
 
 Scene LoadScene(const std::string& path, const std::vector<std::string>& overrides) {
+  // A device or a pipe (/dev/zero) would be read without end
+  std::error_code ec;
+  if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
+    throw SceneError(path + ": not a regular file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw SceneError(path + ": cannot open the scene file");
   std::ostringstream text;

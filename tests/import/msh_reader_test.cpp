@@ -146,6 +146,9 @@ TEST(MshReaderTest, BadInputIsOneErrorNamingTheFile) {
   std::string nan = text;
   nan.replace(nan.find("7 1 1 1"), 7, "7 1 nan 1");
   EXPECT_EQ(ErrorOf(nan), "x.msh:17: $Nodes: node 7 has a non-finite coordinate");
+  std::string huge = text;
+  huge.replace(huge.find("7 1 1 1"), 7, "7 1 1e300 1");
+  EXPECT_EQ(ErrorOf(huge), "x.msh:17: $Nodes: node 7 lies beyond 100000 m from the origin (wrong unit or a corrupt file?)");
   // A count in a header is not trusted: a billion nodes announced in a short file
   std::string many = kCube41;
   many.replace(many.find("1 8 1 8\n3 1 0 8"), 15, "1 8 1 8\n3 1 0 1000000000");

@@ -8,7 +8,7 @@
 //   orrery fe-modes MESH.inp --E PA --nu NU --rho KG_M3 [--fix NODESET ...] --modes N [--json]
 //   orrery reduce INPUT.yaml -o BODY.h5 [--json]
 //   orrery reduce PART -o BODY.h5 --interface NODESET|bore[:rbe2|rbe3] ... [--E PA --nu NU --rho KG_M3]
-//                 [--modes N] [--cutoff-hz F] [--unit U] [--element tet10|tet4] [--mesh-size H]
+//                 [--modes N] [--cutoff-hz F] [--unit U] [--element tet10|tet4] [--curved] [--mesh-size H]
 //                 [--mesh-min-size H] [--curvature N] [--mass M.mtx --dofs TABLE] [--mesh MESH] [--json]
 //                 (PART: .inp, .msh, STEP/IGES, a surface mesh, CalculiX job.sti or Matrix Market K.mtx)
 //   orrery mesh-info FILE [--unit m|cm|mm|in] [--density KG_M3] [--no-self-intersections] [--json]
@@ -137,6 +137,7 @@ int Main(int argc, char** argv) {
       ->check(kPositiveValue);
   reduce->add_option("--unit", reduce_args.unit, "Length unit of a surface mesh or .msh part (m, cm, mm, in; default m)");
   reduce->add_option("--element", reduce_args.element, "Elements gmsh makes of a CAD or surface part (tet10, tet4)");
+  reduce->add_flag("--curved", reduce_args.curved, "CAD part: tet10 midside nodes on the geometry");
   reduce->add_option("--mesh-size", reduce_args.mesh_size_m, "Largest element size gmsh makes (m)")->check(kPositiveValue);
   reduce->add_option("--mesh-min-size", reduce_args.mesh_min_size_m, "Smallest element size gmsh makes (m)")
       ->check(kPositiveValue);

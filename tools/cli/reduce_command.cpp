@@ -92,6 +92,7 @@ Job PartJob(const ReduceArgs& args) {
   if (!args.element.empty() && args.element != "tet10" && args.element != "tet4")
     throw std::runtime_error("--element " + args.element + ": expected tet10 or tet4");
   in.meshing.order = args.element == "tet4" ? 1 : 2;
+  in.meshing.curved = args.curved;
   in.meshing.max_size_m = args.mesh_size_m.value_or(0);
   in.meshing.min_size_m = args.mesh_min_size_m.value_or(0);
   in.meshing.curvature_elements = args.curvature_elements.value_or(0);
@@ -137,7 +138,7 @@ int ReduceCommand(const ReduceArgs& args, std::ostream& out, std::ostream& err) 
   const bool yaml = extension == ".yaml" || extension == ".yml";
   if (yaml && (args.youngs_modulus_pa || args.poissons_ratio || args.density_kg_m3 || !args.interfaces.empty() ||
                args.num_modes || args.cutoff_hz || !args.unit.empty() || args.mesh_size_m || args.mesh_min_size_m ||
-               args.curvature_elements || !args.element.empty() || !args.mass_matrix.empty() ||
+               args.curvature_elements || !args.element.empty() || args.curved || !args.mass_matrix.empty() ||
                !args.dof_table.empty() || !args.mesh_file.empty())) {
     ReportError(err, "--E, --nu, --rho, --interface, --modes, --cutoff-hz, --unit, meshing and matrix options go with a "
                      "part input (mesh, CAD or matrices); " + args.input_path + " states them itself");

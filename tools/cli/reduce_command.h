@@ -13,8 +13,9 @@
 //         to use the file's; --density is --rho); .msh coordinates in --unit (default m);
 //       a STEP/IGES solid (its own unit) or a watertight surface mesh (STL, OBJ, PLY, glTF, 3MF,
 //         ...; --unit, default m), tetrahedralized by gmsh (import/gmsh_mesher.h) with
-//         --element tet10|tet4 (default tet10), --mesh-size H and --mesh-min-size H (m),
-//         --curvature N (elements per 2 pi of curvature), then --E/--nu/--rho;
+//         --element tet10|tet4 (default tet10, straight-sided; --curved: on the CAD geometry),
+//         --mesh-size H and --mesh-min-size H (m), --curvature N (elements per 2 pi of
+//         curvature), then --E/--nu/--rho;
 //       a user's FE matrices: CalculiX job.sti (with job.mas, job.dof and the mesh job.inp beside
 //         it, or --mesh) or a Matrix Market stiffness K.mtx with --mass M.mtx, --dofs TABLE and
 //         --mesh MESH (import/fe_matrices.h).
@@ -58,6 +59,7 @@ struct ReduceArgs {
   std::optional<double> mesh_size_m, mesh_min_size_m;
   std::optional<int> curvature_elements;
   std::string element;                  // "" (tet10), "tet10", "tet4"
+  bool curved = false;                  // CAD tet10 with midside nodes on the geometry
   std::string mass_matrix, dof_table, mesh_file;
 };
 
