@@ -41,7 +41,7 @@ struct InpReadResult {
 };
 
 // Throws std::runtime_error (file:line: *KEYWORD: reason) on malformed input, and for an
-// unreadable file.
+// unreadable file or one that is not a regular file (a device such as /dev/zero).
 InpReadResult ReadInp(const std::filesystem::path& path);
 // `source_name` stands for the file in messages.
 InpReadResult ParseInp(std::istream& in, const std::string& source_name);

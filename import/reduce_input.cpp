@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <numbers>
 #include <set>
@@ -214,6 +215,10 @@ ReduceInput ParseReduceInput(const std::string& text, const std::string& file) {
 }
 
 ReduceInput LoadReduceInput(const std::string& path) {
+  // A device or a pipe (/dev/zero) would be read without end
+  std::error_code ec;
+  if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
+    throw SceneError(path + ": not a regular file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw SceneError(path + ": cannot open the input file");
   std::ostringstream text;
@@ -272,13 +277,23 @@ std::string DescribeGearFaults(const std::vector<gears::ToothFaultSpec>& faults)
 Reduction ReduceBody(const flex::FeMesh& mesh, std::span<const flex::FeInterface> interfaces,
                      const flex::CraigBamptonOptions& cb_options, const flex::FlexibleBodyModesOptions& outputs,
                      const std::string& source, const std::string& faults) {
+  const auto start = std::chrono::steady_clock::now();
+  flex::FeSystem system = flex::AssembleFeSystem(mesh);
+  const double assembly_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  Reduction r = ReduceAssembledBody(mesh, std::move(system), interfaces, cb_options, outputs, source, faults);
+  r.assembly_s = assembly_s;
+  return r;
+}
+
+Reduction ReduceAssembledBody(const flex::FeMesh& mesh, flex::FeSystem system,
+                              std::span<const flex::FeInterface> interfaces, const flex::CraigBamptonOptions& cb_options,
+                              const flex::FlexibleBodyModesOptions& outputs, const std::string& source,
+                              const std::string& faults) {
   using Clock = std::chrono::steady_clock;
   auto since = [](Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); };
   Reduction r;
+  r.system = std::move(system);
   auto start = Clock::now();
-  r.system = flex::AssembleFeSystem(mesh);
-  r.assembly_s = since(start);
-  start = Clock::now();
   r.cb = flex::ReduceCraigBampton(mesh, r.system, interfaces, cb_options);
   r.reduction_s = since(start);
   start = Clock::now();

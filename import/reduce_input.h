@@ -102,6 +102,12 @@ struct Reduction {
 Reduction ReduceBody(const flex::FeMesh& mesh, std::span<const flex::FeInterface> interfaces,
                      const flex::CraigBamptonOptions& cb_options, const flex::FlexibleBodyModesOptions& outputs,
                      const std::string& source, const std::string& faults = "");
+// The same for a system assembled elsewhere (external FE matrices, import/fe_matrices.h): `system`
+// is used as given (assembly_s = 0).
+Reduction ReduceAssembledBody(const flex::FeMesh& mesh, flex::FeSystem system,
+                              std::span<const flex::FeInterface> interfaces, const flex::CraigBamptonOptions& cb_options,
+                              const flex::FlexibleBodyModesOptions& outputs, const std::string& source,
+                              const std::string& faults = "");
 
 // The faults of a gear as provenance text: "none", or DescribeToothFault of each joined by "; ".
 std::string DescribeGearFaults(const std::vector<gears::ToothFaultSpec>& faults);

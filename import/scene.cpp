@@ -20,9 +20,15 @@
 #include <Eigen/SVD>
 #include <yaml-cpp/yaml.h>
 
+#include "contact/contact_element.h"
+#include "contact/contact_surface.h"
 #include "import/gear_scene.h"
+#include "import/length_unit.h"
+#include "import/mass_properties.h"
+#include "import/mesh_checks.h"
 #include "import/scene_reader.h"
 #include "import/sensor_reader.h"
+#include "import/surface_mesh.h"
 
 namespace orrery {
 namespace {
@@ -79,6 +85,9 @@ class Loader {
 
   void ReadUnits(const MapReader& root);
   void ReadBodies(const MapReader& root);
+  // A body's `mesh:` map: the surface read, checked and oriented, its mass properties.
+  MassProperties ReadBodyMesh(const std::string& body, const Item& item);
+  void ReadContact(const Item& item, int index);
   void ReadFrame(const Item& item, BodyIndex body);
   void ReadJoints(const MapReader& root);
   void ReadLoopClosures(const MapReader& root);
@@ -113,6 +122,8 @@ class Loader {
   double length_ = 1.0;  // metres per scene length unit
   ModelBuilder builder_;
   std::map<std::string, Named> bodies_, frames_, joints_, loops_, drivers_, forces_;
+  // Contact surfaces of bodies with a `mesh:` (body frame, m): the region's triangles.
+  std::map<std::string, TriangleMesh> surfaces_;
 };
 
 std::string Loader::UniqueName(const MapReader& m, std::map<std::string, Named>& table,
@@ -235,39 +246,158 @@ void Loader::ReadUnits(const MapReader& root) {
 void Loader::ReadBodies(const MapReader& root) {
   const std::vector<Item> items = ListItems(ctx_, root.Need("bodies"));
   if (items.empty()) ctx_.Fail(root.Need("bodies"), "a scene needs at least one body");
+  const std::vector<std::string> keys{"name", "mass", "com", "inertia", "frames", "mesh"};
   // Bodies first (their names are frames too), then the frames on them.
   for (const Item& item : items) {
-    const MapReader m(ctx_, item, {"name", "mass", "com", "inertia", "frames"});
+    const MapReader m(ctx_, item, keys);
     if (ToString(ctx_, m.Need("name")) == "world")
       ctx_.Fail(m.Need("name"), "'world' is reserved for the ground body");
     const std::string name = UniqueName(m, bodies_, "body", -1);
-    const double mass = m.Number("mass");
-    const Vec3 com = Length(m.Vector("com", Vec3::Zero()));
-    // Inertia about the centre of mass: 3 principal values or 6 matrix entries.
-    const Item inertia_item = m.Need("inertia");
-    if (!inertia_item.node.IsSequence() ||
-        (inertia_item.node.size() != 3 && inertia_item.node.size() != 6))
-      ctx_.Fail(inertia_item, "expected a list of 3 numbers [Ixx, Iyy, Izz] or 6 numbers "
-                              "[Ixx, Iyy, Izz, Ixy, Ixz, Iyz], got " + Describe(inertia_item.node));
-    const std::vector<double> I = ToNumbers(ctx_, inertia_item, -1);
-    Mat3 inertia = Vec3(I[0], I[1], I[2]).asDiagonal();
-    if (I.size() == 6) {
-      inertia(0, 1) = inertia(1, 0) = I[3];
-      inertia(0, 2) = inertia(2, 0) = I[4];
-      inertia(1, 2) = inertia(2, 1) = I[5];
+    BodyIndex b = -1;
+    if (const auto mesh = m.Find("mesh")) {
+      // Mass properties from the mesh: mass, com and inertia are not given as well
+      for (const char* key : {"mass", "com", "inertia"})
+        if (const auto given = m.Find(key))
+          ctx_.Fail(*given, "body '" + name + "' takes its mass properties from its mesh: remove '" + key + "'");
+      const MassProperties p = ReadBodyMesh(name, *mesh);
+      b = Build(m, {{"mass", "mesh"}, {"inertia", "mesh"}},
+                [&] { return builder_.AddBody(name, p.mass_kg, p.center_of_mass_m, p.inertia_kg_m2); });
+    } else {
+      const double mass = m.Number("mass");
+      const Vec3 com = Length(m.Vector("com", Vec3::Zero()));
+      // Inertia about the centre of mass: 3 principal values or 6 matrix entries.
+      const Item inertia_item = m.Need("inertia");
+      if (!inertia_item.node.IsSequence() ||
+          (inertia_item.node.size() != 3 && inertia_item.node.size() != 6))
+        ctx_.Fail(inertia_item, "expected a list of 3 numbers [Ixx, Iyy, Izz] or 6 numbers "
+                                "[Ixx, Iyy, Izz, Ixy, Ixz, Iyz], got " + Describe(inertia_item.node));
+      const std::vector<double> I = ToNumbers(ctx_, inertia_item, -1);
+      Mat3 inertia = Vec3(I[0], I[1], I[2]).asDiagonal();
+      if (I.size() == 6) {
+        inertia(0, 1) = inertia(1, 0) = I[3];
+        inertia(0, 2) = inertia(2, 0) = I[4];
+        inertia(1, 2) = inertia(2, 1) = I[5];
+      }
+      inertia *= length_ * length_;
+      b = Build(m, {{"principal moments", "inertia"}, {"inertia", "inertia"},
+                    {"centre of mass", "com"}, {"mass", "mass"}},
+                [&] { return builder_.AddBody(name, mass, com, inertia); });
     }
-    inertia *= length_ * length_;
-    const BodyIndex b = Build(m, {{"principal moments", "inertia"}, {"inertia", "inertia"},
-                                  {"centre of mass", "com"}, {"mass", "mass"}},
-                              [&] { return builder_.AddBody(name, mass, com, inertia); });
     bodies_[name].index = b;
     frames_[name] = Named{builder_.body_frame(b), item};
   }
   for (const Item& item : items) {
-    const MapReader m(ctx_, item, {"name", "mass", "com", "inertia", "frames"});
+    const MapReader m(ctx_, item, keys);
     const BodyIndex b = bodies_.at(ToString(ctx_, m.Need("name"))).index;
     for (const Item& frame : ListItems(ctx_, m.Find("frames"))) ReadFrame(frame, b);
   }
+}
+
+MassProperties Loader::ReadBodyMesh(const std::string& body, const Item& item) {
+  const MapReader m(ctx_, item, {"file", "unit", "density", "contact_region"});
+  // The file, relative to the scene's directory
+  const Item file_item = m.Need("file");
+  std::filesystem::path file = ToString(ctx_, file_item);
+  if (file.is_relative()) file = std::filesystem::path(ctx_.file()).parent_path() / file;
+  SurfaceReadOptions options;
+  const bool cad = DetectMeshFileFormat(file) == MeshFileFormat::kCad;
+  if (const auto unit = m.Find("unit")) {
+    if (cad) ctx_.Fail(*unit, "a STEP/IGES file states its own length unit: remove 'unit'");
+    const std::string u = ToString(ctx_, *unit);
+    options.unit = ParseLengthUnit(u);
+    if (!options.unit) ctx_.Fail(*unit, "unknown length unit '" + u + "' (expected " + kLengthUnitChoices + ")");
+  } else if (!cad) {
+    m.FailMissing("unit", "missing required key 'unit': a mesh file has no unit of its own (" +
+                              std::string(kLengthUnitChoices) + ")");
+  }
+  const Item density_item = m.Need("density");
+  const double density = ToNumber(ctx_, density_item);
+  if (!(density > 0) || !std::isfinite(density))
+    ctx_.Fail(density_item, "density must be > 0 (kg/m^3), got " + density_item.node.Scalar());
+  // Read, check, orient; a valid solid boundary only
+  SurfaceMesh surface;
+  MeshCheckReport report;
+  try {
+    surface = ReadSurfaceMesh(file, options);
+    report = CheckMesh(surface.mesh);
+  } catch (const std::exception& e) {
+    ctx_.Fail(file_item, e.what());
+  }
+  if (!report.watertight() || report.non_orientable_components > 0 || report.duplicate_triangles > 0 ||
+      report.self_intersections > 0) {
+    std::string problems;
+    for (const std::string& p : report.Problems())
+      if (p.find("re-oriented") == std::string::npos && p.find("degenerate") == std::string::npos)
+        problems += (problems.empty() ? "" : "; ") + p;
+    ctx_.Fail(file_item, file.string() + ": not a valid solid for mass properties: " + problems);
+  }
+  OrientMesh(surface.mesh, report);
+  MassProperties p;
+  try {
+    p = MassPropertiesOfSolid(surface.mesh, density, report, file.string());
+  } catch (const std::exception& e) {
+    ctx_.Fail(file_item, e.what());
+  }
+  // The contact surface: the whole mesh or one named region
+  TriangleMesh& contact = surfaces_[body];
+  if (const auto region = m.Find("contact_region")) {
+    const std::string name = ToString(ctx_, *region);
+    const auto at = std::find(surface.region_names.begin(), surface.region_names.end(), name);
+    if (at == surface.region_names.end())
+      ctx_.Fail(*region, "no region '" + name + "' in " + file.string() +
+                             SuggestOrList(name, surface.region_names, "regions"));
+    const int r = static_cast<int>(at - surface.region_names.begin());
+    contact.vertices = surface.mesh.vertices;
+    for (std::size_t t = 0; t < surface.mesh.triangles.size(); ++t)
+      if (surface.triangle_region[t] == r) contact.triangles.push_back(surface.mesh.triangles[t]);
+  } else {
+    contact = std::move(surface.mesh);
+  }
+  // Degenerate triangles carry no contact area (the contact surface refuses them)
+  std::erase_if(contact.triangles, [&](const std::array<int, 3>& t) {
+    const Vec3 n = (contact.vertices[t[1]] - contact.vertices[t[0]]).cross(contact.vertices[t[2]] - contact.vertices[t[0]]);
+    return !(n.norm() > 0);
+  });
+  return p;
+}
+
+void Loader::ReadContact(const Item& item, int index) {
+  const MapReader m(ctx_, item, {"type", "name", "body_a", "body_b", "stiffness_per_area", "exponent", "hunt_crossley",
+                                 "friction", "slip_velocity", "margin"});
+  const std::string name = UniqueName(m, forces_, "force element", index);
+  contact::ContactElementSpec spec;
+  spec.name = name;
+  std::shared_ptr<const contact::ContactSurface> surfaces[2];
+  const char* keys[2] = {"body_a", "body_b"};
+  // Each side: a body with a mesh
+  for (int side = 0; side < 2; ++side) {
+    const BodyIndex b = BodyRef(m, keys[side]);
+    const std::string body = ToString(ctx_, m.Need(keys[side]));
+    const auto surface = surfaces_.find(body);
+    if (b == kWorldBody || surface == surfaces_.end())
+      ctx_.Fail(m.Need(keys[side]), "body '" + body + "' has no mesh: a contact needs bodies with a 'mesh:'");
+    (side == 0 ? spec.body_a : spec.body_b) = b;
+  }
+  // The law, in the scene's length unit (stiffness per area N/length^(2+e))
+  contact::ContactLaw& law = spec.law;
+  law.exponent = m.Number("exponent", 1.0);
+  law.stiffness_per_area = m.Number("stiffness_per_area") / std::pow(length_, 2 + law.exponent);
+  law.hunt_crossley_s_per_m = m.Number("hunt_crossley", 0.0) / length_;
+  law.friction_coefficient = m.Number("friction", 0.0);
+  law.slip_velocity_m_s = Length(m.Number("slip_velocity", law.slip_velocity_m_s / length_));
+  const double margin = Length(m.Number("margin"));
+  try {
+    contact::ValidateContactLaw(law);
+    for (int side = 0; side < 2; ++side) {
+      const std::string body = ToString(ctx_, m.Need(keys[side]));
+      surfaces[side] = std::make_shared<const contact::ContactSurface>(std::vector<TriangleMesh>{surfaces_.at(body)}, margin);
+    }
+  } catch (const std::invalid_argument& e) {
+    ctx_.Fail(m.item(), e.what());
+  }
+  spec.surface_a = surfaces[0];
+  spec.surface_b = surfaces[1];
+  Build(m, {}, [&] { builder_.AddExternalForce(std::make_shared<contact::ContactElement>(spec)); });
 }
 
 void Loader::ReadFrame(const Item& item, BodyIndex body) {
@@ -373,7 +503,7 @@ void Loader::ReadDrivers(const MapReader& root) {
 void Loader::ReadForceElements(const MapReader& root) {
   static const std::vector<std::string> kTypes{
       "applied_load",      "joint_load",        "translational_spring", "rotational_spring",
-      "coordinate_spring", "torsional_spring_to_ground", "bushing"};
+      "coordinate_spring", "torsional_spring_to_ground", "bushing", "contact"};
   // Spring keywords in builder messages -> keys.
   const std::initializer_list<std::pair<const char*, const char*>> kSpringKeys{
       {"stiffness", "stiffness"}, {"damping", "damping"}, {"free length", "free_length"},
@@ -381,8 +511,11 @@ void Loader::ReadForceElements(const MapReader& root) {
   int index = 0;
   for (const Item& item : ListItems(ctx_, root.Find("force_elements"))) {
     const std::string type = ItemType(ctx_, item, kTypes);
+    // Contact between the mesh surfaces of two bodies.
+    if (type == "contact") {
+      ReadContact(item, index++);
     // Applied load: force N, torque N m (N length-unit), scale dimensionless.
-    if (type == "applied_load") {
+    } else if (type == "applied_load") {
       const MapReader m(ctx_, item, {"type", "name", "frame", "force", "torque", "scale",
                                      "in_frame_axes"});
       AppliedLoadSpec spec;
@@ -817,6 +950,10 @@ Scene Load(const std::string& text, const std::string& file, const std::string& 
 }  // namespace
 
 Scene LoadScene(const std::string& path, const std::vector<std::string>& overrides) {
+  // A device or a pipe (/dev/zero) would be read without end
+  std::error_code ec;
+  if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
+    throw SceneError(path + ": not a regular file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw SceneError(path + ": cannot open the scene file");
   std::ostringstream text;

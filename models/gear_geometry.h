@@ -52,6 +52,11 @@
 
 namespace orrery::gears {
 
+// The triangle mesh type lives in mbd/ (orrery::TriangleMesh); gears:: names stay valid.
+using orrery::TriangleMesh;
+using orrery::EnclosedVolume;
+using orrery::CountOpenOrInconsistentEdges;
+
 using Vec2 = Eigen::Vector2d;
 
 // inv(a) = tan(a) - a, and its inverse by Newton's method (a in [0, pi/2)).
@@ -245,7 +250,7 @@ class GearPair {
   double b_ = 0, g_ = 0, s_start_ = 0, s_end_ = 0, r_b1_tan_ = 0, j_wt_ = 0;
 };
 
-// ---- 3-D surface meshes (triangle_mesh.h) ---------------------------------------------------
+// ---- 3-D surface meshes (mbd/triangle_mesh.h) ------------------------------------------------
 
 // Flank surface of tooth `tooth` (plus or minus involute flank) with n_profile intervals along
 // the involute (form circle to tip) and n_face intervals across the face width (z in [0, b]),

@@ -12,6 +12,11 @@ packages=(
   libkissfft-dev
   # Plots of `orrery spectrum | compare | octave --png` (tools/plot/*.py, Debian's python3)
   python3 python3-numpy python3-matplotlib python3-h5py
+  # gmsh (a separate program, GPL, never linked): STEP/IGES solids and tetrahedral meshing of
+  # imported parts (import/gmsh_mesher.h); its OpenCASCADE reads the CAD files.
+  gmsh
+  # clang 14 with libFuzzer: the fuzz harnesses of the file readers (tools/fuzz/).
+  clang-14 libfuzzer-14-dev
   # Optimized single-threaded BLAS/LAPACK: Debian's alternatives then point libblas.so.3 at it,
   # which CHOLMOD's supernodal factorization and the Lanczos solves use (a 100k-DOF gear
   # reduction: 49 s instead of 72 s on this project's 2-core machine).

@@ -7,8 +7,11 @@
 //   orrery modes SCENE [--json] [--set key=value ...]
 //   orrery fe-modes MESH.inp --E PA --nu NU --rho KG_M3 [--fix NODESET ...] --modes N [--json]
 //   orrery reduce INPUT.yaml -o BODY.h5 [--json]
-//   orrery reduce MESH.inp -o BODY.h5 --interface NODESET[:rbe2|rbe3] ... [--E PA --nu NU --rho KG_M3]
-//                 [--modes N] [--cutoff-hz F] [--json]
+//   orrery reduce PART -o BODY.h5 --interface NODESET|bore[:rbe2|rbe3] ... [--E PA --nu NU --rho KG_M3]
+//                 [--modes N] [--cutoff-hz F] [--unit U] [--element tet10|tet4] [--curved] [--mesh-size H]
+//                 [--mesh-min-size H] [--curvature N] [--mass M.mtx --dofs TABLE] [--mesh MESH] [--json]
+//                 (PART: .inp, .msh, STEP/IGES, a surface mesh, CalculiX job.sti or Matrix Market K.mtx)
+//   orrery mesh-info FILE [--unit m|cm|mm|in] [--density KG_M3] [--no-self-intersections] [--json]
 //   orrery mesh-stiffness SCENE --mesh NAME [--load N] [--points K] [--json] [--set key=value ...]
 //                         [--flexible [--fe-level L]]
 //   orrery spectrum OUT.h5 --signal PATH [--column C] [--window hann|flattop|rect] [--order MEMBER]
@@ -36,6 +39,7 @@
 #include "tools/cli/fe_modes_command.h"
 #include "tools/cli/inspect_command.h"
 #include "tools/cli/kinematics_command.h"
+#include "tools/cli/mesh_info_command.h"
 #include "tools/cli/mesh_stiffness_command.h"
 #include "tools/cli/modes_command.h"
 #include "tools/cli/octave_command.h"
@@ -217,20 +221,44 @@ int Main(int argc, char** argv) {
   // orrery reduce
   ReduceArgs reduce_args;
   CLI::App* reduce = app.add_subcommand("reduce", "Reduce an FE body (Craig-Bampton) and write a reduced-body file");
-  reduce->add_option("input", reduce_args.input_path, "Reduce input (YAML: generated gear) or mesh file (.inp)")
+  reduce->add_option("input", reduce_args.input_path,
+                     "Reduce input (YAML: generated gear), or a part: mesh (.inp, .msh), STEP/IGES, surface mesh, "
+                     "CalculiX job.sti or Matrix Market K.mtx")
       ->required();
   reduce->add_option("-o,--output", reduce_args.output_path, "Reduced-body file (HDF5)")->required();
   reduce->add_flag("--json", reduce_args.json, "Write JSON to stdout");
   reduce->add_option("--interface", reduce_args.interfaces,
-                     "Interface node set of a mesh input, NODESET[:rbe2|rbe3] (repeatable; the first is the body frame's)")
+                     "Interface of a part, NODESET or bore, optionally :rbe2|:rbe3 (repeatable; the first is the body frame's)")
       ->allow_extra_args(false);
-  reduce->add_option("--E", reduce_args.youngs_modulus_pa, "Young's modulus of a mesh input (Pa)")->check(kPositiveValue);
-  reduce->add_option("--nu", reduce_args.poissons_ratio, "Poisson's ratio of a mesh input")->check(CLI::Range(-1.0, 0.5));
-  reduce->add_option("--rho", reduce_args.density_kg_m3, "Density of a mesh input (kg/m^3)")->check(kPositiveValue);
-  reduce->add_option("--modes", reduce_args.num_modes, "Fixed-interface modes kept, mesh input (default 20)")
+  reduce->add_option("--E", reduce_args.youngs_modulus_pa, "Young's modulus of a part (Pa)")->check(kPositiveValue);
+  reduce->add_option("--nu", reduce_args.poissons_ratio, "Poisson's ratio of a part")->check(CLI::Range(-1.0, 0.5));
+  reduce->add_option("--rho,--density", reduce_args.density_kg_m3, "Density of a part (kg/m^3)")->check(kPositiveValue);
+  reduce->add_option("--modes", reduce_args.num_modes, "Fixed-interface modes kept, part input (default 20)")
       ->check(CLI::Range(0, 100000));
-  reduce->add_option("--cutoff-hz", reduce_args.cutoff_hz, "Keep fixed-interface modes up to this frequency, mesh input")
+  reduce->add_option("--cutoff-hz", reduce_args.cutoff_hz, "Keep fixed-interface modes up to this frequency, part input")
       ->check(kPositiveValue);
+  reduce->add_option("--unit", reduce_args.unit, "Length unit of a surface mesh or .msh part (m, cm, mm, in; default m)");
+  reduce->add_option("--element", reduce_args.element, "Elements gmsh makes of a CAD or surface part (tet10, tet4)");
+  reduce->add_flag("--curved", reduce_args.curved, "CAD part: tet10 midside nodes on the geometry");
+  reduce->add_option("--mesh-size", reduce_args.mesh_size_m, "Largest element size gmsh makes (m)")->check(kPositiveValue);
+  reduce->add_option("--mesh-min-size", reduce_args.mesh_min_size_m, "Smallest element size gmsh makes (m)")
+      ->check(kPositiveValue);
+  reduce->add_option("--curvature", reduce_args.curvature_elements, "gmsh elements per 2 pi of curvature")
+      ->check(CLI::Range(1, 1000));
+  reduce->add_option("--mass", reduce_args.mass_matrix, "Mass matrix (Matrix Market) of a K.mtx input");
+  reduce->add_option("--dofs", reduce_args.dof_table, "DOF table (NODE DIR per row) of a K.mtx input");
+  reduce->add_option("--mesh", reduce_args.mesh_file, "Mesh (.inp, .msh) with the nodes of FE matrices");
+
+  // orrery mesh-info
+  MeshInfoArgs info_args;
+  CLI::App* mesh_info = app.add_subcommand(
+      "mesh-info", "Read a mesh or CAD file: checks (watertight, manifold, orientation) and mass properties");
+  mesh_info->add_option("file", info_args.path, "STL, OBJ, STEP/IGES, .msh, .inp, PLY, glTF, 3MF, ...")->required();
+  mesh_info->add_option("--unit", info_args.unit, "Length unit of the file (m, cm, mm, in; default m)");
+  mesh_info->add_option("--density", info_args.density_kg_m3, "Density (kg/m^3): mass and inertia")
+      ->check(kPositiveValue);
+  mesh_info->add_flag("--no-self-intersections{false}", info_args.self_intersections, "Skip the self-intersection test");
+  mesh_info->add_flag("--json", info_args.json, "Write JSON to stdout");
 
   // orrery mesh-stiffness
   MeshStiffnessArgs ms_args;
@@ -265,7 +293,7 @@ int Main(int argc, char** argv) {
     const std::vector<std::string> stray = app.remaining();
     if (app.get_subcommands().empty() && !stray.empty() && !stray.front().empty())
       reason = stray.front().front() == '-' ? "unknown option '" + stray.front() + "'"
-                                            : "unknown command '" + stray.front() + "' (expected run, inspect, kinematics, modes, fe-modes, reduce, mesh-stiffness, spectrum, compare, octave or plot)";
+                                            : "unknown command '" + stray.front() + "' (expected run, inspect, kinematics, modes, fe-modes, reduce, mesh-info, mesh-stiffness, spectrum, compare, octave or plot)";
     ReportError(std::cerr, reason + "; see orrery --help");
     return kExitUsage;
   }
@@ -282,6 +310,7 @@ int Main(int argc, char** argv) {
   if (reduce->parsed()) return ReduceCommand(reduce_args, std::cout, std::cerr);
   if (mesh_stiffness->parsed()) return MeshStiffnessCommand(ms_args, std::cout, std::cerr);
   if (const std::optional<int> code = signal_commands.Dispatch()) return *code;
+  if (mesh_info->parsed()) return MeshInfoCommand(info_args, std::cout, std::cerr);
   return InspectCommand(inspect_args, std::cout, std::cerr);
 }
 

@@ -1,5 +1,6 @@
 #include "tools/cli/reduce_command.h"
 
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -16,6 +17,8 @@
 #include "flex/flexible_body_modes.h"
 #include "flex/inp_file.h"
 #include "flex/reduced_body_file.h"
+#include "import/length_unit.h"
+#include "import/part_reduction.h"
 #include "import/reduce_input.h"
 #include "models/gear_fe_mesh.h"
 #include "models/gear_geometry.h"
@@ -48,21 +51,12 @@ struct Job {
   flex::CraigBamptonOptions cb_options;
   flex::FlexibleBodyModesOptions outputs;
   std::string source;
-  std::string faults;              // provenance fault text ("" for a mesh file: unknown)
-  std::vector<std::string> notes;  // .inp keywords ignored
+  std::string faults;                 // provenance fault text ("" for a mesh file: unknown)
+  std::vector<std::string> notes;     // .inp keywords ignored, meshing notes
+  std::vector<std::string> warnings;  // e.g. the millimetre warning of a surface mesh
+  std::optional<flex::FeSystem> system;  // external FE matrices (else assembled)
+  std::string matrices_digest;           // external FE matrices: their files' hash
 };
-
-// An interface over a node set; `where` prefixes the error of an unknown set.
-flex::FeInterface Interface(const flex::FeMesh& mesh, const std::string& name, const std::string& node_set,
-                            flex::InterfaceKind kind, const std::string& where) {
-  try {
-    flex::FeInterface i = flex::MakeInterface(mesh, node_set, kind);
-    i.name = name;
-    return i;
-  } catch (const std::invalid_argument& e) {
-    throw std::runtime_error(where + ": " + e.what());
-  }
-}
 
 // A generated gear from a reduce input file.
 Job GearJob(const std::string& path) {
@@ -78,37 +72,44 @@ Job GearJob(const std::string& path) {
   return job;
 }
 
-// A mesh file with interfaces and material from the command line.
-Job InpJob(const ReduceArgs& args) {
-  Job job;
+// A part (mesh, CAD, surface or FE matrices) with interfaces and material from the command line.
+Job PartJob(const ReduceArgs& args) {
   const int given = args.youngs_modulus_pa.has_value() + args.poissons_ratio.has_value() + args.density_kg_m3.has_value();
-  if (given != 0 && given != 3) throw std::runtime_error("give all of --E, --nu and --rho (or none, to use the mesh file's materials)");
-  if (args.interfaces.empty())
-    throw std::runtime_error("a mesh input needs --interface NODESET[:rbe2|rbe3] (the first is the body frame's)");
-  flex::InpReadResult read = flex::ReadInp(args.input_path);
-  job.mesh = std::move(read.mesh);
-  job.notes = std::move(read.notes);
-  if (given == 3) {
-    job.mesh.AssignMaterialToAll({.name = "CLI", .youngs_modulus_pa = *args.youngs_modulus_pa,
-                                  .poissons_ratio = *args.poissons_ratio, .density_kg_m3 = *args.density_kg_m3});
-  } else if (job.mesh.materials().empty()) {
-    throw std::runtime_error(args.input_path + " has no *MATERIAL / *SOLID SECTION: give --E, --nu and --rho");
+  if (given != 0 && given != 3) throw std::runtime_error("give all of --E, --nu and --rho (--density), or none");
+  PartReductionInput in{.input = args.input_path,
+                        .interfaces = args.interfaces,
+                        .modes = args.num_modes.value_or(20),
+                        .cutoff_hz = args.cutoff_hz.value_or(0),
+                        .mass_matrix = args.mass_matrix,
+                        .dof_table = args.dof_table,
+                        .mesh_file = args.mesh_file};
+  if (!args.unit.empty()) {
+    in.unit = ParseLengthUnit(args.unit);
+    if (!in.unit) throw std::runtime_error("--unit " + args.unit + ": expected " + kLengthUnitChoices);
   }
-  for (const std::string& spec : args.interfaces) {
-    // NODESET or NODESET:KIND
-    const std::size_t colon = spec.rfind(':');
-    const std::string set = spec.substr(0, colon);
-    const std::string kind = colon == std::string::npos ? "rbe2" : spec.substr(colon + 1);
-    if (set.empty() || (kind != "rbe2" && kind != "rbe3"))
-      throw std::runtime_error("--interface " + spec + ": expected NODESET, NODESET:rbe2 or NODESET:rbe3");
-    job.interfaces.push_back(Interface(job.mesh, flex::UpperName(set), set,
-                                       kind == "rbe3" ? flex::InterfaceKind::kRbe3 : flex::InterfaceKind::kRbe2,
-                                       "--interface " + spec));
-    job.interface_sets.push_back(set);
-  }
-  job.cb_options = {.num_modes = args.num_modes.value_or(20), .cutoff_hz = args.cutoff_hz.value_or(0)};
-  job.outputs = {.stress_modes = true, .geometric_stiffness = true};
-  job.source = "mesh file " + args.input_path;
+  if (given == 3)
+    in.material = flex::IsotropicMaterial{.name = "CLI", .youngs_modulus_pa = *args.youngs_modulus_pa,
+                                          .poissons_ratio = *args.poissons_ratio,
+                                          .density_kg_m3 = *args.density_kg_m3};
+  if (!args.element.empty() && args.element != "tet10" && args.element != "tet4")
+    throw std::runtime_error("--element " + args.element + ": expected tet10 or tet4");
+  in.meshing.order = args.element == "tet4" ? 1 : 2;
+  in.meshing.curved = args.curved;
+  in.meshing.max_size_m = args.mesh_size_m.value_or(0);
+  in.meshing.min_size_m = args.mesh_min_size_m.value_or(0);
+  in.meshing.curvature_elements = args.curvature_elements.value_or(0);
+  PartReduction p = PreparePartReduction(in);
+  Job job;
+  job.mesh = std::move(p.mesh);
+  job.interfaces = std::move(p.interfaces);
+  job.interface_sets = std::move(p.interface_sets);
+  job.cb_options = p.cb_options;
+  job.outputs = std::move(p.outputs);
+  job.source = std::move(p.source);
+  job.notes = std::move(p.notes);
+  job.warnings = std::move(p.warnings);
+  job.system = std::move(p.system);
+  job.matrices_digest = std::move(p.matrices_digest);
   return job;
 }
 
@@ -134,12 +135,15 @@ int ReduceCommand(const ReduceArgs& args, std::ostream& out, std::ostream& err) 
     ReportError(err, "input file " + args.input_path + ": no such file");
     return kExitFailure;
   }
-  const std::string extension = std::filesystem::path(args.input_path).extension().string();
-  const bool inp = extension == ".inp" || extension == ".INP";
-  if (!inp && (args.youngs_modulus_pa || args.poissons_ratio || args.density_kg_m3 || !args.interfaces.empty() ||
-               args.num_modes || args.cutoff_hz)) {
-    ReportError(err, "--E, --nu, --rho, --interface, --modes and --cutoff-hz go with a mesh (.inp) input; " +
-                         args.input_path + " states them itself");
+  std::string extension = std::filesystem::path(args.input_path).extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const bool yaml = extension == ".yaml" || extension == ".yml";
+  if (yaml && (args.youngs_modulus_pa || args.poissons_ratio || args.density_kg_m3 || !args.interfaces.empty() ||
+               args.num_modes || args.cutoff_hz || !args.unit.empty() || args.mesh_size_m || args.mesh_min_size_m ||
+               args.curvature_elements || !args.element.empty() || args.curved || !args.mass_matrix.empty() ||
+               !args.dof_table.empty() || !args.mesh_file.empty())) {
+    ReportError(err, "--E, --nu, --rho, --interface, --modes, --cutoff-hz, --unit, meshing and matrix options go with a "
+                     "part input (mesh, CAD or matrices); " + args.input_path + " states them itself");
     return kExitFailure;
   }
   Job job;
@@ -151,10 +155,17 @@ int ReduceCommand(const ReduceArgs& args, std::ostream& out, std::ostream& err) 
   try {
     // Mesh, material, interfaces
     auto start = std::chrono::steady_clock::now();
-    job = inp ? InpJob(args) : GearJob(args.input_path);
+    job = yaml ? GearJob(args.input_path) : PartJob(args);
     t_mesh = Since(start);
-    // Assembly, reduction and what the engine needs
-    Reduction reduction = ReduceBody(job.mesh, job.interfaces, job.cb_options, job.outputs, job.source, job.faults);
+    for (const std::string& w : job.warnings) err << "orrery: warning: " << w << "\n";
+    // Assembly (or the given matrices), reduction and what the engine needs
+    Reduction reduction =
+        job.system ? ReduceAssembledBody(job.mesh, std::move(*job.system), job.interfaces, job.cb_options, job.outputs,
+                                         job.source, job.faults)
+                   : ReduceBody(job.mesh, job.interfaces, job.cb_options, job.outputs, job.source, job.faults);
+    if (!job.matrices_digest.empty())
+      reduction.body.provenance.mesh_hash =
+          flex::Fnv1a64Hex(reduction.body.provenance.mesh_hash + "+" + job.matrices_digest);
     dofs = reduction.system.K.rows();
     t_assembly = reduction.assembly_s;
     t_reduction = reduction.reduction_s;

@@ -3,12 +3,22 @@
 // reduced-body file (flex/reduced_body_file.h, layout in docs/reduced_bodies.md) for the scenes
 // that use it.
 //
-// INPUT is either
-//   - a reduce input file (YAML, import/reduce_input.h): a generated gear (models/gear_fe_mesh.h),
-//     its material, interfaces, number of modes and outputs; or
-//   - a mesh MESH.inp (flex/inp_file.h) with --interface NODESET[:rbe2|rbe3] (repeatable; the
-//     first is the reference, the body frame's interface), --modes N [--cutoff-hz F] and the
-//     material by --E/--nu/--rho (all three, or none to use the file's).
+// INPUT is chosen by its extension:
+//   - .yaml / .yml: a reduce input file (import/reduce_input.h): a generated gear
+//     (models/gear_fe_mesh.h), its material, interfaces, number of modes and outputs;
+//   - anything else is a part (import/part_reduction.h), with --interface SPEC[:rbe2|rbe3]
+//     (repeatable; the first is the reference, the body frame's interface; SPEC a node set, or
+//     `bore`), --modes N [--cutoff-hz F]:
+//       a volume mesh MESH.inp / MESH.msh, material by --E/--nu/--rho (all three, or for .inp none
+//         to use the file's; --density is --rho); .msh coordinates in --unit (default m);
+//       a STEP/IGES solid (its own unit) or a watertight surface mesh (STL, OBJ, PLY, glTF, 3MF,
+//         ...; --unit, default m), tetrahedralized by gmsh (import/gmsh_mesher.h) with
+//         --element tet10|tet4 (default tet10, straight-sided; --curved: on the CAD geometry),
+//         --mesh-size H and --mesh-min-size H (m), --curvature N (elements per 2 pi of
+//         curvature), then --E/--nu/--rho;
+//       a user's FE matrices: CalculiX job.sti (with job.mas, job.dof and the mesh job.inp beside
+//         it, or --mesh) or a Matrix Market stiffness K.mtx with --mass M.mtx, --dofs TABLE and
+//         --mesh MESH (import/fe_matrices.h).
 // Steps: mesh, assembly, Craig-Bampton reduction (flex/craig_bampton.h), the engine's modes and
 // invariants (flex/flexible_body_modes.h, with stress modes and geometric stiffness unless
 // switched off), the full FE model's frequencies under the same boundary condition (the
@@ -40,11 +50,17 @@ struct ReduceArgs {
   std::string input_path;
   std::string output_path;
   bool json = false;
-  // For a .inp input only:
+  // For part inputs only (not .yaml):
   std::optional<double> youngs_modulus_pa, poissons_ratio, density_kg_m3;
-  std::vector<std::string> interfaces;  // "NODESET" or "NODESET:rbe2" / "NODESET:rbe3"
+  std::vector<std::string> interfaces;  // "SPEC" or "SPEC:rbe2" / "SPEC:rbe3"
   std::optional<int> num_modes;         // default 20
   std::optional<double> cutoff_hz;
+  std::string unit;                     // "" or m, cm, mm, in
+  std::optional<double> mesh_size_m, mesh_min_size_m;
+  std::optional<int> curvature_elements;
+  std::string element;                  // "" (tet10), "tet10", "tet4"
+  bool curved = false;                  // CAD tet10 with midside nodes on the geometry
+  std::string mass_matrix, dof_table, mesh_file;
 };
 
 int ReduceCommand(const ReduceArgs& args, std::ostream& out, std::ostream& err);
