@@ -324,7 +324,8 @@ StudyOutput ReadOutput(const Context& ctx, const Item& item) {
 // Column names of the index that outputs and parameters must not take.
 const std::set<std::string>& ReservedColumns() {
   static const std::set<std::string> kReserved{"run", "status", "exit_status", "reason", "wall_time_s",
-                                               "cpu_time_s", "peak_memory_mib", "result_file"};
+                                               "cpu_time_s", "peak_memory_mib", "rank", "host",
+                                               "result_file"};
   return kReserved;
 }
 

@@ -12,6 +12,9 @@ packages=(
   libkissfft-dev
   # Plots of `orrery spectrum | compare | octave --png` (tools/plot/*.py, Debian's python3)
   python3 python3-numpy python3-matplotlib python3-h5py
+  # `mpirun -n N orrery study ...`: Open MPI (the study's MPI plugin links it; the orrery program
+  # itself runs without it)
+  libopenmpi-dev openmpi-bin
   # Optimized single-threaded BLAS/LAPACK: Debian's alternatives then point libblas.so.3 at it,
   # which CHOLMOD's supernodal factorization and the Lanczos solves use (a 100k-DOF gear
   # reduction: 49 s instead of 72 s on this project's 2-core machine).

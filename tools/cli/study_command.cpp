@@ -30,6 +30,9 @@ std::string ReadText(const std::string& path) {
   return text.str();
 }
 
+// "1 run", "2 runs"
+std::string Count(int n, const std::string& what) { return std::to_string(n) + " " + what + (n == 1 ? "" : "s"); }
+
 void SummaryLine(std::ostream& out, const char* label, const std::string& value) {
   char buffer[32];
   std::snprintf(buffer, sizeof buffer, "%-20s", label);
@@ -129,7 +132,7 @@ int RunLocal(const StudyArgs& args, std::ostream& out, std::ostream& err) {
   BlockChildSignal();
   const StudyRunOptions options = RunOptions(args, s.plan, 1);
   const StudyOutcome o = RunStudyLocal(s.plan, *s.folder, s.hash, options, err);
-  return Summary(args, s, o, std::to_string(options.jobs) + " runs at a time", out, err);
+  return Summary(args, s, o, Count(options.jobs, "run") + " at a time", out, err);
 }
 
 // Every rank reads the study; rank 0 also prepares it and tells the others whether to go
@@ -187,8 +190,8 @@ int RunMpi(const StudyArgs& args, std::ostream& out, std::ostream& err) {
     }
     const StudyOutcome o = CoordinateStudyMpi(s->plan, *s->folder, s->hash, options, *mpi, err);
     return Summary(args, *s, o,
-                   "MPI, " + std::to_string(mpi->size()) + " ranks x " + std::to_string(options.jobs) +
-                       " runs at a time (" + mpi->library() + ")",
+                   "MPI, " + Count(mpi->size(), "rank") + " x " + Count(options.jobs, "run") + " at a time (" +
+                       mpi->library() + ")",
                    out, err);
   } catch (const std::exception& e) {
     ReportError(err, "rank " + std::to_string(mpi->rank()) + ": " + e.what());

@@ -1,5 +1,7 @@
 #include "tools/study/run_pool.h"
 
+#include <unistd.h>
+
 #include <csignal>
 #include <cstring>
 #include <filesystem>
@@ -44,6 +46,8 @@ std::string FailureLine(const std::string& log_path) {
 RunPool::RunPool(const StudyPlan& plan, const StudyFolder& folder, RunPoolOptions options)
     : plan_(plan), folder_(folder), options_(std::move(options)) {
   if (options_.slots < 1) options_.slots = 1;
+  char host[256] = {0};
+  if (gethostname(host, sizeof host - 1) == 0) host_ = host;
 }
 
 std::vector<int> RunPool::Running() const {
@@ -75,6 +79,8 @@ void RunPool::Start(int run) {
     r.exit_status = -1;
     r.wall_time_s = r.cpu_time_s = r.peak_memory_mib = 0;
     r.reason = e.what();
+    r.rank = options_.rank;
+    r.host = host_;
     r.outputs.assign(plan_.study.outputs.size(), kNaN);
     r.units.assign(plan_.study.outputs.size(), "");
     failed_to_start_.push_back(r);
@@ -88,6 +94,8 @@ RunRecord RunPool::Finish(const Active& active, const ProcessExit& exit) const {
   r.wall_time_s = exit.wall_time_s;
   r.cpu_time_s = exit.cpu_time_s;
   r.peak_memory_mib = exit.peak_memory_mib;
+  r.rank = options_.rank;
+  r.host = host_;
   r.outputs.assign(plan_.study.outputs.size(), kNaN);
   r.units.assign(plan_.study.outputs.size(), "");
   // A failed run: the reason from its log or its signal

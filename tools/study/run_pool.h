@@ -40,6 +40,7 @@ struct RunPoolOptions {
   std::string executable;  // the orrery program (SelfExecutable())
   int slots = 1;           // runs at a time, >= 1
   double kill_grace_s = 10;  // from SIGTERM to SIGKILL for a run over its wall-time limit
+  int rank = 0;              // MPI rank of this process, for the records
 };
 
 class RunPool {
@@ -79,6 +80,7 @@ class RunPool {
   const StudyPlan& plan_;
   const StudyFolder& folder_;
   RunPoolOptions options_;
+  std::string host_;
   std::vector<Active> active_;
   std::vector<RunRecord> failed_to_start_;
 };

@@ -62,6 +62,8 @@ std::string EncodeRunRecord(const RunRecord& r, const std::vector<std::string>& 
   s += "\nwall_time_s " + Hex(r.wall_time_s);
   s += "\ncpu_time_s " + Hex(r.cpu_time_s);
   s += "\npeak_memory_mib " + Hex(r.peak_memory_mib);
+  s += "\nrank " + std::to_string(r.rank);
+  s += "\nhost " + OneLine(r.host);
   s += "\nreason " + OneLine(r.reason);
   for (std::size_t i = 0; i < r.outputs.size(); ++i) {
     s += "\noutput " + std::to_string(i) + " " + Hex(r.outputs[i]);
@@ -108,6 +110,10 @@ RunRecord DecodeRunRecord(std::string_view text) {
       r.cpu_time_s = ParseHex(value, number);
     } else if (key == "peak_memory_mib") {
       r.peak_memory_mib = ParseHex(value, number);
+    } else if (key == "rank") {
+      r.rank = ParseInt(value, number);
+    } else if (key == "host") {
+      r.host = value;
     } else if (key == "reason") {
       r.reason = value;
     } else if (key == "output") {

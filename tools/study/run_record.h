@@ -10,6 +10,8 @@
 //   wall_time_s 0x1.3ae147ae147aep-1
 //   cpu_time_s 0x1.2ae147ae147aep-1
 //   peak_memory_mib 0x1.2cp+5
+//   rank 1                         the MPI rank that ran it (0 without MPI)
+//   host node17                    the machine it ran on
 //   reason <one line>              "" for ok
 //   output 0 0x1.8p+3 N            index of the study output, value, unit (rest of the line)
 //   parameter solver.step=1e-4     for a reader; not read back
@@ -41,6 +43,8 @@ struct RunRecord {
   double wall_time_s = 0;       // from start to exit, measured by the study
   double cpu_time_s = 0;        // user + system time of the run's process (getrusage)
   double peak_memory_mib = 0;   // the run process's maximum resident set size (getrusage)
+  int rank = 0;                 // the MPI rank that ran it (0 without MPI)
+  std::string host;             // the machine it ran on (gethostname)
   std::string reason;           // one line; "" for ok
   std::vector<double> outputs;  // one per study output, NaN when not extracted
   std::vector<std::string> units;  // unit of each output ("" when unknown)

@@ -76,8 +76,8 @@ void WriteHdf5(const StudyPlan& plan, const StudyFolder& folder, const std::vect
   const std::size_t n = records.size();
   ResultFile out = ResultFile::Create(path);
   // Runs
-  std::vector<std::int64_t> run(n), exit_status(n);
-  std::vector<std::string> status(n), reason(n), result(n);
+  std::vector<std::int64_t> run(n), exit_status(n), rank(n);
+  std::vector<std::string> status(n), reason(n), result(n), host(n);
   std::vector<double> wall(n, kNaN), cpu(n, kNaN), memory(n, kNaN);
   for (std::size_t i = 0; i < n; ++i) {
     run[i] = static_cast<std::int64_t>(i);
@@ -87,6 +87,8 @@ void WriteHdf5(const StudyPlan& plan, const StudyFolder& folder, const std::vect
     exit_status[i] = r ? r->exit_status : 0;
     if (!r) continue;
     reason[i] = r->reason;
+    rank[i] = r->rank;
+    host[i] = r->host;
     wall[i] = r->wall_time_s, cpu[i] = r->cpu_time_s, memory[i] = r->peak_memory_mib;
   }
   out.WriteIntVector("/runs/run", run);
@@ -94,6 +96,8 @@ void WriteHdf5(const StudyPlan& plan, const StudyFolder& folder, const std::vect
   out.WriteIntVector("/runs/exit_status", exit_status);
   out.WriteStrings("/runs/reason", reason);
   out.WriteStrings("/runs/result_file", result);
+  out.WriteIntVector("/runs/rank", rank);
+  out.WriteStrings("/runs/host", host);
   out.WriteVector("/runs/wall_time_s", wall, "s");
   out.WriteVector("/runs/cpu_time_s", cpu, "s");
   out.WriteVector("/runs/peak_memory_mib", memory, "MiB");
@@ -152,7 +156,7 @@ std::string StudyIndexCsv(const StudyPlan& plan, const StudyFolder& folder,
   };
   for (const std::string& key : plan.parameters) field(CsvField(key));
   for (const StudyOutput& o : plan.study.outputs) field(CsvField(o.name));
-  csv += ",wall_time_s,cpu_time_s,peak_memory_mib,exit_status,reason,result_file\n";
+  csv += ",wall_time_s,cpu_time_s,peak_memory_mib,exit_status,reason,rank,host,result_file\n";
   // One row per run
   const std::vector<ParameterColumn> columns = ParameterColumns(plan);
   for (std::size_t i = 0; i < records.size(); ++i) {
@@ -166,8 +170,10 @@ std::string StudyIndexCsv(const StudyPlan& plan, const StudyFolder& folder,
       for (double x : {r->wall_time_s, r->cpu_time_s, r->peak_memory_mib}) field(Number(x));
       field(std::to_string(r->exit_status));
       field(CsvField(r->reason));
+      field(std::to_string(r->rank));
+      field(CsvField(r->host));
     } else {
-      csv += ",,,,,";
+      csv += ",,,,,,,";
     }
     field(CsvField(RelativeResult(folder, static_cast<int>(i))));
     csv += '\n';

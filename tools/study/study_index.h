@@ -11,12 +11,13 @@
 //   wall_time_s, cpu_time_s, peak_memory_mib    measured for the run's process
 //   exit_status         the run's exit code (128 + n for signal n; -1: did not start)
 //   reason              why a run failed ("" for ok)
+//   rank, host          the MPI rank (0 without MPI) and the machine that ran it
 //   result_file         the run's result file, relative to the study folder
 //
 // CSV: RFC 4180 (a header line, fields with commas, quotes or line breaks quoted); numbers as
 // the shortest text that reads back as the same double (std::to_chars), NaN as "nan", an empty
 // field where a pending run has no value.
-// HDF5: /runs/{run, status, exit_status, reason, result_file, wall_time_s, cpu_time_s,
+// HDF5: /runs/{run, status, exit_status, reason, rank, host, result_file, wall_time_s, cpu_time_s,
 // peak_memory_mib}, /parameters/<key> (with /parameters/keys listing the keys in order),
 // /outputs/<name> with its "unit" (from the first run that had one; /outputs/names in order);
 // root attributes study, study_file, study_hash, scene, runs, ok, failed, output_failed, pending.

@@ -161,7 +161,7 @@ StudyOutcome CoordinateStudyMpi(const StudyPlan& plan, const StudyFolder& folder
   o.done_before = static_cast<int>(o.records.size() - queue.size());
   StudyProgress progress(err, options.progress, plan.study.name, static_cast<int>(plan.runs.size()), o.done_before);
   IndexWriter index(plan, folder, study_hash, options.index_interval_s);
-  RunPool pool(plan, folder, {.executable = options.executable, .slots = options.jobs, .kill_grace_s = options.stop_grace_s});
+  RunPool pool(plan, folder, {.executable = options.executable, .slots = options.jobs, .kill_grace_s = options.stop_grace_s, .rank = 0});
   std::set<int> handed_out;  // runs given to other ranks, no record yet
   std::set<int> finished;    // ranks that said kTagFinished
   bool stopping = false;
@@ -223,7 +223,8 @@ StudyOutcome WorkStudyMpi(const StudyPlan& plan, const StudyFolder& folder, cons
                           const MpiSession& mpi) {
   const auto start = Clock::now();
   StudyOutcome o;
-  RunPool pool(plan, folder, {.executable = options.executable, .slots = options.jobs, .kill_grace_s = options.stop_grace_s});
+  RunPool pool(plan, folder,
+               {.executable = options.executable, .slots = options.jobs, .kill_grace_s = options.stop_grace_s, .rank = mpi.rank()});
   bool asked = false, nothing_left = false, stopping = false;
   for (;;) {
     // Stop on a signal or when rank 0 says so

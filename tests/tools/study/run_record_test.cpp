@@ -22,6 +22,8 @@ TEST(RunRecordTest, RoundTripKeepsEveryBit) {
   r.cpu_time_s = std::nextafter(1.0, 2.0);
   r.peak_memory_mib = 28.21875;
   r.reason = "output 'x': run.h5: /a: no such dataset";
+  r.rank = 17;
+  r.host = "node 3";
   r.outputs = {std::numeric_limits<double>::quiet_NaN(), -0.0, std::numeric_limits<double>::denorm_min(),
                std::numeric_limits<double>::infinity(), -1.0 / 3.0, 6.02214076e23};
   r.units = {"N", "N m", "", "rad/s", "m/s^2", "1"};
@@ -34,6 +36,8 @@ TEST(RunRecordTest, RoundTripKeepsEveryBit) {
   EXPECT_TRUE(SameBits(b.cpu_time_s, r.cpu_time_s));
   EXPECT_TRUE(SameBits(b.peak_memory_mib, r.peak_memory_mib));
   EXPECT_EQ(b.reason, r.reason);
+  EXPECT_EQ(b.rank, 17);
+  EXPECT_EQ(b.host, "node 3");
   ASSERT_EQ(b.outputs.size(), r.outputs.size());
   EXPECT_TRUE(std::isnan(b.outputs[0]));
   for (std::size_t i = 1; i < r.outputs.size(); ++i) EXPECT_TRUE(SameBits(b.outputs[i], r.outputs[i])) << i;

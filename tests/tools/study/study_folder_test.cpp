@@ -108,17 +108,17 @@ TEST_F(StudyFolderFileTest, IndexTablesHoldParametersOutputsAndFailures) {
   const StudyFolder folder = StudyFolder::Prepare((dir_ / "s").string(), "s.yaml", "x", "y", 4, warn);
   std::vector<std::optional<RunRecord>> records(4);
   records[0] = RunRecord{.run = 0, .status = RunStatus::kOk, .exit_status = 0, .wall_time_s = 1.5, .cpu_time_s = 1.25,
-                         .peak_memory_mib = 30, .reason = "", .outputs = {0.1 + 0.2}, .units = {"N"}};
+                         .peak_memory_mib = 30, .rank = 0, .host = "n1", .reason = "", .outputs = {0.1 + 0.2}, .units = {"N"}};
   records[2] = RunRecord{.run = 2, .status = RunStatus::kFailed, .exit_status = 1, .wall_time_s = 0.5, .cpu_time_s = 0.5,
-                         .peak_memory_mib = 20, .reason = "mass \"m\" must be positive, got -1",
+                         .peak_memory_mib = 20, .rank = 3, .host = "n2", .reason = "mass \"m\" must be positive, got -1",
                          .outputs = {std::numeric_limits<double>::quiet_NaN()}, .units = {""}};
   const std::string csv = StudyIndexCsv(plan, folder, records);
   EXPECT_EQ(csv,
-            "run,status,m,k,f,wall_time_s,cpu_time_s,peak_memory_mib,exit_status,reason,result_file\n"
-            "0,ok,1,ida,0.30000000000000004,1.5,1.25,30,0,,runs/run_00000.h5\n"
-            "1,pending,1,\"\"\"x,y\"\"\",,,,,,,runs/run_00001.h5\n"
-            "2,failed,0.1,ida,nan,0.5,0.5,20,1,\"mass \"\"m\"\" must be positive, got -1\",runs/run_00002.h5\n"
-            "3,pending,0.1,\"\"\"x,y\"\"\",,,,,,,runs/run_00003.h5\n");
+            "run,status,m,k,f,wall_time_s,cpu_time_s,peak_memory_mib,exit_status,reason,rank,host,result_file\n"
+            "0,ok,1,ida,0.30000000000000004,1.5,1.25,30,0,,0,n1,runs/run_00000.h5\n"
+            "1,pending,1,\"\"\"x,y\"\"\",,,,,,,,,runs/run_00001.h5\n"
+            "2,failed,0.1,ida,nan,0.5,0.5,20,1,\"mass \"\"m\"\" must be positive, got -1\",3,n2,runs/run_00002.h5\n"
+            "3,pending,0.1,\"\"\"x,y\"\"\",,,,,,,,,runs/run_00003.h5\n");
   // HDF5: the same, with units and counts
   WriteStudyIndex(plan, folder, records, "0123");
   const Hdf5Reader h5(folder.IndexHdf5Path());
