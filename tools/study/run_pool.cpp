@@ -109,8 +109,7 @@ RunRecord RunPool::Finish(const Active& active, const ProcessExit& exit) const {
       r.reason = FailureLine(folder_.LogPath(active.run));
       if (r.reason.empty()) r.reason = "exit status " + std::to_string(exit.exit_status);
     }
-    if (plan_.study.limits.memory_mib > 0 && (r.reason.find("bad_alloc") != std::string::npos || exit.signal != 0))
-      r.reason += " (memory limit " + Seconds(plan_.study.limits.memory_mib) + " MiB)";
+    if (plan_.study.limits.memory_mib > 0) r.reason += " (memory limit " + Seconds(plan_.study.limits.memory_mib) + " MiB)";
     return r;
   }
   // A finished run: its outputs

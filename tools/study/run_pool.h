@@ -10,6 +10,8 @@
 //                          last such line), else its last line
 //   ended by a signal      failed; reason "killed by signal N (name)" (a crash, the OOM killer)
 //   over the wall limit    stopped (SIGTERM, SIGKILL 10 s later) and failed, reason naming it
+// (with a memory limit, a failure's reason ends with "(memory limit N MiB)": running out of it
+// shows as std::bad_alloc, a failed mapping or a signal, whichever comes first)
 // and writes the record as the run's completion marker (study_folder.h) before handing it out.
 // Runs stopped by StopAll (the study interrupted) get no record and no marker: they are run
 // again when the study resumes.

@@ -74,6 +74,17 @@ TEST_F(StudyCliTest, RunOverItsWallTimeLimitIsStopped) {
   EXPECT_GT(Hdf5Reader(Path("out/runs/run_00000.h5")).ReadVector("/time").size(), 1u);
 }
 
+TEST_F(StudyCliTest, MemoryLimitFailsTheRunNotTheStudy) {
+  // 20 MiB of address space: the run cannot get what it needs (its resident set alone is ~25 MiB)
+  const std::string study = Write("s.yaml", "scene: pendulum.yaml\nend_time: 0.1\nlimits: {memory_mib: 20}\n");
+  const CommandResult r = Study(study + " -o " + Path("out"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto csv = ReadCsv(Path("out/index.csv"));
+  ASSERT_EQ(csv.size(), 2u);
+  EXPECT_EQ(csv[1][1], "failed");
+  EXPECT_NE(csv[1][6].find("(memory limit 20 MiB)"), std::string::npos) << csv[1][6];
+}
+
 // (inode, modification time) of a file: a file rewritten or replaced differs
 std::pair<ino_t, long long> Identity(const std::string& path) {
   struct stat s {};
