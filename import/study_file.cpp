@@ -49,7 +49,8 @@ void EmitFlow(YAML::Emitter& out, const YAML::Node& n) {
 }
 
 std::string ValueText(const Context& ctx, const Item& it) {
-  if (!it.node.IsDefined() || it.node.IsNull()) ctx.Fail(it, "expected a value, got nothing (null)");
+  if (!it.node.IsDefined() || it.node.IsNull())
+    ctx.Fail(it, "expected a value, got nothing (null)");
   if (it.node.IsScalar() && it.node.Tag() != "!") return it.node.Scalar();
   YAML::Emitter out;
   EmitFlow(out, it.node);
@@ -92,12 +93,15 @@ StudyRange ReadRange(const Context& ctx, const Item& item) {
     r.step = ToNumber(ctx, *step);
     if (r.log) ctx.Fail(*m.Find("spacing"), "log spacing takes a 'count', not a 'step'");
     if (r.step == 0 || (r.stop - r.start) * r.step < 0)
-      ctx.Fail(*step, "the step must be non-zero and point from start toward stop, got " + step->node.Scalar());
-    if ((r.stop - r.start) / r.step > 1e6) ctx.Fail(*step, "more than 10^6 values from start to stop");
+      ctx.Fail(*step, "the step must be non-zero and point from start toward stop, got " +
+                          step->node.Scalar());
+    if ((r.stop - r.start) / r.step > 1e6)
+      ctx.Fail(*step, "more than 10^6 values from start to stop");
   } else {
     const Item count = m.Need("count");
     r.count = ToInt(ctx, count);
-    if (r.count < 1) ctx.Fail(count, "an axis needs at least one value, got count " + count.node.Scalar());
+    if (r.count < 1)
+      ctx.Fail(count, "an axis needs at least one value, got count " + count.node.Scalar());
     if (r.count > 1000000) ctx.Fail(count, "more than 10^6 values");
   }
   if (r.log && !(r.start > 0 && r.stop > 0)) ctx.Fail(item, "log spacing needs start and stop > 0");
@@ -116,9 +120,12 @@ StudyAxis ReadAxis(const Context& ctx, const Item& item, KeyRegistry& keys) {
   keys.Add(axis.key, key);
   if (m.Has("values") == m.Has("range")) ctx.Fail(item, "give either 'values' or 'range'");
   if (const auto values = m.Find("values")) {
-    if (!values->node.IsSequence()) ctx.Fail(*values, "expected a list of values, got " + Describe(values->node));
-    if (values->node.size() == 0) ctx.Fail(*values, "an axis needs at least one value, got an empty list");
-    for (size_t i = 0; i < values->node.size(); ++i) axis.values.push_back(ValueText(ctx, Element(*values, i)));
+    if (!values->node.IsSequence())
+      ctx.Fail(*values, "expected a list of values, got " + Describe(values->node));
+    if (values->node.size() == 0)
+      ctx.Fail(*values, "an axis needs at least one value, got an empty list");
+    for (size_t i = 0; i < values->node.size(); ++i)
+      axis.values.push_back(ValueText(ctx, Element(*values, i)));
   } else {
     axis.range = ReadRange(ctx, m.Need("range"));
     for (const double v : ExpandStudyRange(*axis.range)) axis.values.push_back(RangeValueText(v));
@@ -134,7 +141,8 @@ StudyBlock ReadRandom(const Context& ctx, const Item& item, KeyRegistry& keys) {
   block.kind = StudyBlock::Kind::kRandom;
   const Item samples = m.Need("samples");
   block.samples = ToInt(ctx, samples);
-  if (block.samples < 1) ctx.Fail(samples, "needs at least one sample, got " + samples.node.Scalar());
+  if (block.samples < 1)
+    ctx.Fail(samples, "needs at least one sample, got " + samples.node.Scalar());
   const Item seed = m.Need("seed");
   const int seed_value = ToInt(ctx, seed);
   if (seed_value < 0) ctx.Fail(seed, "must be >= 0, got " + seed.node.Scalar());
@@ -155,7 +163,8 @@ StudyBlock ReadRandom(const Context& ctx, const Item& item, KeyRegistry& keys) {
       r.distribution = StudyDistribution::kChoice;
       if (!choice->node.IsSequence() || choice->node.size() == 0)
         ctx.Fail(*choice, "expected a non-empty list of values, got " + Describe(choice->node));
-      for (size_t i = 0; i < choice->node.size(); ++i) r.choices.push_back(ValueText(ctx, Element(*choice, i)));
+      for (size_t i = 0; i < choice->node.size(); ++i)
+        r.choices.push_back(ValueText(ctx, Element(*choice, i)));
       continue;
     }
     const bool log = km.Has("log_uniform");
@@ -181,8 +190,9 @@ StudyBlock ReadBlock(const Context& ctx, const Item& item, KeyRegistry& keys) {
     for (const Item& a : items) {
       block.axes.push_back(ReadAxis(ctx, a, keys));
       if (AxisLength(block.axes.back()) != AxisLength(block.axes.front()))
-        ctx.Fail(a, "zipped axes need equal lengths: " + std::to_string(AxisLength(block.axes.back())) +
-                        " values here, " + std::to_string(AxisLength(block.axes.front())) + " in the first");
+        ctx.Fail(a, "zipped axes need equal lengths: " +
+                        std::to_string(AxisLength(block.axes.back())) + " values here, " +
+                        std::to_string(AxisLength(block.axes.front())) + " in the first");
     }
   } else if (item.node.IsMap() && RawField(item, "random")) {
     const MapReader m(ctx, item, {"random"});
@@ -213,17 +223,22 @@ const std::vector<std::pair<std::string, StudyOutputKind>>& OutputTypes() {
 
 std::vector<std::string> OutputKeys(StudyOutputKind kind) {
   std::vector<std::string> keys{"name", "type", "from", "to"};
-  const auto add = [&](std::initializer_list<const char*> more) { keys.insert(keys.end(), more.begin(), more.end()); };
+  const auto add = [&](std::initializer_list<const char*> more) {
+    keys.insert(keys.end(), more.begin(), more.end());
+  };
   switch (kind) {
     case StudyOutputKind::kMaxStress: add({"body"}); break;
     case StudyOutputKind::kAmplitude:
-      add({"dataset", "column", "window", "frequency_hz", "line", "harmonic", "sideband", "modulation", "modulation_hz"});
+      add({"dataset", "column", "window", "frequency_hz", "line", "harmonic", "sideband",
+           "modulation", "modulation_hz"});
       break;
     case StudyOutputKind::kSidebandEnergyRatio:
-      add({"dataset", "column", "window", "mesh", "mesh_hz", "modulation", "modulation_hz", "harmonics", "sidebands"});
+      add({"dataset", "column", "window", "mesh", "mesh_hz", "modulation", "modulation_hz",
+           "harmonics", "sidebands"});
       break;
     case StudyOutputKind::kIndicator:
-      add({"dataset", "column", "indicator", "tsa", "mesh_order", "mesh", "mesh_hz", "samples_per_revolution"});
+      add({"dataset", "column", "indicator", "tsa", "mesh_order", "mesh", "mesh_hz",
+           "samples_per_revolution"});
       break;
     default: add({"dataset", "column"}); break;
   }
@@ -231,16 +246,18 @@ std::vector<std::string> OutputKeys(StudyOutputKind kind) {
 }
 
 // One of `a` (a name) or `b` (a positive frequency), required when `required`.
-void LineOrFrequency(const MapReader& m, const std::string& a, const std::string& b, std::string& name, double& hz,
-                     bool required) {
-  if (m.Has(a) && m.Has(b)) m.ctx().Fail(*m.Find(b), "give either '" + a + "' or '" + b + "', not both");
+void LineOrFrequency(const MapReader& m, const std::string& a, const std::string& b,
+                     std::string& name, double& hz, bool required) {
+  if (m.Has(a) && m.Has(b))
+    m.ctx().Fail(*m.Find(b), "give either '" + a + "' or '" + b + "', not both");
   if (const auto it = m.Find(a)) name = ToString(m.ctx(), *it);
   if (const auto it = m.Find(b)) {
     hz = ToNumber(m.ctx(), *it);
     if (!(hz > 0)) m.ctx().Fail(*it, "must be > 0 (Hz), got " + it->node.Scalar());
   }
   if (required && name.empty() && hz == 0)
-    m.FailMissing(a, "missing required key '" + a + "' (a kinematic line of the result file) or '" + b + "'");
+    m.FailMissing(
+        a, "missing required key '" + a + "' (a kinematic line of the result file) or '" + b + "'");
 }
 
 int AtLeast(const MapReader& m, const std::string& key, int fallback, int lo) {
@@ -259,9 +276,11 @@ void ReadAnalysis(const MapReader& m, StudyOutput& o) {
     LineOrFrequency(m, "line", "frequency_hz", o.line, o.frequency_hz, true);
     o.harmonic = AtLeast(m, "harmonic", 1, 1);
     if (const auto it = m.Find("sideband")) o.sideband = ToInt(ctx, *it);
-    LineOrFrequency(m, "modulation", "modulation_hz", o.modulation, o.modulation_hz, o.sideband != 0);
+    LineOrFrequency(m, "modulation", "modulation_hz", o.modulation, o.modulation_hz,
+                    o.sideband != 0);
     if (o.sideband == 0 && (m.Has("modulation") || m.Has("modulation_hz")))
-      ctx.Fail(*m.Find(m.Has("modulation") ? "modulation" : "modulation_hz"), "a modulation goes with a 'sideband: n' (n != 0)");
+      ctx.Fail(*m.Find(m.Has("modulation") ? "modulation" : "modulation_hz"),
+               "a modulation goes with a 'sideband: n' (n != 0)");
   } else if (o.kind == StudyOutputKind::kSidebandEnergyRatio) {
     o.window = m.Choice("window", {"hann", "flattop", "rect"}, "hann");
     LineOrFrequency(m, "mesh", "mesh_hz", o.mesh, o.mesh_hz, true);
@@ -269,7 +288,8 @@ void ReadAnalysis(const MapReader& m, StudyOutput& o) {
     o.harmonics = AtLeast(m, "harmonics", 3, 1);
     o.sidebands = AtLeast(m, "sidebands", 6, 1);
   } else if (o.kind == StudyOutputKind::kIndicator) {
-    o.indicator = m.Choice("indicator", {"rms", "peak", "crest_factor", "kurtosis", "fm0", "fm4", "na4"});
+    o.indicator =
+        m.Choice("indicator", {"rms", "peak", "crest_factor", "kurtosis", "fm0", "fm4", "na4"});
     if (m.Has("tsa")) o.tsa = m.String("tsa");
     o.mesh_order = AtLeast(m, "mesh_order", 0, 1);
     LineOrFrequency(m, "mesh", "mesh_hz", o.mesh, o.mesh_hz, false);
@@ -278,11 +298,16 @@ void ReadAnalysis(const MapReader& m, StudyOutput& o) {
     o.samples_per_revolution = AtLeast(m, "samples_per_revolution", 0, 8);
     const bool tsa_indicator = o.indicator == "fm0" || o.indicator == "fm4" || o.indicator == "na4";
     if (tsa_indicator && o.tsa.empty())
-      m.FailMissing("tsa", o.indicator + " is an indicator of a time-synchronous average: name the member in 'tsa'");
+      m.FailMissing(
+          "tsa",
+          o.indicator + " is an indicator of a time-synchronous average: name the member in 'tsa'");
     if (!o.tsa.empty() && o.mesh_order == 0 && o.mesh.empty() && o.mesh_hz == 0)
-      m.FailMissing("mesh_order", "a time-synchronous average needs 'mesh_order' (teeth of the gear on the member) or 'mesh'");
+      m.FailMissing("mesh_order",
+                    "a time-synchronous average needs 'mesh_order' (teeth of the gear on the "
+                    "member) or 'mesh'");
     if (o.tsa.empty() && (o.mesh_order > 0 || o.samples_per_revolution > 0))
-      ctx.Fail(*m.Find(o.mesh_order > 0 ? "mesh_order" : "samples_per_revolution"), "goes with 'tsa'");
+      ctx.Fail(*m.Find(o.mesh_order > 0 ? "mesh_order" : "samples_per_revolution"),
+               "goes with 'tsa'");
   }
 }
 
@@ -297,10 +322,13 @@ StudyOutput ReadOutput(const Context& ctx, const Item& item) {
   const MapReader m(ctx, item, OutputKeys(o.kind));
   const Item name = m.Need("name");
   o.name = ToString(ctx, name);
-  const bool name_ok = std::isalpha(static_cast<unsigned char>(o.name.front())) &&
-                       o.name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_.-") ==
-                           std::string::npos;
-  if (!name_ok) ctx.Fail(name, "'" + o.name + "' is not an output name (a letter, then letters, digits, '_', '.', '-')");
+  const bool name_ok =
+      std::isalpha(static_cast<unsigned char>(o.name.front())) &&
+      o.name.find_first_not_of(
+          "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_.-") == std::string::npos;
+  if (!name_ok)
+    ctx.Fail(name, "'" + o.name +
+                       "' is not an output name (a letter, then letters, digits, '_', '.', '-')");
   o.at = Where(ctx, item);
   // Dataset and column, or the body of max_stress
   if (o.kind == StudyOutputKind::kMaxStress) {
@@ -309,30 +337,34 @@ StudyOutput ReadOutput(const Context& ctx, const Item& item) {
   } else {
     const Item dataset = m.Need("dataset");
     o.dataset = ToString(ctx, dataset);
-    if (o.dataset.front() != '/') ctx.Fail(dataset, "a dataset path starts with '/', got '" + o.dataset + "'");
+    if (o.dataset.front() != '/')
+      ctx.Fail(dataset, "a dataset path starts with '/', got '" + o.dataset + "'");
     if (const auto column = m.Find("column")) o.column = ToString(ctx, *column);
   }
   // Time window
   o.from_s = m.Number("from", o.from_s);
   o.to_s = m.Number("to", o.to_s);
   if (m.Has("from") && m.Has("to") && !(o.from_s < o.to_s))
-    ctx.Fail(*m.Find("to"), "the window needs from < to, got from " + Num(o.from_s) + " s, to " + Num(o.to_s) + " s");
+    ctx.Fail(*m.Find("to"), "the window needs from < to, got from " + Num(o.from_s) + " s, to " +
+                                Num(o.to_s) + " s");
   ReadAnalysis(m, o);
   return o;
 }
 
 // Column names of the index that outputs and parameters must not take.
 const std::set<std::string>& ReservedColumns() {
-  static const std::set<std::string> kReserved{"run", "status", "exit_status", "reason", "wall_time_s",
-                                               "cpu_time_s", "peak_memory_mib", "rank", "host",
-                                               "result_file"};
+  static const std::set<std::string> kReserved{
+      "run",        "status",          "exit_status", "reason", "wall_time_s",
+      "cpu_time_s", "peak_memory_mib", "rank",        "host",   "result_file"};
   return kReserved;
 }
 
-void ReadSettings(const Context& ctx, const MapReader& top, StudyDescription& s, KeyRegistry& keys) {
+void ReadSettings(const Context& ctx, const MapReader& top, StudyDescription& s,
+                  KeyRegistry& keys) {
   // end_time and output_interval: solver.end_time and output.interval
-  for (const auto& [key, scene_key] : {std::pair<const char*, const char*>{"end_time", "solver.end_time"},
-                                       {"output_interval", "output.interval"}})
+  for (const auto& [key, scene_key] :
+       {std::pair<const char*, const char*>{"end_time", "solver.end_time"},
+        {"output_interval", "output.interval"}})
     if (const auto it = top.Find(key)) {
       const double v = ToNumber(ctx, *it);
       if (!(v > 0)) ctx.Fail(*it, "must be > 0 (s), got " + it->node.Scalar());
@@ -342,9 +374,11 @@ void ReadSettings(const Context& ctx, const MapReader& top, StudyDescription& s,
   // settings: a map of scene keys
   if (const auto it = top.Find("settings")) {
     if (it->node.IsNull()) return;
-    if (!it->node.IsMap()) ctx.Fail(*it, "expected a map of scene keys and values, got " + Describe(it->node));
+    if (!it->node.IsMap())
+      ctx.Fail(*it, "expected a map of scene keys and values, got " + Describe(it->node));
     for (auto kv = it->node.begin(); kv != it->node.end(); ++kv) {
-      const Item key{kv->first, it->path + "." + (kv->first.IsScalar() ? kv->first.Scalar() : "?"), kv->first.Mark()};
+      const Item key{kv->first, it->path + "." + (kv->first.IsScalar() ? kv->first.Scalar() : "?"),
+                     kv->first.Mark()};
       const Item value{kv->second, key.path, kv->first.Mark()};
       const std::string k = SceneKey(ctx, key);
       keys.Add(k, key);
@@ -357,14 +391,16 @@ StudyDescription Read(const Context& ctx, const YAML::Node& root) {
   StudyDescription s;
   s.file = ctx.file();
   const MapReader top(ctx, {root, "", root.Mark()},
-                      {"name", "scene", "folder", "end_time", "output_interval", "settings", "axes", "outputs",
-                       "jobs", "limits"});
+                      {"name", "scene", "folder", "end_time", "output_interval", "settings", "axes",
+                       "outputs", "jobs", "limits"});
   const std::filesystem::path file(ctx.file());
   s.name = top.Has("name") ? top.String("name") : file.stem().string();
   // Base scene, relative to the study file
   const Item scene = top.Need("scene");
   const std::filesystem::path scene_path(ToString(ctx, scene));
-  s.scene_path = (scene_path.is_absolute() ? scene_path : file.parent_path() / scene_path).lexically_normal().string();
+  s.scene_path = (scene_path.is_absolute() ? scene_path : file.parent_path() / scene_path)
+                     .lexically_normal()
+                     .string();
   s.scene_at = Where(ctx, scene);
   if (top.Has("folder")) s.folder = top.String("folder");
   KeyRegistry keys(ctx);
@@ -377,15 +413,17 @@ StudyDescription Read(const Context& ctx, const YAML::Node& root) {
   for (const Item& item : ListItems(ctx, top.Find("outputs"))) {
     s.outputs.push_back(ReadOutput(ctx, item));
     const std::string& n = s.outputs.back().name;
-    if (ReservedColumns().count(n) > 0) ctx.Fail(item, "output name '" + n + "' is a column of the index already");
+    if (ReservedColumns().count(n) > 0)
+      ctx.Fail(item, "output name '" + n + "' is a column of the index already");
     if (!names.insert(n).second) ctx.Fail(item, "duplicate output name '" + n + "'");
   }
   // Execution
   s.jobs = AtLeast(top, "jobs", 0, 1);
   if (const auto limits = top.Find("limits")) {
     const MapReader m(ctx, *limits, {"wall_time_s", "memory_mib"});
-    for (const auto& [key, field] : {std::pair<const char*, double*>{"wall_time_s", &s.limits.wall_time_s},
-                                     {"memory_mib", &s.limits.memory_mib}})
+    for (const auto& [key, field] :
+         {std::pair<const char*, double*>{"wall_time_s", &s.limits.wall_time_s},
+          {"memory_mib", &s.limits.memory_mib}})
       if (const auto it = m.Find(key)) {
         *field = ToNumber(ctx, *it);
         if (!(*field > 0)) ctx.Fail(*it, "must be > 0, got " + it->node.Scalar());
@@ -425,12 +463,14 @@ StudyDescription ParseStudyFile(const std::string& text, const std::string& file
   try {
     root = YAML::Load(text);
   } catch (const YAML::ParserException& e) {
-    throw SceneError(file + ":" + std::to_string(e.mark.line + 1) + ": YAML syntax error: " + e.msg);
+    throw SceneError(file + ":" + std::to_string(e.mark.line + 1) +
+                     ": YAML syntax error: " + e.msg);
   } catch (const YAML::Exception& e) {
     throw SceneError(file + ": YAML error: " + e.msg);
   }
   if (root.IsNull()) throw SceneError(file + ": the study file is empty");
-  if (!root.IsMap()) throw SceneError(file + ":1: the study file must be a map of sections, got " + Describe(root));
+  if (!root.IsMap())
+    throw SceneError(file + ":1: the study file must be a map of sections, got " + Describe(root));
   const Context ctx(file);
   return Read(ctx, root);
 }

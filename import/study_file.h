@@ -18,8 +18,8 @@
 //     - random: {samples: 8, seed: 1, keys: [{key: c, log_uniform: [1e6, 1e9]}]}
 //   outputs:
 //     - {name: force_rms, type: rms, dataset: /gear_meshes/S.sun-planet#1/force, from: 0.05}
-//   jobs: 4                                         # runs at a time on one machine (default: cores)
-//   limits: {wall_time_s: 600, memory_mib: 4096}    # per run (default: none)
+//   jobs: 4                                         # runs at a time on one machine (default:
+//   cores) limits: {wall_time_s: 600, memory_mib: 4096}    # per run (default: none)
 //
 // Scene keys are checked only for their form here (a key path as `--set` takes it); whether the
 // base scene has them is checked by loading it (tools/study/study_plan.h), which needs the scene
@@ -81,19 +81,24 @@ struct StudyRandomKey {
 struct StudyBlock {
   enum class Kind { kAxis, kZip, kRandom };
   Kind kind = Kind::kAxis;
-  std::vector<StudyAxis> axes;         // kAxis: one; kZip: two or more of equal length
-  int samples = 0;                     // kRandom: >= 1
-  std::uint64_t seed = 0;              // kRandom
-  std::vector<StudyRandomKey> keys;    // kRandom: at least one
-  std::string at;                      // "FILE:LINE: axes[2]"
+  std::vector<StudyAxis> axes;       // kAxis: one; kZip: two or more of equal length
+  int samples = 0;                   // kRandom: >= 1
+  std::uint64_t seed = 0;            // kRandom
+  std::vector<StudyRandomKey> keys;  // kRandom: at least one
+  std::string at;                    // "FILE:LINE: axes[2]"
 };
 
 enum class StudyOutputKind {
-  kPeak, kRms, kMean, kMin, kMax, kFinal,     // statistics of a column over a time window
-  kAmplitude,                                 // spectral amplitude at a frequency or line
-  kSidebandEnergyRatio,                       // SER around the mesh harmonics
-  kIndicator,                                 // condition indicator (record or TSA)
-  kMaxStress,                                 // largest von Mises stress of a flexible body
+  kPeak,
+  kRms,
+  kMean,
+  kMin,
+  kMax,
+  kFinal,                // statistics of a column over a time window
+  kAmplitude,            // spectral amplitude at a frequency or line
+  kSidebandEnergyRatio,  // SER around the mesh harmonics
+  kIndicator,            // condition indicator (record or TSA)
+  kMaxStress,            // largest von Mises stress of a flexible body
 };
 
 struct StudyOutput {
@@ -135,16 +140,17 @@ struct StudyOutput {
 
 // Per-run limits; 0 for none.
 struct StudyLimits {
-  double wall_time_s = 0;  // a run taking longer is stopped (SIGTERM, SIGKILL 10 s later) and failed
-  double memory_mib = 0;   // address-space limit of a run's process (RLIMIT_AS)
+  double wall_time_s =
+      0;                  // a run taking longer is stopped (SIGTERM, SIGKILL 10 s later) and failed
+  double memory_mib = 0;  // address-space limit of a run's process (RLIMIT_AS)
 };
 
 struct StudyDescription {
-  std::string file;        // the study file as given
-  std::string name;        // name: (default: the file's stem)
-  std::string scene_path;  // scene:, resolved against the study file's folder
-  std::string scene_at;    // "FILE:LINE: scene"
-  std::string folder;      // folder: as written ("" when not given)
+  std::string file;                    // the study file as given
+  std::string name;                    // name: (default: the file's stem)
+  std::string scene_path;              // scene:, resolved against the study file's folder
+  std::string scene_at;                // "FILE:LINE: scene"
+  std::string folder;                  // folder: as written ("" when not given)
   std::vector<StudySetting> settings;  // end_time, output_interval, then settings: in file order
   std::vector<StudyBlock> blocks;      // axes: (may be empty: one run)
   std::vector<StudyOutput> outputs;    // outputs: (may be empty: wall time and memory only)

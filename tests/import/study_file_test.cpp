@@ -62,7 +62,8 @@ TEST(StudyFileTest, ReadsEveryEntryKind) {
   // Values as written, quoted strings kept quoted, ranges expanded
   EXPECT_EQ(s.blocks[0].axes[0].values, (std::vector<std::string>{"1", "2.5", "\"3\""}));
   EXPECT_EQ(s.blocks[0].axes[0].at, "studies/sweep.yaml:10: axes[0].key");
-  EXPECT_EQ(s.blocks[1].axes[0].values, (std::vector<std::string>{"1e-09", "1e-08", "1e-07", "1e-06"}));
+  EXPECT_EQ(s.blocks[1].axes[0].values,
+            (std::vector<std::string>{"1e-09", "1e-08", "1e-07", "1e-06"}));
   EXPECT_EQ(s.blocks[2].kind, StudyBlock::Kind::kZip);
   EXPECT_EQ(s.blocks[2].axes[0].values, (std::vector<std::string>{"0.1", "0.2", "0.3"}));
   EXPECT_EQ(s.blocks[2].axes[1].values[1], "[0, -1.62, 0]");
@@ -112,9 +113,11 @@ TEST(StudyFileTest, RangesWithStepIncludeTheStopAndRoundTo15Digits) {
   // Counts: both ends exact, geometric when log
   const std::vector<double> lin = ExpandStudyRange({.start = 1, .stop = 2, .count = 5});
   EXPECT_EQ(lin, (std::vector<double>{1, 1.25, 1.5, 1.75, 2}));
-  const std::vector<double> log = ExpandStudyRange({.start = 1e-3, .stop = 1e3, .count = 7, .log = true});
+  const std::vector<double> log =
+      ExpandStudyRange({.start = 1e-3, .stop = 1e3, .count = 7, .log = true});
   ASSERT_EQ(log.size(), 7u);
-  for (int i = 0; i < 7; ++i) EXPECT_NEAR(log[i], std::pow(10.0, i - 3), 1e-12 * std::pow(10.0, i - 3));
+  for (int i = 0; i < 7; ++i)
+    EXPECT_NEAR(log[i], std::pow(10.0, i - 3), 1e-12 * std::pow(10.0, i - 3));
   EXPECT_EQ(ExpandStudyRange({.start = 4, .stop = 9, .count = 1}), (std::vector<double>{4}));
 }
 
@@ -131,46 +134,64 @@ std::string ErrorOf(const std::string& text) {
 TEST(StudyFileTest, ErrorsNameFileLineAndKey) {
   const std::string head = "scene: a.yaml\n";
   // Unknown keys, with a suggestion
-  EXPECT_EQ(ErrorOf(head + "axis: []\n"), "s.yaml:2: axis: unknown key 'axis'; did you mean 'axes'?");
+  EXPECT_EQ(ErrorOf(head + "axis: []\n"),
+            "s.yaml:2: axis: unknown key 'axis'; did you mean 'axes'?");
   EXPECT_EQ(ErrorOf(head + "axes:\n  - {key: a.b, vales: [1]}\n"),
             "s.yaml:3: axes[0].vales: unknown key 'vales'; did you mean 'values'?");
-  EXPECT_EQ(ErrorOf(head + "axes:\n  - {key: a.b, uniform: [0, 1]}\n"),
-            "s.yaml:3: axes[0].uniform: key not allowed here: random values belong in a 'random:' entry");
+  EXPECT_EQ(
+      ErrorOf(head + "axes:\n  - {key: a.b, uniform: [0, 1]}\n"),
+      "s.yaml:3: axes[0].uniform: key not allowed here: random values belong in a 'random:' entry");
   // Empty axes
   EXPECT_EQ(ErrorOf(head + "axes:\n  - {key: a.b, values: []}\n"),
             "s.yaml:3: axes[0].values: an axis needs at least one value, got an empty list");
   EXPECT_EQ(ErrorOf(head + "axes:\n  - {key: a.b, range: {start: 0, stop: 1, count: 0}}\n"),
             "s.yaml:3: axes[0].range.count: an axis needs at least one value, got count 0");
   EXPECT_EQ(ErrorOf(head + "axes:\n  - {key: a.b, range: {start: 0, stop: 1, step: -0.1}}\n"),
-            "s.yaml:3: axes[0].range.step: the step must be non-zero and point from start toward stop, got -0.1");
-  EXPECT_EQ(ErrorOf(head + "axes:\n  - {key: a.b}\n"), "s.yaml:3: axes[0]: give either 'values' or 'range'");
-  EXPECT_EQ(ErrorOf(head + "axes:\n  - random: {samples: 0, seed: 1, keys: [{key: a, uniform: [0, 1]}]}\n"),
-            "s.yaml:3: axes[0].random.samples: needs at least one sample, got 0");
+            "s.yaml:3: axes[0].range.step: the step must be non-zero and point from start toward "
+            "stop, got -0.1");
+  EXPECT_EQ(ErrorOf(head + "axes:\n  - {key: a.b}\n"),
+            "s.yaml:3: axes[0]: give either 'values' or 'range'");
+  EXPECT_EQ(
+      ErrorOf(head +
+              "axes:\n  - random: {samples: 0, seed: 1, keys: [{key: a, uniform: [0, 1]}]}\n"),
+      "s.yaml:3: axes[0].random.samples: needs at least one sample, got 0");
   // Keys
   EXPECT_EQ(ErrorOf(head + "axes:\n  - {key: \"a b\", values: [1]}\n"),
-            "s.yaml:3: axes[0].key: 'a b' is not a scene key path (a.b.c or a[name].c, no blanks or '=')");
-  EXPECT_EQ(ErrorOf(head + "end_time: 1\naxes:\n  - {key: solver.end_time, values: [1]}\n"),
-            "s.yaml:4: axes[0].key: scene key 'solver.end_time' is already set at s.yaml:2: end_time");
+            "s.yaml:3: axes[0].key: 'a b' is not a scene key path (a.b.c or a[name].c, no blanks "
+            "or '=')");
+  EXPECT_EQ(
+      ErrorOf(head + "end_time: 1\naxes:\n  - {key: solver.end_time, values: [1]}\n"),
+      "s.yaml:4: axes[0].key: scene key 'solver.end_time' is already set at s.yaml:2: end_time");
   // Zip lengths, random bounds
-  EXPECT_EQ(ErrorOf(head + "axes:\n  - zip:\n    - {key: a, values: [1, 2]}\n    - {key: b, values: [1]}\n"),
-            "s.yaml:5: axes[0].zip[1]: zipped axes need equal lengths: 1 values here, 2 in the first");
-  EXPECT_EQ(ErrorOf(head + "axes:\n  - random: {samples: 2, seed: 1, keys: [{key: a, log_uniform: [0, 1]}]}\n"),
-            "s.yaml:3: axes[0].random.keys[0].log_uniform: log_uniform needs low > 0");
+  EXPECT_EQ(
+      ErrorOf(head +
+              "axes:\n  - zip:\n    - {key: a, values: [1, 2]}\n    - {key: b, values: [1]}\n"),
+      "s.yaml:5: axes[0].zip[1]: zipped axes need equal lengths: 1 values here, 2 in the first");
+  EXPECT_EQ(
+      ErrorOf(head +
+              "axes:\n  - random: {samples: 2, seed: 1, keys: [{key: a, log_uniform: [0, 1]}]}\n"),
+      "s.yaml:3: axes[0].random.keys[0].log_uniform: log_uniform needs low > 0");
   // Outputs
   EXPECT_EQ(ErrorOf(head + "outputs:\n  - {name: x, type: pek, dataset: /a}\n"),
             "s.yaml:3: outputs[x].type: unknown type 'pek'; did you mean 'peak'?");
   EXPECT_EQ(ErrorOf(head + "outputs:\n  - {name: x, type: peak}\n"),
             "s.yaml:3: outputs[x].dataset: missing required key 'dataset'");
   EXPECT_EQ(ErrorOf(head + "outputs:\n  - {name: 2x, type: peak, dataset: /a}\n"),
-            "s.yaml:3: outputs[2x].name: '2x' is not an output name (a letter, then letters, digits, '_', '.', '-')");
-  EXPECT_EQ(ErrorOf(head + "outputs:\n  - {name: x, type: peak, dataset: /a}\n  - {name: x, type: rms, dataset: /b}\n"),
+            "s.yaml:3: outputs[2x].name: '2x' is not an output name (a letter, then letters, "
+            "digits, '_', '.', '-')");
+  EXPECT_EQ(ErrorOf(head + "outputs:\n  - {name: x, type: peak, dataset: /a}\n  - {name: x, type: "
+                           "rms, dataset: /b}\n"),
             "s.yaml:4: outputs[x]: duplicate output name 'x'");
-  EXPECT_EQ(ErrorOf(head + "outputs:\n  - {name: wall_time_s, type: peak, dataset: /a}\n"),
-            "s.yaml:3: outputs[wall_time_s]: output name 'wall_time_s' is a column of the index already");
-  EXPECT_EQ(ErrorOf(head + "outputs:\n  - {name: x, type: indicator, dataset: /a, indicator: fm4}\n"),
-            "s.yaml:3: outputs[x].tsa: fm4 is an indicator of a time-synchronous average: name the member in 'tsa'");
+  EXPECT_EQ(
+      ErrorOf(head + "outputs:\n  - {name: wall_time_s, type: peak, dataset: /a}\n"),
+      "s.yaml:3: outputs[wall_time_s]: output name 'wall_time_s' is a column of the index already");
+  EXPECT_EQ(
+      ErrorOf(head + "outputs:\n  - {name: x, type: indicator, dataset: /a, indicator: fm4}\n"),
+      "s.yaml:3: outputs[x].tsa: fm4 is an indicator of a time-synchronous average: name the "
+      "member in 'tsa'");
   EXPECT_EQ(ErrorOf(head + "outputs:\n  - {name: x, type: amplitude, dataset: /a}\n"),
-            "s.yaml:3: outputs[x].line: missing required key 'line' (a kinematic line of the result file) or 'frequency_hz'");
+            "s.yaml:3: outputs[x].line: missing required key 'line' (a kinematic line of the "
+            "result file) or 'frequency_hz'");
   EXPECT_EQ(ErrorOf(head + "outputs:\n  - {name: x, type: peak, dataset: /a, from: 2, to: 1}\n"),
             "s.yaml:3: outputs[x].to: the window needs from < to, got from 2 s, to 1 s");
   // Missing scene, empty file

@@ -27,14 +27,14 @@
 namespace orrery::cli {
 
 struct StudyArgs {
-  std::string study_path;          // STUDY.yaml
-  std::string folder;              // -o: "" for the file's folder: (or results/studies/<name>)
-  int jobs = 0;                    // -j: runs at a time per machine or rank; 0: file's, else cores
-  bool retry_failed = false;       // --retry-failed: run failed runs again
-  bool mpi = false;                // --mpi: use MPI even without a launcher (singleton)
-  bool dry_run = false;            // --dry-run: check and list the runs
-  bool quiet = false;              // --quiet: no progress
-  bool err_is_terminal = false;    // progress as a redrawn line (else lines)
+  std::string study_path;        // STUDY.yaml
+  std::string folder;            // -o: "" for the file's folder: (or results/studies/<name>)
+  int jobs = 0;                  // -j: runs at a time per machine or rank; 0: file's, else cores
+  bool retry_failed = false;     // --retry-failed: run failed runs again
+  bool mpi = false;              // --mpi: use MPI even without a launcher (singleton)
+  bool dry_run = false;          // --dry-run: check and list the runs
+  bool quiet = false;            // --quiet: no progress
+  bool err_is_terminal = false;  // progress as a redrawn line (else lines)
 };
 
 int StudyCommand(const StudyArgs& args, std::ostream& out, std::ostream& err);

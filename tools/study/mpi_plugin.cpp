@@ -19,13 +19,15 @@ void Copy(const char* text, char* out, int size) {
 void ErrorText(int code, const char* what, char* out, int size) {
   char text[MPI_MAX_ERROR_STRING];
   int length = 0;
-  if (MPI_Error_string(code, text, &length) != MPI_SUCCESS) std::snprintf(text, sizeof text, "error %d", code);
+  if (MPI_Error_string(code, text, &length) != MPI_SUCCESS)
+    std::snprintf(text, sizeof text, "error %d", code);
   char message[MPI_MAX_ERROR_STRING + 64];
   std::snprintf(message, sizeof message, "%s: %s", what, text);
   Copy(message, out, size);
 }
 
-int Init(int* rank, int* size, int* local_size, char* library, int library_size, char* error, int error_size) {
+int Init(int* rank, int* size, int* local_size, char* library, int library_size, char* error,
+         int error_size) {
   int initialized = 0;
   MPI_Initialized(&initialized);
   if (!initialized) {
@@ -41,7 +43,8 @@ int Init(int* rank, int* size, int* local_size, char* library, int library_size,
   MPI_Comm_rank(MPI_COMM_WORLD, rank);
   MPI_Comm_size(MPI_COMM_WORLD, size);
   MPI_Comm node;
-  if (MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node) == MPI_SUCCESS) {
+  if (MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node) ==
+      MPI_SUCCESS) {
     MPI_Comm_size(node, local_size);
     MPI_Comm_free(&node);
   } else {
@@ -66,7 +69,8 @@ int Send(const void* data, int bytes, int destination, int tag) {
 
 int Probe(int* found, int* source, int* tag, int* bytes) {
   MPI_Status status;
-  if (MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, found, &status) != MPI_SUCCESS) return 1;
+  if (MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, found, &status) != MPI_SUCCESS)
+    return 1;
   if (*found) {
     *source = status.MPI_SOURCE;
     *tag = status.MPI_TAG;
@@ -77,7 +81,8 @@ int Probe(int* found, int* source, int* tag, int* bytes) {
 
 int Receive(void* data, int bytes, int source, int tag, int* received) {
   MPI_Status status;
-  if (MPI_Recv(data, bytes, MPI_BYTE, source, tag, MPI_COMM_WORLD, &status) != MPI_SUCCESS) return 1;
+  if (MPI_Recv(data, bytes, MPI_BYTE, source, tag, MPI_COMM_WORLD, &status) != MPI_SUCCESS)
+    return 1;
   MPI_Get_count(&status, MPI_BYTE, received);
   return 0;
 }
@@ -86,4 +91,6 @@ const OrreryStudyMpi kApi{kOrreryStudyMpiAbi, Init, Finalize, Abort, Send, Probe
 
 }  // namespace
 
-extern "C" __attribute__((visibility("default"))) const OrreryStudyMpi* orrery_study_mpi(void) { return &kApi; }
+extern "C" __attribute__((visibility("default"))) const OrreryStudyMpi* orrery_study_mpi(void) {
+  return &kApi;
+}

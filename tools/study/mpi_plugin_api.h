@@ -17,7 +17,8 @@ struct OrreryStudyMpi {
   // MPI_Init (with MPI_THREAD_SINGLE); rank and size in MPI_COMM_WORLD; `local_size` the ranks
   // on this node (MPI_Comm_split_type with MPI_COMM_TYPE_SHARED); `library` the MPI library's
   // version string (MPI_Get_library_version, up to its first comma or line end).
-  int (*init)(int* rank, int* size, int* local_size, char* library, int library_size, char* error, int error_size);
+  int (*init)(int* rank, int* size, int* local_size, char* library, int library_size, char* error,
+              int error_size);
   int (*finalize)(void);
   void (*abort)(int code);
   // Blocking standard-mode send of `bytes` bytes to `destination` with `tag`.

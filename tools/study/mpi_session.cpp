@@ -34,14 +34,16 @@ bool MpiLaunchDetected(std::string* evidence) {
 
 std::optional<std::string> MisconfiguredLaunch() {
   const std::string tasks = Env("SLURM_STEP_NUM_TASKS");
-  if (MpiLaunchDetected(nullptr) || tasks.empty() || std::atoi(tasks.c_str()) <= 1) return std::nullopt;
+  if (MpiLaunchDetected(nullptr) || tasks.empty() || std::atoi(tasks.c_str()) <= 1)
+    return std::nullopt;
   return "started by srun as one of " + tasks +
          " tasks without MPI (no PMI in the environment): the copies would run the same study "
          "side by side; use `srun --mpi=pmix` (or pmi2) or mpirun";
 }
 
 std::string FindMpiPlugin() {
-  if (const std::string explicit_path = Env("ORRERY_STUDY_MPI_PLUGIN"); !explicit_path.empty()) return explicit_path;
+  if (const std::string explicit_path = Env("ORRERY_STUDY_MPI_PLUGIN"); !explicit_path.empty())
+    return explicit_path;
   std::error_code ec;
   fs::path exe_dir;
   try {
@@ -49,8 +51,8 @@ std::string FindMpiPlugin() {
   } catch (const std::exception&) {
     return "";
   }
-  for (const fs::path& p : {exe_dir / ".." / "lib" / "orrery" / kPluginName, exe_dir / ".." / "lib" / kPluginName,
-                            exe_dir / kPluginName})
+  for (const fs::path& p : {exe_dir / ".." / "lib" / "orrery" / kPluginName,
+                            exe_dir / ".." / "lib" / kPluginName, exe_dir / kPluginName})
     if (fs::exists(p, ec)) return p.lexically_normal().string();
   return "";
 }
@@ -59,9 +61,10 @@ std::unique_ptr<MpiSession> MpiSession::Start() {
   // The plugin, and the MPI library it links
   const std::string plugin = FindMpiPlugin();
   if (plugin.empty())
-    throw std::runtime_error(std::string("MPI asked for, but ") + kPluginName +
-                             " is not beside the orrery program: build it with Open MPI present (Debian "
-                             "libopenmpi-dev), or set ORRERY_STUDY_MPI_PLUGIN");
+    throw std::runtime_error(
+        std::string("MPI asked for, but ") + kPluginName +
+        " is not beside the orrery program: build it with Open MPI present (Debian "
+        "libopenmpi-dev), or set ORRERY_STUDY_MPI_PLUGIN");
   // RTLD_GLOBAL: Open MPI's own components look up its symbols
   void* handle = dlopen(plugin.c_str(), RTLD_NOW | RTLD_GLOBAL);
   if (handle == nullptr) {
@@ -74,14 +77,16 @@ std::unique_ptr<MpiSession> MpiSession::Start() {
   const OrreryStudyMpi* api = entry != nullptr ? entry() : nullptr;
   if (api == nullptr || api->abi_version != kOrreryStudyMpiAbi) {
     dlclose(handle);
-    throw std::runtime_error("the MPI plugin " + plugin + " does not belong to this orrery program (rebuild it)");
+    throw std::runtime_error("the MPI plugin " + plugin +
+                             " does not belong to this orrery program (rebuild it)");
   }
   // MPI_Init
   std::unique_ptr<MpiSession> s(new MpiSession());
   s->handle_ = handle;
   s->api_ = api;
   char library[256] = {0}, error[512] = {0};
-  if (api->init(&s->rank_, &s->size_, &s->local_size_, library, sizeof library, error, sizeof error) != 0) {
+  if (api->init(&s->rank_, &s->size_, &s->local_size_, library, sizeof library, error,
+                sizeof error) != 0) {
     s->api_ = nullptr;  // not initialized: nothing to finalize
     throw std::runtime_error(std::string("MPI could not start: ") + error);
   }
@@ -96,12 +101,14 @@ MpiSession::~MpiSession() {
 
 void MpiSession::Send(int destination, int tag, std::string_view data) const {
   if (api_->send(data.data(), static_cast<int>(data.size()), destination, tag) != 0)
-    throw std::runtime_error("MPI: sending a message to rank " + std::to_string(destination) + " failed");
+    throw std::runtime_error("MPI: sending a message to rank " + std::to_string(destination) +
+                             " failed");
 }
 
 std::optional<MpiMessage> MpiSession::TryReceive() const {
   int found = 0, source = 0, tag = 0, bytes = 0;
-  if (api_->probe(&found, &source, &tag, &bytes) != 0) throw std::runtime_error("MPI: probing for messages failed");
+  if (api_->probe(&found, &source, &tag, &bytes) != 0)
+    throw std::runtime_error("MPI: probing for messages failed");
   if (!found) return std::nullopt;
   MpiMessage m;
   m.source = source;
@@ -109,7 +116,8 @@ std::optional<MpiMessage> MpiSession::TryReceive() const {
   m.data.resize(static_cast<std::size_t>(bytes));
   int received = 0;
   if (api_->receive(m.data.data(), bytes, source, tag, &received) != 0)
-    throw std::runtime_error("MPI: receiving a message from rank " + std::to_string(source) + " failed");
+    throw std::runtime_error("MPI: receiving a message from rank " + std::to_string(source) +
+                             " failed");
   m.data.resize(static_cast<std::size_t>(received));
   return m;
 }

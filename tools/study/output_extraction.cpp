@@ -23,7 +23,8 @@ using namespace orrery::signal;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-[[noreturn]] void Fail(const Hdf5Reader& file, const std::string& object, const std::string& reason) {
+[[noreturn]] void Fail(const Hdf5Reader& file, const std::string& object,
+                       const std::string& reason) {
   throw std::runtime_error(file.path() + ": " + object + ": " + reason);
 }
 
@@ -40,7 +41,8 @@ std::vector<std::string> SplitList(const std::string& text) {
 }
 
 // Column `column` (index or name) of a dataset with `count` columns
-int ColumnIndex(const Hdf5Reader& file, const std::string& path, const std::string& column, int count) {
+int ColumnIndex(const Hdf5Reader& file, const std::string& path, const std::string& column,
+                int count) {
   if (column.empty()) return 0;
   std::size_t used = 0;
   int index = -1;
@@ -51,14 +53,17 @@ int ColumnIndex(const Hdf5Reader& file, const std::string& path, const std::stri
   }
   if (used == column.size()) {
     if (index < 0 || index >= count)
-      Fail(file, path, "no column " + column + " (" + std::to_string(count) + " columns, indices from 0)");
+      Fail(file, path,
+           "no column " + column + " (" + std::to_string(count) + " columns, indices from 0)");
     return index;
   }
-  const std::vector<std::string> names =
-      file.HasAttribute(path, "columns") ? SplitList(file.ReadStringAttribute(path, "columns")) : std::vector<std::string>{};
+  const std::vector<std::string> names = file.HasAttribute(path, "columns")
+                                             ? SplitList(file.ReadStringAttribute(path, "columns"))
+                                             : std::vector<std::string>{};
   const auto it = std::find(names.begin(), names.end(), column);
   if (it == names.end())
-    Fail(file, path, "no column '" + column + "'" + (names.empty() ? " (the dataset names no columns)" : ""));
+    Fail(file, path,
+         "no column '" + column + "'" + (names.empty() ? " (the dataset names no columns)" : ""));
   return static_cast<int>(it - names.begin());
 }
 
@@ -67,28 +72,34 @@ std::string ColumnUnit(const Hdf5Reader& file, const std::string& path, int colu
   if (!file.HasAttribute(path, "unit")) return "";
   const std::string unit = file.ReadStringAttribute(path, "unit");
   const std::vector<std::string> units = SplitList(unit);
-  return count > 1 && static_cast<int>(units.size()) == count ? units[static_cast<std::size_t>(column)] : unit;
+  return count > 1 && static_cast<int>(units.size()) == count
+             ? units[static_cast<std::size_t>(column)]
+             : unit;
 }
 
 // The column's values at the rows whose time lies in the window (any sampling)
-std::vector<double> WindowValues(const Hdf5Reader& file, const StudyOutput& o, int forced_column, std::string* unit) {
+std::vector<double> WindowValues(const Hdf5Reader& file, const StudyOutput& o, int forced_column,
+                                 std::string* unit) {
   if (!file.IsDataset(o.dataset)) Fail(file, o.dataset, "no such dataset");
   if (!file.IsDataset("/time")) Fail(file, "/time", "no such dataset (not a result file?)");
   const Eigen::MatrixXd data = file.ReadMatrix(o.dataset);
   const std::vector<double> time = file.ReadVector("/time");
   if (data.rows() != static_cast<Eigen::Index>(time.size()))
-    Fail(file, o.dataset, std::to_string(data.rows()) + " rows, /time has " + std::to_string(time.size()));
+    Fail(file, o.dataset,
+         std::to_string(data.rows()) + " rows, /time has " + std::to_string(time.size()));
   const int cols = static_cast<int>(data.cols());
   const int c = forced_column >= 0 ? forced_column : ColumnIndex(file, o.dataset, o.column, cols);
   if (c >= cols) Fail(file, o.dataset, "no column " + std::to_string(c));
   *unit = ColumnUnit(file, o.dataset, c, cols);
   std::vector<double> x;
   for (std::size_t i = 0; i < time.size(); ++i)
-    if (time[i] >= o.from_s && time[i] <= o.to_s) x.push_back(data(static_cast<Eigen::Index>(i), c));
+    if (time[i] >= o.from_s && time[i] <= o.to_s)
+      x.push_back(data(static_cast<Eigen::Index>(i), c));
   if (x.empty()) {
     std::ostringstream msg;
     msg << "no rows in the window [" << o.from_s << ", " << o.to_s << "] s";
-    if (!time.empty()) msg << " (the run recorded " << time.front() << " to " << time.back() << " s)";
+    if (!time.empty())
+      msg << " (the run recorded " << time.front() << " to " << time.back() << " s)";
     Fail(file, o.dataset, msg.str());
   }
   return x;
@@ -122,8 +133,9 @@ RecordedSignal Record(const Hdf5Reader& file, const StudyOutput& o) {
   const auto end = std::upper_bound(s.time_s.begin(), s.time_s.end(), o.to_s);
   const auto n = static_cast<std::size_t>(end - s.time_s.begin());
   if (n < static_cast<std::size_t>(kMinSignalSamples))
-    Fail(file, o.dataset, "record too short: " + std::to_string(n) + " samples in the window (need at least " +
-                              std::to_string(kMinSignalSamples) + ")");
+    Fail(file, o.dataset,
+         "record too short: " + std::to_string(n) + " samples in the window (need at least " +
+             std::to_string(kMinSignalSamples) + ")");
   s.time_s.resize(n);
   s.values.resize(n);
   return s;
@@ -131,8 +143,8 @@ RecordedSignal Record(const Hdf5Reader& file, const StudyOutput& o) {
 
 Spectrum RecordSpectrum(const RecordedSignal& s, const std::string& window) {
   const int n = FastFftLength(static_cast<int>(s.values.size()));
-  return AmplitudeSpectrum(std::span<const double>(s.values).first(static_cast<std::size_t>(n)), s.sample_rate_hz,
-                           ParseWindowKind(window));
+  return AmplitudeSpectrum(std::span<const double>(s.values).first(static_cast<std::size_t>(n)),
+                           s.sample_rate_hz, ParseWindowKind(window));
 }
 
 // A frequency given by name (a kinematic line of the file) or in Hz
@@ -148,14 +160,16 @@ double LineAmplitude(const Hdf5Reader& file, const StudyOutput& o, const Spectru
   const int last = static_cast<int>(s.amplitude.size()) - 1;
   const double k0 = f / s.resolution;
   if (!(f > 0) || k0 > last)
-    Fail(file, o.dataset, "frequency " + std::to_string(f) + " Hz is not inside (0, " +
-                              std::to_string(s.frequency.back()) + "] Hz, the record's band");
+    Fail(file, o.dataset,
+         "frequency " + std::to_string(f) + " Hz is not inside (0, " +
+             std::to_string(s.frequency.back()) + "] Hz, the record's band");
   const int half = MainLobeHalfWidthBins(s.window);
   const int lo = std::max(1, static_cast<int>(std::ceil(k0 - half)));
   const int hi = std::min(last, static_cast<int>(std::floor(k0 + half)));
   int best = std::clamp(static_cast<int>(std::lround(k0)), lo, std::max(lo, hi));
   for (int k = lo; k <= hi; ++k)
-    if (s.amplitude[static_cast<std::size_t>(k)] > s.amplitude[static_cast<std::size_t>(best)]) best = k;
+    if (s.amplitude[static_cast<std::size_t>(k)] > s.amplitude[static_cast<std::size_t>(best)])
+      best = k;
   const auto& a = s.amplitude;
   const auto b = static_cast<std::size_t>(best);
   const bool local_max = best > 0 && best < last && a[b] > a[b - 1] && a[b] >= a[b + 1];
@@ -185,17 +199,20 @@ double SidebandRatio(const Hdf5Reader& file, const StudyOutput& o, std::string* 
 }
 
 // The mesh order of a TSA: given, or f_mesh over the member's mean rotation frequency
-int MeshOrder(const Hdf5Reader& file, const StudyOutput& o, const RecordedSignal& s, const std::vector<double>& angle) {
+int MeshOrder(const Hdf5Reader& file, const StudyOutput& o, const RecordedSignal& s,
+              const std::vector<double>& angle) {
   if (o.mesh_order > 0) return o.mesh_order;
   const double mesh = Frequency(file, o.mesh, o.mesh_hz);
   const std::vector<double> rising = RisingAngle(angle);
-  const double member_hz =
-      (rising.back() - rising.front()) / (2 * std::numbers::pi) / (s.time_s.back() - s.time_s.front());
+  const double member_hz = (rising.back() - rising.front()) / (2 * std::numbers::pi) /
+                           (s.time_s.back() - s.time_s.front());
   const double order = mesh / member_hz;
   const int z = static_cast<int>(std::lround(order));
   if (z < 1 || std::abs(order - z) > 0.05)
-    Fail(file, ReferenceAnglePath(o.tsa), "the mesh frequency is " + std::to_string(order) +
-                                             " orders of the member, not a whole number: the TSA needs the member that carries the gear");
+    Fail(file, ReferenceAnglePath(o.tsa),
+         "the mesh frequency is " + std::to_string(order) +
+             " orders of the member, not a whole number: the TSA needs the member that carries the "
+             "gear");
   return z;
 }
 
@@ -212,7 +229,8 @@ double Indicator(const Hdf5Reader& file, const StudyOutput& o, std::string* unit
   } else {
     try {
       const std::vector<double> angle = ReadReferenceAngle(file, o.tsa, s);
-      const int per_rev = o.samples_per_revolution > 0 ? o.samples_per_revolution : DefaultSamplesPerRevolution(angle);
+      const int per_rev = o.samples_per_revolution > 0 ? o.samples_per_revolution
+                                                       : DefaultSamplesPerRevolution(angle);
       const SynchronousAverage tsa = TimeSynchronousAverage(s.values, angle, per_rev);
       c = CalcConditionIndicators(tsa.values, {.mesh_order = MeshOrder(file, o, s, angle)});
     } catch (const std::invalid_argument& e) {

@@ -35,10 +35,12 @@ std::string FailureLine(const std::string& log_path) {
   const std::string prefix = "orrery: error: ";
   while (std::getline(in, line)) {
     // A progress bar's carriage returns leave the last redraw
-    if (const std::size_t cr = line.find_last_of('\r'); cr != std::string::npos) line = line.substr(cr + 1);
+    if (const std::size_t cr = line.find_last_of('\r'); cr != std::string::npos)
+      line = line.substr(cr + 1);
     if (line.find_first_not_of(" \t") == std::string::npos) continue;
     last = line;
-    if (const std::size_t at = line.find(prefix); at != std::string::npos) error = line.substr(at + prefix.size());
+    if (const std::size_t at = line.find(prefix); at != std::string::npos)
+      error = line.substr(at + prefix.size());
   }
   return error.empty() ? last : error;
 }
@@ -58,8 +60,12 @@ std::vector<int> RunPool::Running() const {
 
 std::vector<std::string> RunPool::CommandLine(int run) const {
   const RunSpec& spec = plan_.runs[static_cast<std::size_t>(run)];
-  std::vector<std::string> argv{options_.executable, "run", Absolute(plan_.study.scene_path), "-o",
-                                Absolute(folder_.ResultPath(run)), "--quiet"};
+  std::vector<std::string> argv{options_.executable,
+                                "run",
+                                Absolute(plan_.study.scene_path),
+                                "-o",
+                                Absolute(folder_.ResultPath(run)),
+                                "--quiet"};
   for (const std::string& o : plan_.Overrides(spec)) argv.insert(argv.end(), {"--set", o});
   argv.insert(argv.end(), {"--study-attribute", "run=" + std::to_string(run)});
   argv.insert(argv.end(), {"--study-attribute", "study=" + plan_.study.name});
@@ -71,7 +77,8 @@ std::vector<std::string> RunPool::CommandLine(int run) const {
 void RunPool::Start(int run) {
   try {
     active_.push_back({.run = run,
-                       .process = RunProcess::Start(CommandLine(run), folder_.LogPath(run), plan_.study.limits.memory_mib)});
+                       .process = RunProcess::Start(CommandLine(run), folder_.LogPath(run),
+                                                    plan_.study.limits.memory_mib)});
   } catch (const std::exception& e) {
     RunRecord r;
     r.run = run;
@@ -102,14 +109,17 @@ RunRecord RunPool::Finish(const Active& active, const ProcessExit& exit) const {
   if (active.over_limit || exit.exit_status != 0) {
     r.status = RunStatus::kFailed;
     if (active.over_limit) {
-      r.reason = "stopped after the wall-time limit of " + Seconds(plan_.study.limits.wall_time_s) + " s";
+      r.reason =
+          "stopped after the wall-time limit of " + Seconds(plan_.study.limits.wall_time_s) + " s";
     } else if (exit.signal != 0) {
-      r.reason = "killed by signal " + std::to_string(exit.signal) + " (" + strsignal(exit.signal) + ")";
+      r.reason =
+          "killed by signal " + std::to_string(exit.signal) + " (" + strsignal(exit.signal) + ")";
     } else {
       r.reason = FailureLine(folder_.LogPath(active.run));
       if (r.reason.empty()) r.reason = "exit status " + std::to_string(exit.exit_status);
     }
-    if (plan_.study.limits.memory_mib > 0) r.reason += " (memory limit " + Seconds(plan_.study.limits.memory_mib) + " MiB)";
+    if (plan_.study.limits.memory_mib > 0)
+      r.reason += " (memory limit " + Seconds(plan_.study.limits.memory_mib) + " MiB)";
     return r;
   }
   // A finished run: its outputs
@@ -151,7 +161,8 @@ std::vector<RunRecord> RunPool::Poll() {
   for (const RunRecord& r : done) {
     const RunSpec& spec = plan_.runs[static_cast<std::size_t>(r.run)];
     std::vector<std::string> parameters;
-    for (std::size_t k = 0; k < plan_.parameters.size(); ++k) parameters.push_back(plan_.parameters[k] + "=" + spec.values[k]);
+    for (std::size_t k = 0; k < plan_.parameters.size(); ++k)
+      parameters.push_back(plan_.parameters[k] + "=" + spec.values[k]);
     folder_.WriteMarker(r, parameters);
   }
   return done;

@@ -39,8 +39,8 @@
 namespace orrery::study {
 
 struct RunPoolOptions {
-  std::string executable;  // the orrery program (SelfExecutable())
-  int slots = 1;           // runs at a time, >= 1
+  std::string executable;    // the orrery program (SelfExecutable())
+  int slots = 1;             // runs at a time, >= 1
   double kill_grace_s = 10;  // from SIGTERM to SIGKILL for a run over its wall-time limit
   int rank = 0;              // MPI rank of this process, for the records
 };
@@ -73,8 +73,8 @@ class RunPool {
   struct Active {
     int run = 0;
     RunProcess process;
-    bool over_limit = false;   // stopped for the wall-time limit
-    double stop_sent_s = 0;    // ElapsedSeconds when SIGTERM was sent
+    bool over_limit = false;  // stopped for the wall-time limit
+    double stop_sent_s = 0;   // ElapsedSeconds when SIGTERM was sent
   };
   RunRecord Finish(const Active& active, const ProcessExit& exit) const;
   void EnforceLimit(Active& active) const;

@@ -29,7 +29,8 @@ std::vector<std::string> ChildEnvironment(const std::vector<std::string>& extra)
   std::vector<std::string> env;
   for (char** e = environ; e != nullptr && *e != nullptr; ++e) {
     const std::string entry(*e);
-    if (entry.rfind(std::string(kParentVariable) + "=", 0) == 0 || entry.rfind(std::string(kMemoryVariable) + "=", 0) == 0)
+    if (entry.rfind(std::string(kParentVariable) + "=", 0) == 0 ||
+        entry.rfind(std::string(kMemoryVariable) + "=", 0) == 0)
       continue;
     env.push_back(entry);
   }
@@ -46,12 +47,14 @@ std::vector<char*> Pointers(std::vector<std::string>& strings) {
 
 }  // namespace
 
-RunProcess RunProcess::Start(const std::vector<std::string>& argv, const std::string& log_path, double memory_mib) {
+RunProcess RunProcess::Start(const std::vector<std::string>& argv, const std::string& log_path,
+                             double memory_mib) {
   // Standard streams: stdin from /dev/null, stdout and stderr to the log
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log_path.c_str(),
+                                   O_WRONLY | O_CREAT | O_TRUNC, 0644);
   posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
   // Default signal handling and an empty mask in the child (the study may block or catch some)
   posix_spawnattr_t attr;
@@ -63,16 +66,19 @@ RunProcess RunProcess::Start(const std::vector<std::string>& argv, const std::st
   posix_spawnattr_setsigdefault(&attr, &all);
   // Its own process group: a Ctrl-C at the terminal reaches the study, which stops its runs
   posix_spawnattr_setpgroup(&attr, 0);
-  posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF | POSIX_SPAWN_SETPGROUP);
+  posix_spawnattr_setflags(&attr,
+                           POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF | POSIX_SPAWN_SETPGROUP);
   // Arguments and environment
   std::vector<std::string> args = argv;
   std::vector<std::string> extra{std::string(kParentVariable) + "=" + std::to_string(getpid())};
-  if (memory_mib > 0) extra.push_back(std::string(kMemoryVariable) + "=" + std::to_string(memory_mib));
+  if (memory_mib > 0)
+    extra.push_back(std::string(kMemoryVariable) + "=" + std::to_string(memory_mib));
   std::vector<std::string> env = ChildEnvironment(extra);
   std::vector<char*> arg_pointers = Pointers(args), env_pointers = Pointers(env);
   pid_t pid = -1;
   const auto start = std::chrono::steady_clock::now();
-  const int rc = posix_spawn(&pid, args.front().c_str(), &actions, &attr, arg_pointers.data(), env_pointers.data());
+  const int rc = posix_spawn(&pid, args.front().c_str(), &actions, &attr, arg_pointers.data(),
+                             env_pointers.data());
   posix_spawn_file_actions_destroy(&actions);
   posix_spawnattr_destroy(&attr);
   if (rc != 0) throw std::runtime_error("cannot start " + args.front() + ": " + std::strerror(rc));
@@ -122,7 +128,9 @@ std::optional<ProcessExit> RunProcess::Reap(bool block) {
     return e;
   }
   e.peak_memory_mib = static_cast<double>(usage.ru_maxrss) / 1024.0;
-  const auto seconds = [](const timeval& t) { return static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_usec); };
+  const auto seconds = [](const timeval& t) {
+    return static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_usec);
+  };
   e.cpu_time_s = seconds(usage.ru_utime) + seconds(usage.ru_stime);
   if (WIFSIGNALED(status)) {
     e.signal = WTERMSIG(status);
@@ -165,7 +173,9 @@ void WaitForChildExit(double timeout_s) {
 std::string SelfExecutable() {
   std::string path(4096, '\0');
   const ssize_t n = ::readlink("/proc/self/exe", path.data(), path.size() - 1);
-  if (n <= 0) throw std::runtime_error(std::string("cannot find the orrery program (/proc/self/exe): ") + std::strerror(errno));
+  if (n <= 0)
+    throw std::runtime_error(std::string("cannot find the orrery program (/proc/self/exe): ") +
+                             std::strerror(errno));
   path.resize(static_cast<std::size_t>(n));
   return path;
 }

@@ -27,10 +27,10 @@
 namespace orrery::study {
 
 struct ProcessExit {
-  int exit_status = 0;       // exit code; 128 + signal number when a signal ended it
-  int signal = 0;            // the signal that ended it, 0 when it exited
-  double wall_time_s = 0;    // from Start to the moment Poll saw it end
-  double cpu_time_s = 0;     // user + system time of the child (ru_utime + ru_stime)
+  int exit_status = 0;         // exit code; 128 + signal number when a signal ended it
+  int signal = 0;              // the signal that ended it, 0 when it exited
+  double wall_time_s = 0;      // from Start to the moment Poll saw it end
+  double cpu_time_s = 0;       // user + system time of the child (ru_utime + ru_stime)
   double peak_memory_mib = 0;  // ru_maxrss of the child (KiB on Linux) / 1024
 };
 
@@ -39,7 +39,8 @@ class RunProcess {
   // Starts argv[0] with `argv`, stdin from /dev/null, stdout and stderr to `log_path`
   // (truncated). `memory_mib` > 0 limits the child's address space. Throws std::runtime_error
   // naming the program when it cannot start.
-  static RunProcess Start(const std::vector<std::string>& argv, const std::string& log_path, double memory_mib);
+  static RunProcess Start(const std::vector<std::string>& argv, const std::string& log_path,
+                          double memory_mib);
 
   RunProcess(RunProcess&& other) noexcept;
   RunProcess& operator=(RunProcess&& other) noexcept;

@@ -80,7 +80,8 @@ std::string EncodeRunRecord(const RunRecord& r, const std::vector<std::string>& 
 RunRecord DecodeRunRecord(std::string_view text) {
   std::istringstream in{std::string(text)};
   std::string line;
-  if (!std::getline(in, line) || line != kMagic) throw std::runtime_error("line 1: not a run record");
+  if (!std::getline(in, line) || line != kMagic)
+    throw std::runtime_error("line 1: not a run record");
   RunRecord r;
   bool has_run = false, has_status = false, ended = false;
   int number = 1;
@@ -97,10 +98,15 @@ RunRecord DecodeRunRecord(std::string_view text) {
       r.run = ParseInt(value, number);
       has_run = true;
     } else if (key == "status") {
-      if (value == "ok") r.status = RunStatus::kOk;
-      else if (value == "failed") r.status = RunStatus::kFailed;
-      else if (value == "output_failed") r.status = RunStatus::kOutputFailed;
-      else throw std::runtime_error("line " + std::to_string(number) + ": unknown status '" + value + "'");
+      if (value == "ok")
+        r.status = RunStatus::kOk;
+      else if (value == "failed")
+        r.status = RunStatus::kFailed;
+      else if (value == "output_failed")
+        r.status = RunStatus::kOutputFailed;
+      else
+        throw std::runtime_error("line " + std::to_string(number) + ": unknown status '" + value +
+                                 "'");
       has_status = true;
     } else if (key == "exit_status") {
       r.exit_status = ParseInt(value, number);
@@ -122,14 +128,17 @@ RunRecord DecodeRunRecord(std::string_view text) {
       const std::size_t b = a == std::string::npos ? a : value.find(' ', a + 1);
       const int i = ParseInt(value.substr(0, a), number);
       if (i != static_cast<int>(r.outputs.size()))
-        throw std::runtime_error("line " + std::to_string(number) + ": output " + std::to_string(i) + " out of order");
-      r.outputs.push_back(ParseHex(a == std::string::npos ? "" : value.substr(a + 1, b - a - 1), number));
+        throw std::runtime_error("line " + std::to_string(number) + ": output " +
+                                 std::to_string(i) + " out of order");
+      r.outputs.push_back(
+          ParseHex(a == std::string::npos ? "" : value.substr(a + 1, b - a - 1), number));
       r.units.push_back(b == std::string::npos ? "" : value.substr(b + 1));
     } else if (key != "parameter") {
       throw std::runtime_error("line " + std::to_string(number) + ": unknown key '" + key + "'");
     }
   }
-  if (!has_run || !has_status || !ended) throw std::runtime_error("incomplete record (no run, status or end line)");
+  if (!has_run || !has_status || !ended)
+    throw std::runtime_error("incomplete record (no run, status or end line)");
   return r;
 }
 

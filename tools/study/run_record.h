@@ -39,19 +39,20 @@ std::string_view RunStatusName(RunStatus status);  // "ok", "failed", "output_fa
 struct RunRecord {
   int run = -1;
   RunStatus status = RunStatus::kFailed;
-  int exit_status = 0;          // exit code, 128 + signal number when killed, -1 if it did not start
-  double wall_time_s = 0;       // from start to exit, measured by the study
-  double cpu_time_s = 0;        // user + system time of the run's process (getrusage)
-  double peak_memory_mib = 0;   // the run process's maximum resident set size (getrusage)
-  int rank = 0;                 // the MPI rank that ran it (0 without MPI)
-  std::string host;             // the machine it ran on (gethostname)
-  std::string reason;           // one line; "" for ok
-  std::vector<double> outputs;  // one per study output, NaN when not extracted
+  int exit_status = 0;         // exit code, 128 + signal number when killed, -1 if it did not start
+  double wall_time_s = 0;      // from start to exit, measured by the study
+  double cpu_time_s = 0;       // user + system time of the run's process (getrusage)
+  double peak_memory_mib = 0;  // the run process's maximum resident set size (getrusage)
+  int rank = 0;                // the MPI rank that ran it (0 without MPI)
+  std::string host;            // the machine it ran on (gethostname)
+  std::string reason;          // one line; "" for ok
+  std::vector<double> outputs;     // one per study output, NaN when not extracted
   std::vector<std::string> units;  // unit of each output ("" when unknown)
 };
 
 // `parameters` ("key=value") are written as comment lines for a person reading a marker.
-std::string EncodeRunRecord(const RunRecord& record, const std::vector<std::string>& parameters = {});
+std::string EncodeRunRecord(const RunRecord& record,
+                            const std::vector<std::string>& parameters = {});
 // Throws std::runtime_error naming the line for text that is not a complete record.
 RunRecord DecodeRunRecord(std::string_view text);
 

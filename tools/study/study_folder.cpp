@@ -81,7 +81,8 @@ void WriteFileAtomically(const std::string& path, std::string_view text) {
   if (::close(fd) != 0) FailErrno(tmp, "cannot close");
   // Rename over the final name, then make the rename durable
   if (::rename(tmp.c_str(), path.c_str()) != 0) FailErrno(path, "cannot rename " + tmp + " to it");
-  const std::string dir = fs::path(path).parent_path().empty() ? "." : fs::path(path).parent_path().string();
+  const std::string dir =
+      fs::path(path).parent_path().empty() ? "." : fs::path(path).parent_path().string();
   const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
   if (dfd >= 0) {
     ::fsync(dfd);
@@ -89,8 +90,9 @@ void WriteFileAtomically(const std::string& path, std::string_view text) {
   }
 }
 
-StudyFolder StudyFolder::Prepare(const std::string& path, const std::string& study_file, const std::string& study_text,
-                                 const std::string& scene_text, int runs, std::ostream& warn) {
+StudyFolder StudyFolder::Prepare(const std::string& path, const std::string& study_file,
+                                 const std::string& study_text, const std::string& scene_text,
+                                 int runs, std::ostream& warn) {
   const fs::path dir(path);
   const fs::path id_path = dir / "study.id";
   const std::string study_hash = HashText(study_text), scene_hash = HashText(scene_text);
@@ -100,15 +102,20 @@ StudyFolder StudyFolder::Prepare(const std::string& path, const std::string& stu
     const std::string id = ReadFile(id_path);
     const std::string hash = IdField(id, "study");
     if (hash != study_hash)
-      throw std::runtime_error(path + ": holds another study (study file hash " + hash + ", " + study_file + " has " +
-                               study_hash + "); choose another folder (-o DIR)");
+      throw std::runtime_error(path + ": holds another study (study file hash " + hash + ", " +
+                               study_file + " has " + study_hash +
+                               "); choose another folder (-o DIR)");
     const std::string old_scene = IdField(id, "scene");
     if (old_scene != scene_hash)
-      warn << "orrery: warning: " << path << ": the base scene changed since the study started (hash " << old_scene
-           << ", now " << scene_hash << "); runs done before differ from runs done now\n";
+      warn << "orrery: warning: " << path
+           << ": the base scene changed since the study started (hash " << old_scene << ", now "
+           << scene_hash << "); runs done before differ from runs done now\n";
   } else if (fs::exists(dir, ec)) {
     if (!fs::is_directory(dir, ec)) throw std::runtime_error(path + ": exists and is not a folder");
-    if (!fs::is_empty(dir, ec)) throw std::runtime_error(path + ": not empty and not a study folder (no study.id); choose another folder (-o DIR)");
+    if (!fs::is_empty(dir, ec))
+      throw std::runtime_error(
+          path +
+          ": not empty and not a study folder (no study.id); choose another folder (-o DIR)");
   }
   // Create the folder and its identity
   fs::create_directories(dir / "runs", ec);
@@ -149,7 +156,8 @@ std::optional<RunRecord> StudyFolder::ReadMarker(int run) const {
   }
 }
 
-void StudyFolder::WriteMarker(const RunRecord& record, const std::vector<std::string>& parameters) const {
+void StudyFolder::WriteMarker(const RunRecord& record,
+                              const std::vector<std::string>& parameters) const {
   WriteFileAtomically(MarkerPath(record.run), EncodeRunRecord(record, parameters));
 }
 

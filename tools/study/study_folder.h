@@ -21,9 +21,9 @@
 // refused (runs done before and after the change then differ; the message says so).
 //
 // Usage:
-//   StudyFolder folder = StudyFolder::Prepare("results/quick", "quick.yaml", text, scene_text, 6, warn);
-//   if (!folder.ReadMarker(3)) RunIt(folder.ResultPath(3));
-//   folder.WriteMarker(record, parameters);
+//   StudyFolder folder = StudyFolder::Prepare("results/quick", "quick.yaml", text, scene_text, 6,
+//   warn); if (!folder.ReadMarker(3)) RunIt(folder.ResultPath(3)); folder.WriteMarker(record,
+//   parameters);
 #include <optional>
 #include <ostream>
 #include <string>
@@ -43,8 +43,9 @@ class StudyFolder {
   // when new. `runs` sets the width of the run numbers (at least 5 digits). Warnings (a changed
   // base scene) go to `warn`. Throws std::runtime_error "DIR: reason" when the folder holds
   // another study, is not a study folder, or cannot be written.
-  static StudyFolder Prepare(const std::string& path, const std::string& study_file, const std::string& study_text,
-                             const std::string& scene_text, int runs, std::ostream& warn);
+  static StudyFolder Prepare(const std::string& path, const std::string& study_file,
+                             const std::string& study_text, const std::string& scene_text, int runs,
+                             std::ostream& warn);
   // The same folder without checks or writes (MPI ranks other than 0, after rank 0 prepared it).
   static StudyFolder Open(const std::string& path, int runs);
 

@@ -71,8 +71,9 @@ std::string OutputUnit(const std::vector<std::optional<RunRecord>>& records, std
   return "";
 }
 
-void WriteHdf5(const StudyPlan& plan, const StudyFolder& folder, const std::vector<std::optional<RunRecord>>& records,
-               const std::string& study_hash, const std::string& path) {
+void WriteHdf5(const StudyPlan& plan, const StudyFolder& folder,
+               const std::vector<std::optional<RunRecord>>& records, const std::string& study_hash,
+               const std::string& path) {
   const std::size_t n = records.size();
   ResultFile out = ResultFile::Create(path);
   // Runs
@@ -106,8 +107,10 @@ void WriteHdf5(const StudyPlan& plan, const StudyFolder& folder, const std::vect
   out.WriteStrings("/parameters/keys", plan.parameters);
   for (std::size_t k = 0; k < columns.size(); ++k) {
     const std::string p = "/parameters/" + plan.parameters[k];
-    if (columns[k].numeric) out.WriteVector(p, columns[k].numbers, "");
-    else out.WriteStrings(p, columns[k].texts);
+    if (columns[k].numeric)
+      out.WriteVector(p, columns[k].numbers, "");
+    else
+      out.WriteStrings(p, columns[k].texts);
   }
   // Outputs
   std::vector<std::string> names;
@@ -138,10 +141,14 @@ void WriteHdf5(const StudyPlan& plan, const StudyFolder& folder, const std::vect
 StudyCounts CountRecords(const std::vector<std::optional<RunRecord>>& records) {
   StudyCounts c;
   for (const std::optional<RunRecord>& r : records) {
-    if (!r) ++c.pending;
-    else if (r->status == RunStatus::kOk) ++c.ok;
-    else if (r->status == RunStatus::kFailed) ++c.failed;
-    else ++c.output_failed;
+    if (!r)
+      ++c.pending;
+    else if (r->status == RunStatus::kOk)
+      ++c.ok;
+    else if (r->status == RunStatus::kFailed)
+      ++c.failed;
+    else
+      ++c.output_failed;
   }
   return c;
 }
@@ -163,7 +170,8 @@ std::string StudyIndexCsv(const StudyPlan& plan, const StudyFolder& folder,
     const std::optional<RunRecord>& r = records[i];
     csv += std::to_string(i);
     field(r ? std::string(RunStatusName(r->status)) : "pending");
-    for (const ParameterColumn& c : columns) field(c.numeric ? Number(c.numbers[i]) : CsvField(c.texts[i]));
+    for (const ParameterColumn& c : columns)
+      field(c.numeric ? Number(c.numbers[i]) : CsvField(c.texts[i]));
     for (std::size_t k = 0; k < plan.study.outputs.size(); ++k)
       field(r && k < r->outputs.size() ? Number(r->outputs[k]) : std::string());
     if (r) {
@@ -182,12 +190,14 @@ std::string StudyIndexCsv(const StudyPlan& plan, const StudyFolder& folder,
 }
 
 void WriteStudyIndex(const StudyPlan& plan, const StudyFolder& folder,
-                     const std::vector<std::optional<RunRecord>>& records, const std::string& study_hash) {
+                     const std::vector<std::optional<RunRecord>>& records,
+                     const std::string& study_hash) {
   WriteFileAtomically(folder.IndexCsvPath(), StudyIndexCsv(plan, folder, records));
   // HDF5: written beside, then renamed over the index
   const std::string h5 = folder.IndexHdf5Path(), tmp = h5 + ".tmp";
   WriteHdf5(plan, folder, records, study_hash, tmp);
-  if (std::rename(tmp.c_str(), h5.c_str()) != 0) throw std::runtime_error(h5 + ": cannot rename " + tmp + " to it");
+  if (std::rename(tmp.c_str(), h5.c_str()) != 0)
+    throw std::runtime_error(h5 + ": cannot rename " + tmp + " to it");
 }
 
 }  // namespace orrery::study

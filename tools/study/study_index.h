@@ -43,7 +43,8 @@ StudyCounts CountRecords(const std::vector<std::optional<RunRecord>>& records);
 // Writes folder.IndexCsvPath() and folder.IndexHdf5Path() from `records` (one per run of the
 // plan). Throws std::runtime_error naming the file when one cannot be written.
 void WriteStudyIndex(const StudyPlan& plan, const StudyFolder& folder,
-                     const std::vector<std::optional<RunRecord>>& records, const std::string& study_hash);
+                     const std::vector<std::optional<RunRecord>>& records,
+                     const std::string& study_hash);
 
 // The CSV text alone (tests).
 std::string StudyIndexCsv(const StudyPlan& plan, const StudyFolder& folder,

@@ -53,9 +53,12 @@ BlockEntries RandomEntries(const StudyBlock& block) {
     for (const StudyRandomKey& k : block.keys) {
       const double u = draw();
       switch (k.distribution) {
-        case StudyDistribution::kUniform: entry.push_back(ShortestText(k.low + (k.high - k.low) * u)); break;
+        case StudyDistribution::kUniform:
+          entry.push_back(ShortestText(k.low + (k.high - k.low) * u));
+          break;
         case StudyDistribution::kLogUniform:
-          entry.push_back(ShortestText(std::exp(std::log(k.low) + (std::log(k.high) - std::log(k.low)) * u)));
+          entry.push_back(
+              ShortestText(std::exp(std::log(k.low) + (std::log(k.high) - std::log(k.low)) * u)));
           break;
         case StudyDistribution::kChoice: {
           const auto i = static_cast<std::size_t>(u * static_cast<double>(k.choices.size()));
@@ -73,7 +76,8 @@ BlockEntries RandomEntries(const StudyBlock& block) {
 std::vector<std::string> StudyPlan::Overrides(const RunSpec& run) const {
   std::vector<std::string> overrides;
   for (const StudySetting& s : study.settings) overrides.push_back(s.key + "=" + s.value);
-  for (std::size_t i = 0; i < parameters.size(); ++i) overrides.push_back(parameters[i] + "=" + run.values[i]);
+  for (std::size_t i = 0; i < parameters.size(); ++i)
+    overrides.push_back(parameters[i] + "=" + run.values[i]);
   return overrides;
 }
 
@@ -83,12 +87,16 @@ StudyPlan MakeStudyPlan(StudyDescription study) {
   std::vector<BlockEntries> blocks;
   long long runs = 1;
   for (const StudyBlock& block : study.blocks) {
-    blocks.push_back(block.kind == StudyBlock::Kind::kRandom ? RandomEntries(block) : AxisEntries(block));
+    blocks.push_back(block.kind == StudyBlock::Kind::kRandom ? RandomEntries(block)
+                                                             : AxisEntries(block));
     runs *= static_cast<long long>(blocks.back().entries.size());
     if (runs > kMaxStudyRuns)
-      throw std::runtime_error(study.file + ": axes: the study has more than " + std::to_string(kMaxStudyRuns) + " runs");
-    plan.parameters.insert(plan.parameters.end(), blocks.back().keys.begin(), blocks.back().keys.end());
-    plan.parameter_at.insert(plan.parameter_at.end(), blocks.back().at.begin(), blocks.back().at.end());
+      throw std::runtime_error(study.file + ": axes: the study has more than " +
+                               std::to_string(kMaxStudyRuns) + " runs");
+    plan.parameters.insert(plan.parameters.end(), blocks.back().keys.begin(),
+                           blocks.back().keys.end());
+    plan.parameter_at.insert(plan.parameter_at.end(), blocks.back().at.begin(),
+                             blocks.back().at.end());
   }
   // Cartesian product, the last block fastest
   plan.runs.resize(static_cast<std::size_t>(runs));
@@ -103,7 +111,8 @@ StudyPlan MakeStudyPlan(StudyDescription study) {
       const std::vector<std::string>& entry = blocks[b].entries[static_cast<std::size_t>(rest % n)];
       rest /= n;
       column -= entry.size();
-      std::copy(entry.begin(), entry.end(), run.values.begin() + static_cast<std::ptrdiff_t>(column));
+      std::copy(entry.begin(), entry.end(),
+                run.values.begin() + static_cast<std::ptrdiff_t>(column));
     }
   }
   plan.study = std::move(study);
@@ -123,9 +132,11 @@ void CheckStudyScene(const StudyPlan& plan) {
     const std::string message = e.what();
     std::vector<std::pair<std::string, std::string>> keys;
     for (const StudySetting& setting : s.settings) keys.emplace_back(setting.key, setting.at);
-    for (std::size_t i = 0; i < plan.parameters.size(); ++i) keys.emplace_back(plan.parameters[i], plan.parameter_at[i]);
+    for (std::size_t i = 0; i < plan.parameters.size(); ++i)
+      keys.emplace_back(plan.parameters[i], plan.parameter_at[i]);
     for (const auto& [key, at] : keys)
-      if (message.find(": --set " + key + ": ") != std::string::npos) throw std::runtime_error(at + ": " + message);
+      if (message.find(": --set " + key + ": ") != std::string::npos)
+        throw std::runtime_error(at + ": " + message);
     throw std::runtime_error(s.scene_at + ": " + message);
   }
 }

@@ -7,16 +7,21 @@ namespace {
 
 std::string Duration(double s) {
   char buffer[32];
-  if (s < 60) std::snprintf(buffer, sizeof buffer, "%.1f s", s);
-  else if (s < 3600) std::snprintf(buffer, sizeof buffer, "%d min %02d s", static_cast<int>(s) / 60, static_cast<int>(s) % 60);
-  else std::snprintf(buffer, sizeof buffer, "%d h %02d min", static_cast<int>(s) / 3600, static_cast<int>(s) / 60 % 60);
+  if (s < 60)
+    std::snprintf(buffer, sizeof buffer, "%.1f s", s);
+  else if (s < 3600)
+    std::snprintf(buffer, sizeof buffer, "%d min %02d s", static_cast<int>(s) / 60,
+                  static_cast<int>(s) % 60);
+  else
+    std::snprintf(buffer, sizeof buffer, "%d h %02d min", static_cast<int>(s) / 3600,
+                  static_cast<int>(s) / 60 % 60);
   return buffer;
 }
 
 }  // namespace
 
-StudyProgress::StudyProgress(std::ostream& err, Style style, std::string name, int runs, int done_before,
-                             double min_redraw_s)
+StudyProgress::StudyProgress(std::ostream& err, Style style, std::string name, int runs,
+                             int done_before, double min_redraw_s)
     : err_(err),
       style_(style),
       name_(std::move(name)),
@@ -31,7 +36,8 @@ double StudyProgress::elapsed_s() const {
 
 std::string StudyProgress::Line(int done, int failed, int running) const {
   const double elapsed = elapsed_s();
-  std::string line = "study " + name_ + ": " + std::to_string(done) + "/" + std::to_string(runs_) + " done";
+  std::string line =
+      "study " + name_ + ": " + std::to_string(done) + "/" + std::to_string(runs_) + " done";
   if (failed > 0) line += " (" + std::to_string(failed) + " failed)";
   line += ", " + std::to_string(running) + " running, " + Duration(elapsed) + " elapsed";
   const int finished_now = done - done_before_;
@@ -71,7 +77,9 @@ void StudyProgress::Update(int done, int failed, int running) {
 void StudyProgress::RunFailed(const RunRecord& record) {
   if (style_ == Style::kNone) return;
   Abandon();
-  err_ << "run " << record.run << " " << RunStatusName(record.status) << ": " << record.reason << '\n' << std::flush;
+  err_ << "run " << record.run << " " << RunStatusName(record.status) << ": " << record.reason
+       << '\n'
+       << std::flush;
 }
 
 void StudyProgress::Finish(int done, int failed) {

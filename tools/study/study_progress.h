@@ -23,7 +23,8 @@ class StudyProgress {
   enum class Style { kBar, kLines, kNone };
 
   // `done_before`: runs already recorded when this session started.
-  StudyProgress(std::ostream& err, Style style, std::string name, int runs, int done_before, double min_redraw_s = 0.25);
+  StudyProgress(std::ostream& err, Style style, std::string name, int runs, int done_before,
+                double min_redraw_s = 0.25);
 
   // `done` and `failed` count every recorded run (failed includes output_failed).
   void Update(int done, int failed, int running);

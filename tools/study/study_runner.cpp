@@ -18,7 +18,9 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double Since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+double Since(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
 
 // The pending runs of `records`, in index order
 std::deque<int> PendingRuns(const std::vector<std::optional<RunRecord>>& records) {
@@ -43,7 +45,8 @@ Tally Count(const std::vector<std::optional<RunRecord>>& records) {
 }
 
 // Keeps a record and reports a failure
-void Collect(RunRecord record, std::vector<std::optional<RunRecord>>& records, StudyProgress& progress, int& run_now) {
+void Collect(RunRecord record, std::vector<std::optional<RunRecord>>& records,
+             StudyProgress& progress, int& run_now) {
   if (record.status != RunStatus::kOk) progress.RunFailed(record);
   const auto i = static_cast<std::size_t>(record.run);
   if (i < records.size()) records[i] = std::move(record);
@@ -54,7 +57,11 @@ void Collect(RunRecord record, std::vector<std::optional<RunRecord>>& records, S
 class IndexWriter {
  public:
   IndexWriter(const StudyPlan& plan, const StudyFolder& folder, std::string hash, double interval)
-      : plan_(plan), folder_(folder), hash_(std::move(hash)), interval_(interval), last_(Clock::now()) {}
+      : plan_(plan),
+        folder_(folder),
+        hash_(std::move(hash)),
+        interval_(interval),
+        last_(Clock::now()) {}
   void MaybeWrite(const std::vector<std::optional<RunRecord>>& records) {
     if (Since(last_) >= interval_) Write(records);
   }
@@ -71,7 +78,9 @@ class IndexWriter {
   Clock::time_point last_;
 };
 
-int Interrupted(const StudyRunOptions& options) { return options.interrupted ? options.interrupted() : 0; }
+int Interrupted(const StudyRunOptions& options) {
+  return options.interrupted ? options.interrupted() : 0;
+}
 
 std::string Join(const std::vector<int>& runs) {
   std::string s;
@@ -92,7 +101,8 @@ std::vector<int> ParseRuns(const std::string& text) {
 
 }  // namespace
 
-std::vector<std::optional<RunRecord>> ReadMarkers(const StudyPlan& plan, const StudyFolder& folder, bool retry_failed) {
+std::vector<std::optional<RunRecord>> ReadMarkers(const StudyPlan& plan, const StudyFolder& folder,
+                                                  bool retry_failed) {
   std::vector<std::optional<RunRecord>> records(plan.runs.size());
   for (std::size_t i = 0; i < records.size(); ++i) {
     std::optional<RunRecord> r = folder.ReadMarker(static_cast<int>(i));
@@ -111,16 +121,21 @@ int DefaultJobs(int ranks_on_node) {
   return std::max(1, std::min(affinity, std::max(1, shared)));
 }
 
-StudyOutcome RunStudyLocal(const StudyPlan& plan, const StudyFolder& folder, const std::string& study_hash,
-                           const StudyRunOptions& options, std::ostream& err) {
+StudyOutcome RunStudyLocal(const StudyPlan& plan, const StudyFolder& folder,
+                           const std::string& study_hash, const StudyRunOptions& options,
+                           std::ostream& err) {
   const auto start = Clock::now();
   StudyOutcome o;
   o.records = ReadMarkers(plan, folder, options.retry_failed);
   std::deque<int> queue = PendingRuns(o.records);
   o.done_before = static_cast<int>(o.records.size() - queue.size());
-  StudyProgress progress(err, options.progress, plan.study.name, static_cast<int>(plan.runs.size()), o.done_before);
+  StudyProgress progress(err, options.progress, plan.study.name, static_cast<int>(plan.runs.size()),
+                         o.done_before);
   IndexWriter index(plan, folder, study_hash, options.index_interval_s);
-  RunPool pool(plan, folder, {.executable = options.executable, .slots = options.jobs, .kill_grace_s = options.stop_grace_s});
+  RunPool pool(plan, folder,
+               {.executable = options.executable,
+                .slots = options.jobs,
+                .kill_grace_s = options.stop_grace_s});
   for (;;) {
     // Stop on a signal: the runs going are run again on resume
     if (const int signal = Interrupted(options)) {
@@ -152,16 +167,22 @@ StudyOutcome RunStudyLocal(const StudyPlan& plan, const StudyFolder& folder, con
   return o;
 }
 
-StudyOutcome CoordinateStudyMpi(const StudyPlan& plan, const StudyFolder& folder, const std::string& study_hash,
-                                const StudyRunOptions& options, const MpiSession& mpi, std::ostream& err) {
+StudyOutcome CoordinateStudyMpi(const StudyPlan& plan, const StudyFolder& folder,
+                                const std::string& study_hash, const StudyRunOptions& options,
+                                const MpiSession& mpi, std::ostream& err) {
   const auto start = Clock::now();
   StudyOutcome o;
   o.records = ReadMarkers(plan, folder, options.retry_failed);
   std::deque<int> queue = PendingRuns(o.records);
   o.done_before = static_cast<int>(o.records.size() - queue.size());
-  StudyProgress progress(err, options.progress, plan.study.name, static_cast<int>(plan.runs.size()), o.done_before);
+  StudyProgress progress(err, options.progress, plan.study.name, static_cast<int>(plan.runs.size()),
+                         o.done_before);
   IndexWriter index(plan, folder, study_hash, options.index_interval_s);
-  RunPool pool(plan, folder, {.executable = options.executable, .slots = options.jobs, .kill_grace_s = options.stop_grace_s, .rank = 0});
+  RunPool pool(plan, folder,
+               {.executable = options.executable,
+                .slots = options.jobs,
+                .kill_grace_s = options.stop_grace_s,
+                .rank = 0});
   std::set<int> handed_out;  // runs given to other ranks, no record yet
   std::set<int> finished;    // ranks that said kTagFinished
   bool stopping = false;
@@ -219,12 +240,15 @@ StudyOutcome CoordinateStudyMpi(const StudyPlan& plan, const StudyFolder& folder
   return o;
 }
 
-StudyOutcome WorkStudyMpi(const StudyPlan& plan, const StudyFolder& folder, const StudyRunOptions& options,
-                          const MpiSession& mpi) {
+StudyOutcome WorkStudyMpi(const StudyPlan& plan, const StudyFolder& folder,
+                          const StudyRunOptions& options, const MpiSession& mpi) {
   const auto start = Clock::now();
   StudyOutcome o;
   RunPool pool(plan, folder,
-               {.executable = options.executable, .slots = options.jobs, .kill_grace_s = options.stop_grace_s, .rank = mpi.rank()});
+               {.executable = options.executable,
+                .slots = options.jobs,
+                .kill_grace_s = options.stop_grace_s,
+                .rank = mpi.rank()});
   bool asked = false, nothing_left = false, stopping = false;
   for (;;) {
     // Stop on a signal or when rank 0 says so

@@ -50,9 +50,9 @@ enum StudyTag : int {
 };
 
 struct StudyRunOptions {
-  std::string executable;       // the orrery program (SelfExecutable())
-  int jobs = 1;                 // runs at a time in this process (>= 1)
-  bool retry_failed = false;    // run again the runs whose marker says failed or output_failed
+  std::string executable;     // the orrery program (SelfExecutable())
+  int jobs = 1;               // runs at a time in this process (>= 1)
+  bool retry_failed = false;  // run again the runs whose marker says failed or output_failed
   StudyProgress::Style progress = StudyProgress::Style::kNone;
   std::function<int()> interrupted;  // the signal asking to stop (SIGINT, SIGTERM), 0 if none
   double index_interval_s = 30;      // rewrite the index this often while runs go
@@ -60,27 +60,31 @@ struct StudyRunOptions {
 };
 
 struct StudyOutcome {
-  std::vector<std::optional<RunRecord>> records;  // per run (rank 0; empty on other ranks)
-  int done_before = 0;        // runs finished before this session
-  int run_now = 0;            // runs finished in this session (all ranks' on rank 0)
-  int interrupted_signal = 0; // the signal that stopped the study, 0 if it completed
-  double wall_s = 0;
+  // per run (rank 0; empty on other ranks)
+  std::vector<std::optional<RunRecord>> records;
+  int done_before = 0;         // runs finished before this session
+  int run_now = 0;             // runs finished in this session (all ranks' on rank 0)
+  int interrupted_signal = 0;  // the signal that stopped the study, 0 if it completed
+  double wall_s = 0;           // of this session
 };
 
 // The records of finished runs from their markers (failed ones left out when `retry_failed`).
-std::vector<std::optional<RunRecord>> ReadMarkers(const StudyPlan& plan, const StudyFolder& folder, bool retry_failed);
+std::vector<std::optional<RunRecord>> ReadMarkers(const StudyPlan& plan, const StudyFolder& folder,
+                                                  bool retry_failed);
 
 // Runs what is left of the study in this process; writes the index. Throws std::runtime_error
 // when a marker or the index cannot be written.
-StudyOutcome RunStudyLocal(const StudyPlan& plan, const StudyFolder& folder, const std::string& study_hash,
-                           const StudyRunOptions& options, std::ostream& err);
+StudyOutcome RunStudyLocal(const StudyPlan& plan, const StudyFolder& folder,
+                           const std::string& study_hash, const StudyRunOptions& options,
+                           std::ostream& err);
 
 // Rank 0's and the other ranks' parts of an MPI study, after the handshake (the command does it,
 // study_command.h). Rank 0 writes the index.
-StudyOutcome CoordinateStudyMpi(const StudyPlan& plan, const StudyFolder& folder, const std::string& study_hash,
-                                const StudyRunOptions& options, const MpiSession& mpi, std::ostream& err);
-StudyOutcome WorkStudyMpi(const StudyPlan& plan, const StudyFolder& folder, const StudyRunOptions& options,
-                          const MpiSession& mpi);
+StudyOutcome CoordinateStudyMpi(const StudyPlan& plan, const StudyFolder& folder,
+                                const std::string& study_hash, const StudyRunOptions& options,
+                                const MpiSession& mpi, std::ostream& err);
+StudyOutcome WorkStudyMpi(const StudyPlan& plan, const StudyFolder& folder,
+                          const StudyRunOptions& options, const MpiSession& mpi);
 
 // Runs at a time by default: the cores this process may use (its CPU affinity), shared among the
 // `ranks_on_node` ranks of an MPI job on this node; at least 1.

@@ -25,7 +25,8 @@ class OutputExtractionTest : public ::testing::Test {
  protected:
   void SetUp() override {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() / ("orrery_output_extraction_" + std::to_string(getpid()) + "_" + info->name());
+    dir_ = fs::temp_directory_path() /
+           ("orrery_output_extraction_" + std::to_string(getpid()) + "_" + info->name());
     fs::create_directories(dir_);
   }
   void TearDown() override { fs::remove_all(dir_); }
@@ -37,10 +38,12 @@ class OutputExtractionTest : public ::testing::Test {
     ResultFile out = ResultFile::Create(path);
     const auto t = out.AddSeries("/time", 1, "s");
     const auto r = out.AddSeries("/ramp", 3, "m, m, rad", {"x", "y", "z"});
-    const auto v = out.AddSeries("/flexible_bodies/B/von_mises_max", 5, "Pa, 1, m, m, m", {"value", "node", "x", "y", "z"});
+    const auto v = out.AddSeries("/flexible_bodies/B/von_mises_max", 5, "Pa, 1, m, m, m",
+                                 {"value", "node", "x", "y", "z"});
     for (int i = 0; i <= 100; ++i) {
       const double time = i / 100.0;
-      const double row[3] = {i - 40.0, 2.0 * i, i == 70 ? std::numeric_limits<double>::quiet_NaN() : 0.0};
+      const double row[3] = {i - 40.0, 2.0 * i,
+                             i == 70 ? std::numeric_limits<double>::quiet_NaN() : 0.0};
       const double stress[5] = {1e6 * (1 + std::sin(0.1 * i)), double(i), 0, 0, 0};
       out.Append(t, &time);
       out.Append(r, row);
@@ -63,7 +66,8 @@ class OutputExtractionTest : public ::testing::Test {
     const auto q = out.AddSeries("/joints/P/q", 1, "rad");
     for (int i = 0; i <= 4000; ++i) {
       const double time = i / kFs;
-      const double carrier = (1 + kM * std::cos(2 * kPi * kMod * time)) * std::cos(2 * kPi * kMesh * time);
+      const double carrier =
+          (1 + kM * std::cos(2 * kPi * kMod * time)) * std::cos(2 * kPi * kMesh * time);
       const double value = kA * std::cos(2 * kPi * kFa * time + 0.3);
       const double theta = 2 * kPi * 4 * time, mesh = std::cos(14 * theta);
       out.Append(t, &time);
@@ -86,7 +90,8 @@ class OutputExtractionTest : public ::testing::Test {
     o.dataset = dataset;
     return o;
   }
-  static double Extract(const std::string& path, const StudyOutput& o, std::string* unit = nullptr) {
+  static double Extract(const std::string& path, const StudyOutput& o,
+                        std::string* unit = nullptr) {
     std::string u;
     const double v = ExtractOutput(Hdf5Reader(path), o, &u);
     if (unit != nullptr) *unit = u;
@@ -152,7 +157,8 @@ TEST_F(OutputExtractionTest, AmplitudeOfAnOffBinSine) {
 
 TEST_F(OutputExtractionTest, LinesSidebandsAndSidebandEnergyRatio) {
   const std::string path = SignalFile();
-  // (1 + m cos 2π f_x t) cos 2π f_m t = cos 2π f_m t + (m/2) [cos 2π (f_m - f_x) t + cos 2π (f_m + f_x) t]
+  // (1 + m cos 2π f_x t) cos 2π f_m t = cos 2π f_m t + (m/2) [cos 2π (f_m - f_x) t + cos 2π (f_m +
+  // f_x) t]
   StudyOutput o = Output(StudyOutputKind::kAmplitude, "/am");
   o.line = "f_m";
   EXPECT_NEAR(Extract(path, o), 1.0, 1e-9);
@@ -219,7 +225,8 @@ TEST_F(OutputExtractionTest, IndicatorsOfARecordAndOfItsSynchronousAverage) {
 
 TEST_F(OutputExtractionTest, FailuresNameTheOutputAndTheOthersStillCount) {
   const std::string path = RampFile();
-  std::vector<StudyOutput> outputs{Output(StudyOutputKind::kPeak, "/ramp"), Output(StudyOutputKind::kPeak, "/nothing"),
+  std::vector<StudyOutput> outputs{Output(StudyOutputKind::kPeak, "/ramp"),
+                                   Output(StudyOutputKind::kPeak, "/nothing"),
                                    Output(StudyOutputKind::kMean, "/ramp")};
   outputs[1].name = "missing";
   outputs[2].column = "w";
@@ -232,7 +239,8 @@ TEST_F(OutputExtractionTest, FailuresNameTheOutputAndTheOthersStillCount) {
   StudyOutput late = Output(StudyOutputKind::kPeak, "/ramp");
   late.from_s = 2;
   EXPECT_EQ(ExtractOutputs(path, {late}).error,
-            "output 'o': " + path + ": /ramp: no rows in the window [2, inf] s (the run recorded 0 to 1 s)");
+            "output 'o': " + path +
+                ": /ramp: no rows in the window [2, inf] s (the run recorded 0 to 1 s)");
   EXPECT_NE(ExtractOutputs(Path("none.h5"), {late}).error.find("none.h5"), std::string::npos);
 }
 

@@ -12,7 +12,8 @@ namespace {
 
 // Columns that measure the run rather than compute it
 bool Measured(const std::string& column) {
-  static const std::set<std::string> kMeasured{"wall_time_s", "cpu_time_s", "peak_memory_mib", "rank", "host"};
+  static const std::set<std::string> kMeasured{"wall_time_s", "cpu_time_s", "peak_memory_mib",
+                                               "rank", "host"};
   return kMeasured.count(column) > 0;
 }
 
@@ -26,8 +27,8 @@ TEST_F(StudyCliTest, QuickStudyUnderMpiEqualsTheSerialOne) {
   const CommandResult serial = Study(study + " -o " + Path("serial") + " -j 1 --quiet");
   ASSERT_EQ(serial.status, 0) << serial.err;
   // Two ranks (as root in CI, and on machines with fewer cores than ranks)
-  const CommandResult mpi = Shell("mpirun --allow-run-as-root --oversubscribe -n 2 '" + Binary() + "' study " + study +
-                                  " -o " + Path("mpi") + " --quiet");
+  const CommandResult mpi = Shell("mpirun --allow-run-as-root --oversubscribe -n 2 '" + Binary() +
+                                  "' study " + study + " -o " + Path("mpi") + " --quiet");
   ASSERT_EQ(mpi.status, 0) << mpi.out << mpi.err;
   EXPECT_NE(mpi.out.find("MPI, 2 ranks x 1 run at a time"), std::string::npos) << mpi.out;
 
@@ -54,13 +55,17 @@ TEST_F(StudyCliTest, QuickStudyUnderMpiEqualsTheSerialOne) {
   const std::vector<std::string> names = ha.ReadStrings("/outputs/names");
   ASSERT_EQ(names.size(), 5u);
   for (const std::string& name : names) {
-    const std::vector<double> va = ha.ReadVector("/outputs/" + name), vb = hb.ReadVector("/outputs/" + name);
+    const std::vector<double> va = ha.ReadVector("/outputs/" + name),
+                              vb = hb.ReadVector("/outputs/" + name);
     ASSERT_EQ(va.size(), vb.size());
-    for (std::size_t i = 0; i < va.size(); ++i) EXPECT_TRUE(SameBits(va[i], vb[i])) << name << " of run " << i;
-    EXPECT_EQ(ha.ReadStringAttribute("/outputs/" + name, "unit"), hb.ReadStringAttribute("/outputs/" + name, "unit"));
+    for (std::size_t i = 0; i < va.size(); ++i)
+      EXPECT_TRUE(SameBits(va[i], vb[i])) << name << " of run " << i;
+    EXPECT_EQ(ha.ReadStringAttribute("/outputs/" + name, "unit"),
+              hb.ReadStringAttribute("/outputs/" + name, "unit"));
   }
   EXPECT_EQ(ha.ReadStringAttribute("/outputs/sun_mesh_force_peak", "unit"), "N");
-  EXPECT_EQ(ha.ReadVector("/parameters/gear_train.input_speed.alpha1"), hb.ReadVector("/parameters/gear_train.input_speed.alpha1"));
+  EXPECT_EQ(ha.ReadVector("/parameters/gear_train.input_speed.alpha1"),
+            hb.ReadVector("/parameters/gear_train.input_speed.alpha1"));
 
   // Each run's result file carries its place in the study
   const Hdf5Reader run3(Path("mpi/runs/run_00003.h5"));

@@ -21,7 +21,8 @@ class RunProcessTest : public ::testing::Test {
  protected:
   void SetUp() override {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() / ("orrery_run_process_" + std::to_string(getpid()) + "_" + info->name());
+    dir_ = fs::temp_directory_path() /
+           ("orrery_run_process_" + std::to_string(getpid()) + "_" + info->name());
     fs::create_directories(dir_);
   }
   void TearDown() override { fs::remove_all(dir_); }
@@ -30,7 +31,8 @@ class RunProcessTest : public ::testing::Test {
     std::ifstream in(Log());
     return std::string(std::istreambuf_iterator<char>(in), {});
   }
-  static ProcessExit RunShell(const std::string& script, const std::string& log, double memory_mib = 0) {
+  static ProcessExit RunShell(const std::string& script, const std::string& log,
+                              double memory_mib = 0) {
     return RunProcess::Start({"/bin/sh", "-c", script}, log, memory_mib).Wait();
   }
   fs::path dir_;
@@ -73,7 +75,8 @@ TEST_F(RunProcessTest, MemoryLimitEndsOnlyTheRun) {
 }
 
 TEST_F(RunProcessTest, FailureLineIsTheLastErrorLine) {
-  std::ofstream(Log()) << "progress\r  50 %\rorrery: error: first\nsummary\norrery: error: scene.yaml:3: mass: must be > 0\n\n";
+  std::ofstream(Log()) << "progress\r  50 %\rorrery: error: first\nsummary\norrery: error: "
+                          "scene.yaml:3: mass: must be > 0\n\n";
   EXPECT_EQ(FailureLine(Log()), "scene.yaml:3: mass: must be > 0");
   std::ofstream(Log()) << "a line\nthe last words\n  \n";
   EXPECT_EQ(FailureLine(Log()), "the last words");

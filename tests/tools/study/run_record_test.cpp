@@ -24,8 +24,12 @@ TEST(RunRecordTest, RoundTripKeepsEveryBit) {
   r.reason = "output 'x': run.h5: /a: no such dataset";
   r.rank = 17;
   r.host = "node 3";
-  r.outputs = {std::numeric_limits<double>::quiet_NaN(), -0.0, std::numeric_limits<double>::denorm_min(),
-               std::numeric_limits<double>::infinity(), -1.0 / 3.0, 6.02214076e23};
+  r.outputs = {std::numeric_limits<double>::quiet_NaN(),
+               -0.0,
+               std::numeric_limits<double>::denorm_min(),
+               std::numeric_limits<double>::infinity(),
+               -1.0 / 3.0,
+               6.02214076e23};
   r.units = {"N", "N m", "", "rad/s", "m/s^2", "1"};
   const std::string text = EncodeRunRecord(r, {"a.b=1", "c=[1, 2]"});
   const RunRecord b = DecodeRunRecord(text);
@@ -40,7 +44,8 @@ TEST(RunRecordTest, RoundTripKeepsEveryBit) {
   EXPECT_EQ(b.host, "node 3");
   ASSERT_EQ(b.outputs.size(), r.outputs.size());
   EXPECT_TRUE(std::isnan(b.outputs[0]));
-  for (std::size_t i = 1; i < r.outputs.size(); ++i) EXPECT_TRUE(SameBits(b.outputs[i], r.outputs[i])) << i;
+  for (std::size_t i = 1; i < r.outputs.size(); ++i)
+    EXPECT_TRUE(SameBits(b.outputs[i], r.outputs[i])) << i;
   EXPECT_EQ(b.units, r.units);
   // The parameters are there for a person
   EXPECT_NE(text.find("\nparameter c=[1, 2]\n"), std::string::npos);

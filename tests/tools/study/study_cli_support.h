@@ -30,7 +30,8 @@ inline constexpr const char* kPendulumScene =
     "bodies:\n"
     "  - {name: bob, mass: 1, inertia: [0.01, 0.01, 0.01]}\n"
     "joints:\n"
-    "  - {name: hinge, type: revolute, parent: world, child: bob, child_frame: {position: [0, 1, 0]}, "
+    "  - {name: hinge, type: revolute, parent: world, child: bob, child_frame: {position: [0, 1, "
+    "0]}, "
     "axis: [0, 0, 1], initial_position: 1.0}\n"
     "solver: {end_time: 0.2, rtol: 1e-10, atol: 1e-12}\n"
     "output: {interval: 0.01}\n";
@@ -52,10 +53,14 @@ inline std::vector<std::vector<std::string>> ReadCsv(const fs::path& path) {
     bool quoted = false;
     for (std::size_t i = 0; i < line.size(); ++i) {
       const char c = line[i];
-      if (quoted && c == '"' && i + 1 < line.size() && line[i + 1] == '"') row.back() += '"', ++i;
-      else if (c == '"') quoted = !quoted;
-      else if (c == ',' && !quoted) row.emplace_back();
-      else row.back() += c;
+      if (quoted && c == '"' && i + 1 < line.size() && line[i + 1] == '"')
+        row.back() += '"', ++i;
+      else if (c == '"')
+        quoted = !quoted;
+      else if (c == ',' && !quoted)
+        row.emplace_back();
+      else
+        row.back() += c;
     }
   }
   return rows;
@@ -65,7 +70,8 @@ class StudyCliTest : public ::testing::Test {
  protected:
   void SetUp() override {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() / ("orrery_study_cli_" + std::to_string(getpid()) + "_" + info->name());
+    dir_ = fs::temp_directory_path() /
+           ("orrery_study_cli_" + std::to_string(getpid()) + "_" + info->name());
     fs::remove_all(dir_);
     fs::create_directories(dir_);
     Write("pendulum.yaml", kPendulumScene);

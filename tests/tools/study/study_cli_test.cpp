@@ -20,23 +20,28 @@ namespace orrery::study::test {
 namespace {
 
 // Exactly one line "orrery: error: ..." holding every one of `parts`
-::testing::AssertionResult IsOneErrorLine(const std::string& err, const std::vector<std::string>& parts) {
+::testing::AssertionResult IsOneErrorLine(const std::string& err,
+                                          const std::vector<std::string>& parts) {
   if (std::count(err.begin(), err.end(), '\n') != 1 || err.back() != '\n')
     return ::testing::AssertionFailure() << "not exactly one line: \"" << err << "\"";
-  if (err.rfind("orrery: error: ", 0) != 0) return ::testing::AssertionFailure() << "no prefix: " << err;
+  if (err.rfind("orrery: error: ", 0) != 0)
+    return ::testing::AssertionFailure() << "no prefix: " << err;
   for (const std::string& part : parts)
-    if (err.find(part) == std::string::npos) return ::testing::AssertionFailure() << "\"" << part << "\" not in: " << err;
+    if (err.find(part) == std::string::npos)
+      return ::testing::AssertionFailure() << "\"" << part << "\" not in: " << err;
   return ::testing::AssertionSuccess();
 }
 
 TEST_F(StudyCliTest, FailingRunIsRecordedAndTheStudyCompletes) {
-  const std::string study = Write("s.yaml",
-                                  "scene: pendulum.yaml\n"
-                                  "axes:\n  - {key: bodies.bob.mass, values: [1, -1, 2]}\n"
-                                  "outputs:\n  - {name: angle_peak, type: peak, dataset: /joints/hinge/q}\n");
+  const std::string study =
+      Write("s.yaml",
+            "scene: pendulum.yaml\n"
+            "axes:\n  - {key: bodies.bob.mass, values: [1, -1, 2]}\n"
+            "outputs:\n  - {name: angle_peak, type: peak, dataset: /joints/hinge/q}\n");
   const CommandResult r = Study(study + " -o " + Path("out") + " -j 2");
   ASSERT_EQ(r.status, 0) << r.err;
-  EXPECT_NE(r.out.find("3: 2 ok, 1 failed, 0 output_failed, 0 pending"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("3: 2 ok, 1 failed, 0 output_failed, 0 pending"), std::string::npos)
+      << r.out;
   EXPECT_NE(r.err.find("run 1 failed: "), std::string::npos) << r.err;
   const auto csv = ReadCsv(Path("out/index.csv"));
   ASSERT_EQ(csv.size(), 4u);
@@ -46,8 +51,9 @@ TEST_F(StudyCliTest, FailingRunIsRecordedAndTheStudyCompletes) {
   EXPECT_EQ(csv[3][1], "ok");
   EXPECT_EQ(csv[2][3], "nan");
   EXPECT_NEAR(std::stod(csv[1][3]), 1.0, 1e-6);  // released at rest at 1 rad: the peak angle
-  EXPECT_EQ(csv[2][7], "1");  // exit status of the failed run
-  EXPECT_EQ(csv[2][8], Path("pendulum.yaml") + ": --set bodies.bob.mass: mass must be positive, got -1.000000");
+  EXPECT_EQ(csv[2][7], "1");                     // exit status of the failed run
+  EXPECT_EQ(csv[2][8], Path("pendulum.yaml") +
+                           ": --set bodies.bob.mass: mass must be positive, got -1.000000");
   // Done is done: nothing runs again, unless the failed runs are asked for
   CommandResult again = Study(study + " -o " + Path("out"));
   EXPECT_NE(again.out.find("(3 done before, 0 now)"), std::string::npos) << again.out;
@@ -61,7 +67,8 @@ TEST_F(StudyCliTest, RunOverItsWallTimeLimitIsStopped) {
                                   "limits: {wall_time_s: 1}\n");
   const auto start = std::chrono::steady_clock::now();
   const CommandResult r = Study(study + " -o " + Path("out"));
-  const double took = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double took =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   ASSERT_EQ(r.status, 0) << r.err;
   const auto csv = ReadCsv(Path("out/index.csv"));
   ASSERT_EQ(csv.size(), 2u);
@@ -76,7 +83,8 @@ TEST_F(StudyCliTest, RunOverItsWallTimeLimitIsStopped) {
 
 TEST_F(StudyCliTest, MemoryLimitFailsTheRunNotTheStudy) {
   // 20 MiB of address space: the run cannot get what it needs (its resident set alone is ~25 MiB)
-  const std::string study = Write("s.yaml", "scene: pendulum.yaml\nend_time: 0.1\nlimits: {memory_mib: 20}\n");
+  const std::string study =
+      Write("s.yaml", "scene: pendulum.yaml\nend_time: 0.1\nlimits: {memory_mib: 20}\n");
   const CommandResult r = Study(study + " -o " + Path("out"));
   ASSERT_EQ(r.status, 0) << r.err;
   const auto csv = ReadCsv(Path("out/index.csv"));
@@ -104,10 +112,11 @@ int ProcessesMentioning(const std::string& text) {
 
 TEST_F(StudyCliTest, KilledStudyResumesWithoutRedoingFinishedRuns) {
   // Six runs of about a quarter of a second each, one at a time
-  const std::string study = Write("s.yaml",
-                                  "scene: pendulum.yaml\nend_time: 300\n"
-                                  "axes:\n  - {key: joints.hinge.initial_position, range: {start: 0.1, stop: 0.6, count: 6}}\n"
-                                  "outputs:\n  - {name: peak, type: peak, dataset: /joints/hinge/q}\n");
+  const std::string study = Write(
+      "s.yaml",
+      "scene: pendulum.yaml\nend_time: 300\n"
+      "axes:\n  - {key: joints.hinge.initial_position, range: {start: 0.1, stop: 0.6, count: 6}}\n"
+      "outputs:\n  - {name: peak, type: peak, dataset: /joints/hinge/q}\n");
   const std::string folder = Path("out");
   // Start it, wait for two completion markers, kill it hard
   std::vector<std::string> args{Binary(), "study", study, "-o", folder, "-j", "1", "--quiet"};
@@ -118,7 +127,8 @@ TEST_F(StudyCliTest, KilledStudyResumesWithoutRedoingFinishedRuns) {
   ASSERT_EQ(posix_spawn(&pid, argv[0], nullptr, nullptr, argv.data(), environ), 0);
   const auto done = [&] {
     int n = 0;
-    for (int i = 0; i < 6; ++i) n += fs::exists(folder + "/runs/run_0000" + std::to_string(i) + ".done");
+    for (int i = 0; i < 6; ++i)
+      n += fs::exists(folder + "/runs/run_0000" + std::to_string(i) + ".done");
     return n;
   };
   for (int waited = 0; done() < 2 && waited < 120000; waited += 10)
@@ -175,11 +185,13 @@ TEST_F(StudyCliTest, BadStudyFilesAreOneLineNamingFileAndKey) {
       {"scene: pendulum.yaml\naxes:\n  - {key: bodies.bob.mass, valuse: [1]}\n",
        {"s.yaml:3: axes[0].valuse: unknown key 'valuse'; did you mean 'values'?"}},
       {"scene: pendulum.yaml\naxes:\n  - {key: bodies.bob.mas, values: [1, 2]}\n",
-       {"s.yaml:3: axes[0].key: ", "pendulum.yaml: --set bodies.bob.mas: unknown key 'mas'; did you mean 'mass'?"}},
+       {"s.yaml:3: axes[0].key: ",
+        "pendulum.yaml: --set bodies.bob.mas: unknown key 'mas'; did you mean 'mass'?"}},
       {"scene: pendulum.yaml\naxes:\n  - {key: bodies.bob.mass, values: []}\n",
        {"s.yaml:3: axes[0].values: an axis needs at least one value, got an empty list"}},
       {"scene: pendulum.yml\n", {"s.yaml:1: scene: no scene file ", "pendulum.yml"}},
-      {"scene: pendulum.yaml\nfolder: x\nfolder: y\n", {"s.yaml:3: folder: duplicate key 'folder' (first at line 2)"}},
+      {"scene: pendulum.yaml\nfolder: x\nfolder: y\n",
+       {"s.yaml:3: folder: duplicate key 'folder' (first at line 2)"}},
   };
   for (const Case& c : cases) {
     const std::string study = Write("s.yaml", c.text);
@@ -201,7 +213,8 @@ TEST_F(StudyCliTest, FolderOfAnotherStudyIsRefused) {
   Write("s.yaml", "scene: pendulum.yaml\nend_time: 0.2\n");
   const CommandResult r = Study(study + " -o " + Path("out"));
   EXPECT_EQ(r.status, 1);
-  EXPECT_TRUE(IsOneErrorLine(r.err, {Path("out") + ": holds another study (study file hash ", "choose another folder"}));
+  EXPECT_TRUE(IsOneErrorLine(
+      r.err, {Path("out") + ": holds another study (study file hash ", "choose another folder"}));
   EXPECT_EQ(ReadFile(Path("out/study.yaml")), before);
   EXPECT_EQ(ReadFile(Path("out/index.csv")), index);
   // A folder that is no study's
@@ -214,9 +227,10 @@ TEST_F(StudyCliTest, FolderOfAnotherStudyIsRefused) {
 }
 
 TEST_F(StudyCliTest, DryRunListsTheRunsAndWritesNothing) {
-  const std::string study = Write("s.yaml",
-                                  "scene: pendulum.yaml\nend_time: 0.1\naxes:\n  - {key: bodies.bob.mass, values: [1, 2]}\n"
-                                  "  - random: {samples: 2, seed: 3, keys: [{key: solver.rtol, log_uniform: [1e-9, 1e-6]}]}\n");
+  const std::string study = Write(
+      "s.yaml",
+      "scene: pendulum.yaml\nend_time: 0.1\naxes:\n  - {key: bodies.bob.mass, values: [1, 2]}\n"
+      "  - random: {samples: 2, seed: 3, keys: [{key: solver.rtol, log_uniform: [1e-9, 1e-6]}]}\n");
   const CommandResult r = Study(study + " -o " + Path("out") + " --dry-run");
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("study s: 4 runs of "), std::string::npos) << r.out;
@@ -227,14 +241,17 @@ TEST_F(StudyCliTest, DryRunListsTheRunsAndWritesNothing) {
 
 TEST_F(StudyCliTest, MpiAskedForWithoutItsPluginIsOneLine) {
   const std::string study = Write("s.yaml", "scene: pendulum.yaml\nend_time: 0.1\n");
-  const CommandResult r = Shell("ORRERY_STUDY_MPI_PLUGIN=" + Path("no_plugin.so") + " '" + Binary() + "' study " + study +
-                                " -o " + Path("out") + " --mpi");
+  const CommandResult r = Shell("ORRERY_STUDY_MPI_PLUGIN=" + Path("no_plugin.so") + " '" +
+                                Binary() + "' study " + study + " -o " + Path("out") + " --mpi");
   EXPECT_EQ(r.status, 1);
-  EXPECT_TRUE(IsOneErrorLine(r.err, {"MPI asked for, but the MPI plugin", "no_plugin.so", "libopenmpi3"}));
+  EXPECT_TRUE(
+      IsOneErrorLine(r.err, {"MPI asked for, but the MPI plugin", "no_plugin.so", "libopenmpi3"}));
   // srun with several tasks but no MPI: refused rather than run twice
-  const CommandResult srun = Shell("SLURM_STEP_NUM_TASKS=4 '" + Binary() + "' study " + study + " -o " + Path("out"));
+  const CommandResult srun =
+      Shell("SLURM_STEP_NUM_TASKS=4 '" + Binary() + "' study " + study + " -o " + Path("out"));
   EXPECT_EQ(srun.status, 1);
-  EXPECT_TRUE(IsOneErrorLine(srun.err, {"started by srun as one of 4 tasks without MPI", "srun --mpi=pmix"}));
+  EXPECT_TRUE(IsOneErrorLine(srun.err,
+                             {"started by srun as one of 4 tasks without MPI", "srun --mpi=pmix"}));
 }
 
 }  // namespace

@@ -20,7 +20,8 @@ namespace fs = std::filesystem;
 StudyPlan Plan(const std::string& text) { return MakeStudyPlan(ParseStudyFile(text, "s.yaml")); }
 
 TEST(StudyPlanTest, GridRunsWithTheLastAxisFastest) {
-  const StudyPlan p = Plan("scene: a.yaml\naxes:\n  - {key: a, values: [1, 2]}\n  - {key: b, values: [x, y, z]}\n");
+  const StudyPlan p =
+      Plan("scene: a.yaml\naxes:\n  - {key: a, values: [1, 2]}\n  - {key: b, values: [x, y, z]}\n");
   ASSERT_EQ(p.runs.size(), 6u);
   EXPECT_EQ(p.parameters, (std::vector<std::string>{"a", "b"}));
   const std::vector<std::vector<std::string>> expected{{"1", "x"}, {"1", "y"}, {"1", "z"},
@@ -47,9 +48,11 @@ TEST(StudyPlanTest, NoAxesIsOneRun) {
 }
 
 TEST(StudyPlanTest, OverridesAreTheSettingsThenTheParameters) {
-  const StudyPlan p = Plan("scene: a.yaml\nend_time: 2\nsettings: {x.y: [1, 2]}\naxes:\n  - {key: a, values: [{type: constant, value: 3}]}\n");
-  EXPECT_EQ(p.Overrides(p.runs[0]),
-            (std::vector<std::string>{"solver.end_time=2", "x.y=[1, 2]", "a={type: constant, value: 3}"}));
+  const StudyPlan p = Plan(
+      "scene: a.yaml\nend_time: 2\nsettings: {x.y: [1, 2]}\naxes:\n  - {key: a, values: [{type: "
+      "constant, value: 3}]}\n");
+  EXPECT_EQ(p.Overrides(p.runs[0]), (std::vector<std::string>{"solver.end_time=2", "x.y=[1, 2]",
+                                                              "a={type: constant, value: 3}"}));
 }
 
 TEST(StudyPlanTest, RandomSamplesFollowTheStandardMersenneTwister) {
@@ -61,7 +64,8 @@ TEST(StudyPlanTest, RandomSamplesFollowTheStandardMersenneTwister) {
   const std::uint64_t first = 14514284786278117030ULL;
   const double u = static_cast<double>(first >> 11) * 0x1.0p-53;
   const StudyPlan p = Plan(
-      "scene: a.yaml\naxes:\n  - random: {samples: 200, seed: 5489, keys: [{key: a, uniform: [2, 4]}, "
+      "scene: a.yaml\naxes:\n  - random: {samples: 200, seed: 5489, keys: [{key: a, uniform: [2, "
+      "4]}, "
       "{key: b, log_uniform: [1e-6, 1e-2]}, {key: c, choice: [p, q, r]}]}\n");
   ASSERT_EQ(p.runs.size(), 200u);
   // The first draw, exactly as the header states it
@@ -79,18 +83,32 @@ TEST(StudyPlanTest, RandomSamplesFollowTheStandardMersenneTwister) {
     choices.insert(r.values[2]);
   }
   EXPECT_EQ(choices, (std::set<std::string>{"p", "q", "r"}));
-  EXPECT_GT(low_decade, 25);  // a quarter of log-uniform samples lie in the lowest of 4 decades (50 expected)
+  EXPECT_GT(low_decade,
+            25);  // a quarter of log-uniform samples lie in the lowest of 4 decades (50 expected)
   // The same seed gives the same runs; another seed others
-  EXPECT_EQ(Plan("scene: a.yaml\naxes:\n  - random: {samples: 3, seed: 7, keys: [{key: a, uniform: [0, 1]}]}\n").runs[2].values,
-            Plan("scene: a.yaml\naxes:\n  - random: {samples: 3, seed: 7, keys: [{key: a, uniform: [0, 1]}]}\n").runs[2].values);
-  EXPECT_NE(Plan("scene: a.yaml\naxes:\n  - random: {samples: 3, seed: 8, keys: [{key: a, uniform: [0, 1]}]}\n").runs[2].values,
-            Plan("scene: a.yaml\naxes:\n  - random: {samples: 3, seed: 7, keys: [{key: a, uniform: [0, 1]}]}\n").runs[2].values);
+  EXPECT_EQ(Plan("scene: a.yaml\naxes:\n  - random: {samples: 3, seed: 7, keys: [{key: a, uniform: "
+                 "[0, 1]}]}\n")
+                .runs[2]
+                .values,
+            Plan("scene: a.yaml\naxes:\n  - random: {samples: 3, seed: 7, keys: [{key: a, uniform: "
+                 "[0, 1]}]}\n")
+                .runs[2]
+                .values);
+  EXPECT_NE(Plan("scene: a.yaml\naxes:\n  - random: {samples: 3, seed: 8, keys: [{key: a, uniform: "
+                 "[0, 1]}]}\n")
+                .runs[2]
+                .values,
+            Plan("scene: a.yaml\naxes:\n  - random: {samples: 3, seed: 7, keys: [{key: a, uniform: "
+                 "[0, 1]}]}\n")
+                .runs[2]
+                .values);
 }
 
 TEST(StudyPlanTest, TooManyRunsIsAnError) {
   try {
-    Plan("scene: a.yaml\naxes:\n  - {key: a, range: {start: 0, stop: 1, count: 100000}}\n"
-         "  - {key: b, range: {start: 0, stop: 1, count: 1000}}\n");
+    Plan(
+        "scene: a.yaml\naxes:\n  - {key: a, range: {start: 0, stop: 1, count: 100000}}\n"
+        "  - {key: b, range: {start: 0, stop: 1, count: 1000}}\n");
     FAIL() << "no error";
   } catch (const std::runtime_error& e) {
     EXPECT_STREQ(e.what(), "s.yaml: axes: the study has more than 10000000 runs");
@@ -102,11 +120,12 @@ class StudySceneCheckTest : public ::testing::Test {
   void SetUp() override {
     dir_ = fs::temp_directory_path() / ("orrery_study_plan_test_" + std::to_string(getpid()));
     fs::create_directories(dir_);
-    std::ofstream(dir_ / "p.yaml") << "name: p\ngravity: [0,-9.81,0]\n"
-                                      "bodies:\n  - {name: bob, mass: 1, inertia: [0.01,0.01,0.01]}\n"
-                                      "joints:\n  - {name: hinge, type: revolute, parent: world, child: bob, "
-                                      "axis: [0,0,1], initial_position: 1.0}\n"
-                                      "solver: {end_time: 0.2}\noutput: {interval: 0.01}\n";
+    std::ofstream(dir_ / "p.yaml")
+        << "name: p\ngravity: [0,-9.81,0]\n"
+           "bodies:\n  - {name: bob, mass: 1, inertia: [0.01,0.01,0.01]}\n"
+           "joints:\n  - {name: hinge, type: revolute, parent: world, child: bob, "
+           "axis: [0,0,1], initial_position: 1.0}\n"
+           "solver: {end_time: 0.2}\noutput: {interval: 0.01}\n";
   }
   void TearDown() override { fs::remove_all(dir_); }
   std::string CheckError(const std::string& text) {
@@ -126,18 +145,26 @@ class StudySceneCheckTest : public ::testing::Test {
 };
 
 TEST_F(StudySceneCheckTest, UnknownSceneKeysNameTheStudyFileAndKey) {
-  EXPECT_EQ(CheckError("scene: p.yaml\naxes:\n  - {key: bodies.bob.mass, values: [1, 2]}\n"), "no error");
+  EXPECT_EQ(CheckError("scene: p.yaml\naxes:\n  - {key: bodies.bob.mass, values: [1, 2]}\n"),
+            "no error");
   EXPECT_EQ(CheckError("scene: p.yaml\naxes:\n  - {key: bodies.bob.mas, values: [1, 2]}\n"),
-            "s.yaml:3: axes[0].key: p.yaml: --set bodies.bob.mas: unknown key 'mas'; did you mean 'mass'?");
+            "s.yaml:3: axes[0].key: p.yaml: --set bodies.bob.mas: unknown key 'mas'; did you mean "
+            "'mass'?");
   EXPECT_EQ(CheckError("scene: p.yaml\nsettings: {bodies.bobb.mass: 2}\n"),
-            "s.yaml:2: settings.bodies.bobb.mass: p.yaml: --set bodies.bobb.mass: no item named 'bobb' in 'bodies' (line 3); did you mean 'bob'?");
-  EXPECT_EQ(CheckError("scene: p.yaml\nend_time: 1\naxes:\n  - zip: [{key: a, values: [1]}, {key: solver.rtol, values: [1e-6]}]\n")
-                .rfind("s.yaml:4: axes[0].zip[0].key: p.yaml: --set a: unknown key 'a' (allowed: name, ", 0),
-            0u);
+            "s.yaml:2: settings.bodies.bobb.mass: p.yaml: --set bodies.bobb.mass: no item named "
+            "'bobb' in 'bodies' (line 3); did you mean 'bob'?");
+  EXPECT_EQ(
+      CheckError("scene: p.yaml\nend_time: 1\naxes:\n  - zip: [{key: a, values: [1]}, {key: "
+                 "solver.rtol, values: [1e-6]}]\n")
+          .rfind("s.yaml:4: axes[0].zip[0].key: p.yaml: --set a: unknown key 'a' (allowed: name, ",
+                 0),
+      0u);
   // The first run's values are checked too; later runs' values fail their own runs
-  EXPECT_EQ(CheckError("scene: p.yaml\naxes:\n  - {key: bodies.bob.mass, values: [-1, 2]}\n"),
-            "s.yaml:3: axes[0].key: p.yaml: --set bodies.bob.mass: mass must be positive, got -1.000000");
-  EXPECT_EQ(CheckError("scene: p.yaml\naxes:\n  - {key: bodies.bob.mass, values: [1, -2]}\n"), "no error");
+  EXPECT_EQ(
+      CheckError("scene: p.yaml\naxes:\n  - {key: bodies.bob.mass, values: [-1, 2]}\n"),
+      "s.yaml:3: axes[0].key: p.yaml: --set bodies.bob.mass: mass must be positive, got -1.000000");
+  EXPECT_EQ(CheckError("scene: p.yaml\naxes:\n  - {key: bodies.bob.mass, values: [1, -2]}\n"),
+            "no error");
   // A missing scene
   EXPECT_EQ(CheckError("scene: q.yaml\n"), "s.yaml:1: scene: no scene file q.yaml");
 }
