@@ -61,6 +61,23 @@ TEST_F(StudyCliTest, FailingRunIsRecordedAndTheStudyCompletes) {
   EXPECT_NE(again.out.find("(2 done before, 1 now)"), std::string::npos) << again.out;
 }
 
+TEST_F(StudyCliTest, OutputThatCannotBeReadIsRecordedBesideTheOthers) {
+  const std::string study = Write("s.yaml",
+                                  "scene: pendulum.yaml\nend_time: 0.05\n"
+                                  "outputs:\n  - {name: a, type: peak, dataset: /joints/hinge/q}\n"
+                                  "  - {name: b, type: peak, dataset: /joints/hinge/qq}\n");
+  const CommandResult r = Study(study + " -o " + Path("out"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto csv = ReadCsv(Path("out/index.csv"));
+  ASSERT_EQ(csv.size(), 2u);
+  EXPECT_EQ(csv[1][1], "output_failed");
+  EXPECT_NEAR(std::stod(csv[1][2]), 1.0, 1e-6);  // a: read
+  EXPECT_EQ(csv[1][3], "nan");                   // b: not
+  EXPECT_EQ(csv[1][7], "0");                     // the run itself went well
+  EXPECT_EQ(csv[1][8],
+            "output 'b': " + Path("out/runs/run_00000.h5") + ": /joints/hinge/qq: no such dataset");
+}
+
 TEST_F(StudyCliTest, RunOverItsWallTimeLimitIsStopped) {
   const std::string study = Write("s.yaml",
                                   "scene: pendulum.yaml\nend_time: 1e6\noutput_interval: 1\n"
