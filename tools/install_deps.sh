@@ -17,6 +17,9 @@ packages=(
   gmsh
   # clang 14 with libFuzzer: the fuzz harnesses of the file readers (tools/fuzz/).
   clang-14 libfuzzer-14-dev
+  # `mpirun -n N orrery study ...`: Open MPI (the study's MPI plugin links it; the orrery program
+  # itself runs without it)
+  libopenmpi-dev openmpi-bin
   # Optimized single-threaded BLAS/LAPACK: Debian's alternatives then point libblas.so.3 at it,
   # which CHOLMOD's supernodal factorization and the Lanczos solves use (a 100k-DOF gear
   # reduction: 49 s instead of 72 s on this project's 2-core machine).

@@ -20,6 +20,8 @@
 //                  [--mesh NAME] [--modulation NAME] [--json] [--png FILE]
 //   orrery octave OUT.h5 --signal PATH [--column C] [--t0 T] [--reference A0] [--json] [--png FILE]
 //   orrery plot OUT.h5 (--signal PATH [--column C] [--t0 T] | --stress PATH) --png FILE
+//   orrery study STUDY.yaml [-o DIR] [-j N] [--retry-failed] [--mpi] [--dry-run] [--quiet]
+//   mpirun -n N orrery study STUDY.yaml ...
 //   orrery --version
 //
 // Exit codes: 0 success, 1 runtime failure, 2 bad usage, 128 + signal when interrupted.
@@ -47,6 +49,8 @@
 #include "tools/cli/reduce_command.h"
 #include "tools/cli/run_command.h"
 #include "tools/cli/spectrum_command.h"
+#include "tools/cli/study_command.h"
+#include "tools/study/run_process.h"
 
 namespace {
 
@@ -164,6 +168,30 @@ struct SignalCommands {
   }
 };
 
+// orrery study: arguments, options, dispatch.
+struct StudyCli {
+  StudyArgs args;
+  CLI::App* study = nullptr;
+
+  void Add(CLI::App& app) {
+    study = app.add_subcommand("study", "Run a parameter study: many runs of a scene, outputs collected in an index");
+    study->add_option("file", args.study_path, "Study file (YAML)")->required();
+    study->add_option("-o,--output", args.folder, "Study folder (default: the file's folder:, else results/studies/NAME)");
+    study->add_option("-j,--jobs", args.jobs, "Runs at a time on this machine, or per MPI rank (default: the cores)")
+        ->check(CLI::Range(1, 100000));
+    study->add_flag("--retry-failed", args.retry_failed, "Run the failed runs of an earlier start again");
+    study->add_flag("--mpi", args.mpi, "Use MPI without a launcher (found automatically under mpirun or srun)");
+    study->add_flag("--dry-run", args.dry_run, "Check the study and list its runs without running them");
+    study->add_flag("-q,--quiet", args.quiet, "No progress output");
+  }
+
+  std::optional<int> Dispatch() {
+    if (!study->parsed()) return std::nullopt;
+    args.err_is_terminal = isatty(STDERR_FILENO) == 1;
+    return StudyCommand(args, std::cout, std::cerr);
+  }
+};
+
 int Main(int argc, char** argv) {
   CLI::App app{"Orrery: multibody dynamics engine", "orrery"};
   app.set_version_flag("--version", std::string("orrery ") + ORRERY_VERSION);
@@ -183,6 +211,9 @@ int Main(int argc, char** argv) {
   run->add_option("--integrator", run_args.integrator, "Integrator (overrides solver.integrator)")
       ->check(CLI::IsMember({"ida", "generalized_alpha"}));
   run->add_flag("-q,--quiet", run_args.quiet, "No progress output");
+  run->add_option("--study-attribute", run_args.study_attributes, "")  // set by `orrery study`
+      ->allow_extra_args(false)
+      ->group("");
 
   // orrery inspect
   InspectArgs inspect_args;
@@ -283,6 +314,10 @@ int Main(int argc, char** argv) {
   SignalCommands signal_commands;
   signal_commands.Add(app);
 
+  // orrery study
+  StudyCli study;
+  study.Add(app);
+
   // Parse: help and version go to stdout, any other problem is one line on stderr
   try {
     app.parse(argc, argv);
@@ -293,7 +328,7 @@ int Main(int argc, char** argv) {
     const std::vector<std::string> stray = app.remaining();
     if (app.get_subcommands().empty() && !stray.empty() && !stray.front().empty())
       reason = stray.front().front() == '-' ? "unknown option '" + stray.front() + "'"
-                                            : "unknown command '" + stray.front() + "' (expected run, inspect, kinematics, modes, fe-modes, reduce, mesh-info, mesh-stiffness, spectrum, compare, octave or plot)";
+                                            : "unknown command '" + stray.front() + "' (expected run, inspect, kinematics, modes, fe-modes, reduce, mesh-info, mesh-stiffness, spectrum, compare, octave, plot or study)";
     ReportError(std::cerr, reason + "; see orrery --help");
     return kExitUsage;
   }
@@ -311,12 +346,15 @@ int Main(int argc, char** argv) {
   if (mesh_stiffness->parsed()) return MeshStiffnessCommand(ms_args, std::cout, std::cerr);
   if (const std::optional<int> code = signal_commands.Dispatch()) return *code;
   if (mesh_info->parsed()) return MeshInfoCommand(info_args, std::cout, std::cerr);
+  if (const std::optional<int> code = study.Dispatch()) return *code;
   return InspectCommand(inspect_args, std::cout, std::cerr);
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
+  // A run started by `orrery study` dies with the study
+  orrery::study::PrepareStudyChild();
   // Last line of defence: nothing escapes as a stack trace or an abort
   try {
     return Main(argc, argv);

@@ -89,6 +89,24 @@ void PrintSummary(std::ostream& out, const std::string& output_path, const Simul
   out << std::flush;
 }
 
+// The run's place in a study: /study attributes from "key=value" (numbers where they read as one)
+void WriteStudyAttributes(ResultFile& result, const std::vector<std::string>& attributes) {
+  for (const std::string& a : attributes) {
+    const std::size_t eq = a.find('=');
+    if (eq == std::string::npos || eq == 0) throw std::invalid_argument("--study-attribute " + a + ": expected KEY=VALUE");
+    const std::string key = a.substr(0, eq), value = a.substr(eq + 1);
+    long long integer = 0;
+    double number = 0;
+    const char* end = value.data() + value.size();
+    if (!value.empty() && std::from_chars(value.data(), end, integer).ptr == end)
+      result.SetAttribute("/study", key, static_cast<std::int64_t>(integer));
+    else if (!value.empty() && std::from_chars(value.data(), end, number).ptr == end)
+      result.SetAttribute("/study", key, number);
+    else
+      result.SetAttribute("/study", key, value);
+  }
+}
+
 ProgressBar::Style ProgressStyle(const RunArgs& args) {
   if (args.quiet) return ProgressBar::Style::kNone;
   return args.err_is_terminal ? ProgressBar::Style::kBar : ProgressBar::Style::kLines;
@@ -123,6 +141,7 @@ int RunCommand(const RunArgs& args, std::ostream& out, std::ostream& err) {
   std::optional<ResultFile> result;
   try {
     result = ResultFile::Create(output_path);
+    WriteStudyAttributes(*result, args.study_attributes);
   } catch (const std::exception& e) {
     ReportError(err, e.what());
     return kExitFailure;

@@ -32,6 +32,9 @@ struct RunArgs {
   std::string integrator;                // --integrator: "" for the scene's, "ida", "generalized_alpha"
   bool quiet = false;                    // --quiet: no progress output
   bool err_is_terminal = false;          // progress as a redrawn bar (else a line every 10 %)
+  // --study-attribute key=value (hidden; `orrery study` sets them): attributes of the result
+  // file's /study group, numbers where the value reads as one (integers as integers)
+  std::vector<std::string> study_attributes;
   // Called after every output row, before the interrupt check (tests use it to raise a signal).
   std::function<void(const SimulationProgress&)> observer;
 };
