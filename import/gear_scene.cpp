@@ -453,9 +453,14 @@ gears::TrainModelOptions::FlexiblePlanet ReadFlexiblePlanet(const Context& ctx, 
   }
   const std::string remake = input_path.empty() ? std::string("make it with `orrery reduce INPUT -o ") + body_path + "`"
                                                 : "make it with `orrery reduce " + input_path + " -o " + body_path + "`";
-  // A missing file is made from the reduce input (once; later runs reuse it).
+  ctx.NoteInput(body_path);
+  if (!input_path.empty()) ctx.NoteInput(input_path);
+  // A missing file is made from the reduce input (once; later runs reuse it), by `orrery run` only.
   if (!std::filesystem::exists(body_path)) {
     if (!job) ctx.Fail(body_item, "no reduced-body file " + body_path + "; " + remake + ", or name its reduce_input");
+    if (!ctx.make_reduced_bodies())
+      ctx.Fail(body_item, "no reduced-body file " + body_path + " (this command writes no files); " + remake +
+                              ", or let `orrery run` make it");
     try {
       flex::WriteReducedBody(body_path, ReduceBody(job->mesh, job->interfaces, job->cb_options, job->outputs,
                                                    job->source).body);

@@ -105,6 +105,10 @@ class IdaIntegrator final : public Integrator {
       const int flag = IDASolve(mem_, t_out, &t_step_, y_, yp_, IDA_ONE_STEP);
       if (flag < 0) Fail("IDASolve", flag);
       RecordStepDrift();
+      if (observer_) {
+        VecMap y(N_VGetArrayPointer(y_), n);
+        observer_(t_step_, y.head(dae_.nq()), y.segment(dae_.nq(), dae_.nv()));
+      }
     }
     Check(IDAGetDky(mem_, t_out, 0, y_out_), "IDAGetDky");
     Check(IDAGetDky(mem_, t_out, 1, yp_out_), "IDAGetDky");
@@ -125,6 +129,7 @@ class IdaIntegrator final : public Integrator {
   const Eigen::VectorXd& vdot() const override { return vdot_; }
   const Eigen::VectorXd& lambda() const override { return lambda_; }
   std::string name() const override { return "ida"; }
+  void SetStepObserver(StepObserver observer) override { observer_ = std::move(observer); }
 
   IntegratorStats stats() const override {
     IntegratorStats s = drift_;
@@ -235,6 +240,7 @@ class IdaIntegrator final : public Integrator {
   SUNLinearSolver ls_ = nullptr;
   bool needs_ic_ = true;
   std::string callback_error_, last_message_;
+  StepObserver observer_;  // SetStepObserver
 };
 
 }  // namespace

@@ -15,6 +15,7 @@
 //   std::unique_ptr<Integrator> integ = MakeIntegrator(*model, opt);
 //   integ->Initialize(State::Initial(*model));
 //   integ->AdvanceTo(0.01);   // then integ->state(), vdot(), lambda()
+#include <functional>
 #include <limits>
 #include <memory>
 #include <string>
@@ -86,6 +87,14 @@ struct IntegratorStats {
 
 class Integrator {
  public:
+  // Called after every accepted step with the time and state the integrator reached (its own
+  // steps: IDA's internal steps, generalized-alpha's steps and halves; not interpolated
+  // outputs). It may throw to stop the run (an interrupt, a health check that found the result
+  // meaningless); AdvanceTo passes the exception on, never as a failed step. It runs inside the
+  // step loop, so it must not allocate.
+  using StepObserver = std::function<void(double t, const Eigen::Ref<const Eigen::VectorXd>& q,
+                                          const Eigen::Ref<const Eigen::VectorXd>& v)>;
+
   virtual ~Integrator() = default;
   // Starts from `state`: assembles it onto the constraints, computes consistent accelerations
   // and multipliers. Throws std::runtime_error with the reason if it cannot.
@@ -98,6 +107,8 @@ class Integrator {
   virtual const Eigen::VectorXd& lambda() const = 0;   // n_constraints, at state().t
   virtual IntegratorStats stats() const = 0;
   virtual std::string name() const = 0;
+  // Replaces the step observer (empty: none).
+  virtual void SetStepObserver(StepObserver observer) = 0;
 };
 
 std::unique_ptr<Integrator> MakeIntegrator(const Model& model, const IntegratorOptions& options);

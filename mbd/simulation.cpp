@@ -2,8 +2,12 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
 #include <stdexcept>
 
+#include "mbd/evaluate.h"
+#include "mbd/output_schedule.h"
 #include "mbd/result_recorder.h"
 
 namespace orrery {
@@ -30,19 +34,62 @@ void WriteStats(ResultFile& out, const IntegratorStats& s, const std::string& in
   out.SetAttribute(g, "wall_time_s", wall_s);
 }
 
+// One output row: room in the file, the recorder's row, then the row's health from the
+// recorder's evaluation (or from an evaluation of its own without a file).
+void RecordRow(const Model& model, const Integrator& integrator, ResultFile* out, ResultRecorder* recorder,
+               RunHealth& health, Data* own) {
+  const State& s = integrator.state();
+  if (recorder) {
+    out->CheckRoom();
+    recorder->Record(s, integrator.vdot(), integrator.lambda());
+    health.OnOutput(s, integrator.lambda(), recorder->data(), integrator.stats().last_step);
+    return;
+  }
+  EvaluateDynamics(model, s.t, s.q, s.v, integrator.vdot(), *own);
+  health.OnOutput(s, integrator.lambda(), *own, integrator.stats().last_step);
+}
+
+// Throws SimulationInterrupted when the flag was raised.
+void CheckInterrupt(const std::atomic<int>* flag, double t) {
+  if (flag == nullptr) return;
+  if (const int signal = flag->load(std::memory_order_relaxed)) throw SimulationInterrupted(signal, t);
+}
+
+std::string InterruptedMessage(double t_s) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "interrupted at t = %g s", t_s);
+  return buffer;
+}
+
 }  // namespace
+
+SimulationInterrupted::SimulationInterrupted(int signal, double t_s)
+    : std::runtime_error(InterruptedMessage(t_s)), signal_(signal), t_s_(t_s) {}
+
+void CheckSimulationSettings(const Model& model, const SimulationOptions& options, const State* initial) {
+  const OutputSchedule schedule = MakeOutputSchedule(initial ? initial->t : 0.0, options);
+  if (!(options.max_output_bytes > 0)) return;
+  // The run's series laid out in memory, for the bytes of a row
+  static std::atomic<long> count{0};
+  ResultFile layout = ResultFile::CreateInMemory("in-memory layout " + std::to_string(++count));
+  const ResultRecorder recorder(model, layout);
+  RunHealth(model, options.integrator, options.health, options.output_interval).Declare(layout);
+  CheckOutputSize(schedule, layout.bytes_per_row(), options.max_output_bytes);
+}
 
 SimulationReport Simulate(const Model& model, const SimulationOptions& options, ResultFile* out,
                           const std::function<void(const SimulationProgress&)>& progress,
                           const State* initial) {
-  if (!(options.end_time > 0)) throw std::invalid_argument("end time must be > 0");
-  if (!(options.output_interval > 0)) throw std::invalid_argument("output interval must be > 0");
+  // Time bookkeeping checked before anything runs
+  const State start_state = initial ? *initial : State::Initial(model);
+  const OutputSchedule schedule = MakeOutputSchedule(start_state.t, options);
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
   auto wall = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
 
   std::unique_ptr<Integrator> integrator = MakeIntegrator(model, options.integrator);
   std::unique_ptr<ResultRecorder> recorder;
+  RunHealth health(model, options.integrator, options.health, options.output_interval);
   if (out) {
     out->SetAttribute("/", "engine", std::string("orrery"));
     out->SetAttribute("/", "engine_version", std::string(ORRERY_VERSION));
@@ -53,20 +100,29 @@ SimulationReport Simulate(const Model& model, const SimulationOptions& options, 
     out->SetAttribute("/", "end_time", options.end_time);
     out->SetAttribute("/", "output_interval", options.output_interval);
     recorder = std::make_unique<ResultRecorder>(model, *out);
+    health.Declare(*out);
+    CheckOutputSize(schedule, out->bytes_per_row(), options.max_output_bytes);
   }
+  // Every accepted step: the interrupt flag, then the step's health
+  integrator->SetStepObserver([&](double t, const Eigen::Ref<const Eigen::VectorXd>& q,
+                                  const Eigen::Ref<const Eigen::VectorXd>& v) {
+    CheckInterrupt(options.interrupt, t);
+    health.OnStep(t, q, v);
+  });
+  std::unique_ptr<Data> own_data;  // the health's evaluations when there is no recorder
+  if (!recorder) own_data = std::make_unique<Data>(model);
   SimulationReport report;
   report.integrator = integrator->name();
   double last_flush = 0;
   try {
-    integrator->Initialize(initial ? *initial : State::Initial(model));
-    const double t0 = integrator->state().t;
-    if (recorder) recorder->Record(integrator->state(), integrator->vdot(), integrator->lambda());
+    integrator->Initialize(start_state);
+    health.Start(integrator->state());
+    RecordRow(model, *integrator, out, recorder.get(), health, own_data.get());
     ++report.output_rows;
-    const long n_out = std::lround(std::ceil((options.end_time - t0) / options.output_interval - 1e-9));
-    for (long k = 1; k <= n_out; ++k) {
-      const double t = std::min(t0 + k * options.output_interval, options.end_time);
-      integrator->AdvanceTo(t);
-      if (recorder) recorder->Record(integrator->state(), integrator->vdot(), integrator->lambda());
+    for (std::int64_t k = 1; k < schedule.rows; ++k) {
+      integrator->AdvanceTo(schedule.Time(k));
+      CheckInterrupt(options.interrupt, integrator->state().t);
+      RecordRow(model, *integrator, out, recorder.get(), health, own_data.get());
       ++report.output_rows;
       const double w = wall();
       if (out && w - last_flush >= options.flush_interval_s) {
@@ -76,17 +132,26 @@ SimulationReport Simulate(const Model& model, const SimulationOptions& options, 
       if (progress) progress({integrator->state().t, options.end_time, integrator->stats().steps, w});
     }
   } catch (...) {
+    // Statistics and health of the run so far; the error that stopped it is the one passed on
     if (out) {
-      WriteStats(*out, integrator->stats(), integrator->name(), wall(), false);
-      out->Flush();
+      try {
+        WriteStats(*out, integrator->stats(), integrator->name(), wall(), false);
+        health.Write(*out);
+        out->Flush();
+      } catch (const std::exception&) {
+      }
     }
     throw;
   }
   report.stats = integrator->stats();
   report.final_state = integrator->state();
   report.wall_s = wall();
+  report.health = health.warnings();
+  report.energy_residual_relative = health.energy_residual_relative();
+  report.omega_max_h = health.omega_max_h();
   if (out) {
     WriteStats(*out, report.stats, integrator->name(), report.wall_s, true);
+    health.Write(*out);
     out->Flush();
   }
   return report;

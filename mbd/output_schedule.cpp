@@ -1,0 +1,69 @@
+#include "mbd/output_schedule.h"
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+namespace orrery {
+namespace {
+
+// printf-style text for messages.
+template <class... Args>
+std::string Text(const char* format, Args... args) {
+  char buffer[512];
+  std::snprintf(buffer, sizeof buffer, format, args...);
+  return buffer;
+}
+
+// Smallest interval told apart from 0 at time t with room to spare: 1000 ulp of t.
+double TimeResolution(double t) { return 1000 * std::numeric_limits<double>::epsilon() * std::max(1.0, std::abs(t)); }
+
+}  // namespace
+
+double OutputSchedule::Time(std::int64_t k) const {
+  if (k >= rows - 1) return end_time;
+  return std::min(t0 + static_cast<double>(k) * interval, end_time);
+}
+
+OutputSchedule MakeOutputSchedule(double t0, const SimulationOptions& options) {
+  OutputSchedule s;
+  s.t0 = t0, s.end_time = options.end_time, s.interval = options.output_interval;
+  if (!std::isfinite(s.end_time) || !(s.end_time > t0))
+    throw std::invalid_argument(Text("end time %g s must be finite and after the start (%g s)", s.end_time, t0));
+  if (!std::isfinite(s.interval) || !(s.interval > 0))
+    throw std::invalid_argument(Text("output interval %g s must be finite and > 0", s.interval));
+  // Times must stay distinct in double precision up to the end
+  const double resolution = TimeResolution(s.end_time);
+  if (s.interval < resolution)
+    throw std::invalid_argument(Text("output interval %g s is below the resolution of time at the end time %g s "
+                                     "(%.3g s): output times would not be distinct",
+                                     s.interval, s.end_time, resolution));
+  if (options.integrator.kind == IntegratorKind::kGeneralizedAlpha && options.integrator.step < resolution)
+    throw std::invalid_argument(Text("generalized-alpha step %g s is below the resolution of time at the end time "
+                                     "%g s (%.3g s): steps would not advance the time",
+                                     options.integrator.step, s.end_time, resolution));
+  // Count the rows in floating point first: no integer overflow
+  const double rows = std::ceil((s.end_time - t0) / s.interval - 1e-9) + 1;
+  constexpr double kMaxRows = 9007199254740992.0;  // 2^53
+  if (!(rows <= kMaxRows))
+    throw std::invalid_argument(Text("%.3g output rows (end time %g s at an interval of %g s) are more than can be "
+                                     "counted; raise output.interval or lower the end time",
+                                     rows, s.end_time, s.interval));
+  s.rows = static_cast<std::int64_t>(rows);
+  return s;
+}
+
+void CheckOutputSize(const OutputSchedule& schedule, std::int64_t bytes_per_row, double max_bytes) {
+  if (!(max_bytes > 0)) return;
+  const double bytes = static_cast<double>(schedule.rows) * static_cast<double>(bytes_per_row);
+  if (bytes <= max_bytes) return;
+  throw std::invalid_argument(Text("the result file would hold %.4g rows of %lld bytes, %.3g GB (end time %g s at "
+                                   "output.interval %g s), more than the limit of %.3g GB; raise output.interval, "
+                                   "lower the end time, or allow it with --max-output-gb",
+                                   static_cast<double>(schedule.rows), static_cast<long long>(bytes_per_row),
+                                   bytes * 1e-9, schedule.end_time, schedule.interval, max_bytes * 1e-9));
+}
+
+}  // namespace orrery
