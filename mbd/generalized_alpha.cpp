@@ -38,6 +38,7 @@
 #include "mbd/constraints.h"
 #include "mbd/dae.h"
 #include "mbd/dynamics.h"
+#include "mbd/element_names.h"
 #include "mbd/evaluate.h"
 #include "mbd/integrator.h"
 #include "mbd/kinematics.h"
@@ -148,6 +149,24 @@ class GeneralizedAlpha final : public Integrator {
     }
     q_new_ = state_.q;
     IntegratePositions(model_, dq_, q_new_);
+  }
+
+  // What the largest row of the last residual (rhs_) belongs to: "the equation of motion of
+  // joint 'j' coordinate 0 (body 'b')", "the position constraint of loop closure 'c' row 1", ...
+  std::string WorstRow() const {
+    const int nv = model_.nv, nh = model_.n_holonomic;
+    Eigen::Index row = 0;
+    if (rhs_.size() == 0 || !rhs_.allFinite()) {
+      for (row = 0; row < rhs_.size() && std::isfinite(rhs_(row)); ++row) {
+      }
+      if (row == rhs_.size()) return "no row";
+    } else {
+      rhs_.cwiseAbs().maxCoeff(&row);
+    }
+    const int r = static_cast<int>(row);
+    if (r < nv) return "the equation of motion of " + CoordinateName(model_, r);
+    if (r < nv + nh) return "the position constraint of " + ConstraintRowName(model_, r - nv);
+    return "the velocity constraint of " + ConstraintRowName(model_, r - nv - nh);
   }
 
   // Size of a Newton increment: the accelerations' and the (equally scaled) position
@@ -329,8 +348,8 @@ class GeneralizedAlpha final : public Integrator {
       ++stats_.newton_failures;
       matrix_h_ = 0;  // never reuse a matrix that failed
       std::ostringstream s;
-      s << "generalized-alpha: Newton did not converge at t = " << t << " s (step " << h
-        << " s, residual " << norm << "); reduce the step or raise rho_inf damping";
+      s << "generalized-alpha: Newton did not converge at t = " << t << " s (step " << h << " s, residual "
+        << norm << "); largest in " << WorstRow() << "; reduce the step or lower rho_inf (more damping)";
       throw std::runtime_error(s.str());
     }
     // Accept, then project velocities onto G v + g_t = 0 in the metric of M.

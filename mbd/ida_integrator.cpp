@@ -10,6 +10,7 @@
 
 #include "mbd/constraints.h"
 #include "mbd/dae.h"
+#include "mbd/element_names.h"
 #include "mbd/evaluate.h"
 #include "mbd/integrator.h"
 #include "mbd/kinematics.h"
@@ -206,6 +207,17 @@ class IdaIntegrator final : public Integrator {
     RecordDrift(t_step_, y.head(dae_.nq()), y.segment(dae_.nq(), dae_.nv()));
   }
 
+  // "; largest weighted local error in <unknown>" from IDA's estimate of the last step, or "".
+  std::string WorstComponent() {
+    if (!mem_ || !y_out_ || !yp_out_) return "";
+    const int n = dae_.size();
+    if (IDAGetErrWeights(mem_, y_out_) < 0 || IDAGetEstLocalErrors(mem_, yp_out_) < 0) return "";
+    VecMap w(N_VGetArrayPointer(y_out_), n), e(N_VGetArrayPointer(yp_out_), n);
+    Eigen::Index worst = 0;
+    if (!(e.cwiseProduct(w).cwiseAbs().maxCoeff(&worst) > 0)) return "";
+    return "; largest weighted local error in the " + DaeUnknownName(model_, static_cast<int>(worst));
+  }
+
   void Check(int flag, const char* call) {
     if (flag < 0) Fail(call, flag);
   }
@@ -219,6 +231,7 @@ class IdaIntegrator final : public Integrator {
       s << " (steps kept failing: the model may be too stiff for the tolerances, or a force or "
            "constraint is discontinuous; try the generalized-alpha integrator or a smaller max step)";
     if (flag == IDA_TOO_MUCH_WORK) s << " (more than " << options_.max_steps_per_output << " steps between outputs)";
+    if (flag == IDA_CONV_FAIL || flag == IDA_ERR_FAIL || flag == IDA_TOO_MUCH_WORK) s << WorstComponent();
     if (!callback_error_.empty()) s << "; " << callback_error_;
     if (!last_message_.empty()) s << "; " << last_message_;
     throw std::runtime_error(s.str());

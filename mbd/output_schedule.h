@@ -1,8 +1,9 @@
 #pragma once
-// The output times of a run and the checks that keep its time bookkeeping sound: row counts in
-// 64-bit integers computed in floating point first (an end time of 1e20 s at a 1 ms interval is
-// 1e23 rows, which no integer holds), times that are distinct in double precision, and a bound on
-// the result file's size estimated before anything runs.
+// The output times of a run and the checks that keep its time bookkeeping sound: times that are
+// distinct in double precision (an end time of 1e20 s at a 1 ms interval is 1e23 rows, which
+// overflowed the row count, and its times are 16384 s apart in double), row counts in 64-bit
+// integers that this bounds, and a bound on the result file's size estimated before anything
+// runs.
 //
 // Output k (k = 0 .. rows - 1) is at t0 + k * interval, the last one at the end time.
 //
@@ -24,9 +25,9 @@ struct OutputSchedule {
 };
 
 // Checks the time settings of `options` from t0 and counts the rows. Throws std::invalid_argument
-// with the numbers when the end time is not after t0 or not finite, the interval (or the
-// generalized-alpha step) is below the resolution of time at the end time (1000 ulp), or the rows
-// are more than 2^53 (counted exactly in a double).
+// with the numbers when the end time is not after t0 or not finite, or the interval (or the
+// generalized-alpha step) is below the resolution of time over the run (1000 ulp of the larger of
+// |t0| and |end time|), which also bounds the rows by 2 / (1000 eps) = 9e12.
 OutputSchedule MakeOutputSchedule(double t0, const SimulationOptions& options);
 
 // Throws std::invalid_argument when rows x bytes_per_row exceeds max_bytes (0: no bound), naming

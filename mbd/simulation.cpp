@@ -143,12 +143,24 @@ SimulationReport Simulate(const Model& model, const SimulationOptions& options, 
     }
     throw;
   }
+  try {
+    health.Finish(integrator->state().t);
+  } catch (...) {
+    if (out) {
+      WriteStats(*out, integrator->stats(), integrator->name(), wall(), false);
+      health.Write(*out);
+      out->Flush();
+    }
+    throw;
+  }
   report.stats = integrator->stats();
   report.final_state = integrator->state();
   report.wall_s = wall();
   report.health = health.warnings();
   report.energy_residual_relative = health.energy_residual_relative();
+  report.energy_quadrature_relative = health.energy_quadrature_relative();
   report.omega_max_h = health.omega_max_h();
+  report.rho_infinity = health.rho_infinity();
   if (out) {
     WriteStats(*out, report.stats, integrator->name(), report.wall_s, true);
     health.Write(*out);

@@ -68,8 +68,10 @@ struct SimulationReport {
   double wall_s = 0;
   std::string integrator;
   std::vector<HealthWarning> health;    // warnings of the run (run_health.h)
-  double energy_residual_relative = 0;  // largest relative energy-balance residual
+  double energy_residual_relative = 0;  // energy-balance residual / energy scale at the end
+  double energy_quadrature_relative = 0;  // what the rows' quadrature cannot resolve, same scale
   double omega_max_h = -1;              // generalized-alpha: stiffest mode x step (-1: not estimated)
+  double rho_infinity = 1;              // generalized-alpha: damping of unresolved modes (1: none)
 };
 
 // The checks Simulate makes before it runs, for a caller that wants them before it creates the

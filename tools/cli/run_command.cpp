@@ -71,8 +71,14 @@ void PrintFlexibleBodies(std::ostream& out, const Model& model, const std::strin
 
 // The run's health: "ok" with its numbers, or one line per warning.
 void PrintHealth(std::ostream& out, const SimulationReport& report) {
-  std::string numbers = "energy balance " + Number("%.2g", report.energy_residual_relative);
-  if (report.omega_max_h >= 0) numbers += ", omega_max h " + Number("%.3g", report.omega_max_h);
+  std::string numbers = "energy balance " + Number("%.2g", report.energy_residual_relative) + " of its scale";
+  if (report.energy_quadrature_relative > 0.01)
+    numbers += Number(" (rows resolve it to %.2g)", report.energy_quadrature_relative);
+  if (report.omega_max_h >= 0) {
+    numbers += ", omega_max h " + Number("%.3g", report.omega_max_h);
+    if (report.omega_max_h > 3.14159 && report.rho_infinity <= 0.99)
+      numbers += Number(" (stiffest mode not resolved, damped: rho_inf %.2g)", report.rho_infinity);
+  }
   if (report.health.empty()) {
     SummaryLine(out, "health", "ok (" + numbers + ")");
     return;
