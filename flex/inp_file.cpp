@@ -1,5 +1,7 @@
 #include "flex/inp_file.h"
 
+#include "mbd/file_checks.h"
+
 #include <cctype>
 #include <cerrno>
 #include <charconv>
@@ -310,10 +312,8 @@ InpReadResult ParseInp(std::istream& in, const std::string& source) {
 }
 
 InpReadResult ReadInp(const std::filesystem::path& path) {
-  // A device or a pipe (/dev/zero) would be read without end
-  std::error_code ec;
-  if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
-    throw std::runtime_error(path.string() + ": not a regular file");
+  // A regular file only: a device or FIFO (/dev/zero) would be read without end
+  CheckRegularInput(path.string(), "mesh file");
   std::ifstream in(path);
   if (!in) throw std::runtime_error(path.string() + ": cannot open");
   return ParseInp(in, path.string());

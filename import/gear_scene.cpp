@@ -42,7 +42,8 @@ std::shared_ptr<const FlexibleBodyModes> LoadReducedBody(const Context& ctx, con
   if (f.reduce_input_item) {
     try {
       job = PrepareGearReduction(LoadReduceInput(f.reduce_input));
-      expected = flex::MakeReducedBodyProvenance(job->mesh, job->cb_options, job->interfaces, job->outputs, "");
+      expected = flex::MakeReducedBodyProvenance(job->mesh, job->cb_options, job->interfaces, job->outputs, "",
+                                                 job->faults);
       expected->source = "the reduce input " + f.reduce_input;
     } catch (const std::exception& e) {
       ctx.Fail(*f.reduce_input_item, e.what());
@@ -51,11 +52,17 @@ std::shared_ptr<const FlexibleBodyModes> LoadReducedBody(const Context& ctx, con
   const std::string remake = f.reduce_input.empty()
                                  ? "make it with `orrery reduce INPUT -o " + f.reduced_body + "`"
                                  : "make it with `orrery reduce " + f.reduce_input + " -o " + f.reduced_body + "`";
+  ctx.NoteInput(f.reduced_body);
+  if (!f.reduce_input.empty()) ctx.NoteInput(f.reduce_input);
+  // A missing file is made from the reduce input (once; later runs reuse it), by `orrery run` only.
   if (!std::filesystem::exists(f.reduced_body)) {
     if (!job) ctx.Fail(*f.reduced_body_item, "no reduced-body file " + f.reduced_body + "; " + remake + ", or name its reduce_input");
+    if (!ctx.make_reduced_bodies())
+      ctx.Fail(*f.reduced_body_item, "no reduced-body file " + f.reduced_body + " (this command writes no files); " +
+                                         remake + ", or let `orrery run` make it");
     try {
       flex::WriteReducedBody(f.reduced_body, ReduceBody(job->mesh, job->interfaces, job->cb_options, job->outputs,
-                                                        job->source).body);
+                                                        job->source, job->faults).body);
     } catch (const std::exception& e) {
       ctx.Fail(*f.reduced_body_item, "could not make " + f.reduced_body + " from " + f.reduce_input + ": " + e.what());
     }

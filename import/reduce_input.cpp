@@ -11,6 +11,7 @@
 #include "flex/fe_assembly.h"
 #include "import/scene_reader.h"
 #include "import/tooth_fault_reader.h"
+#include "mbd/file_checks.h"
 
 namespace orrery {
 namespace {
@@ -215,15 +216,13 @@ ReduceInput ParseReduceInput(const std::string& text, const std::string& file) {
 }
 
 ReduceInput LoadReduceInput(const std::string& path) {
-  // A device or a pipe (/dev/zero) would be read without end
-  std::error_code ec;
-  if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
-    throw SceneError(path + ": not a regular file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw SceneError(path + ": cannot open the input file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return ParseReduceInput(text.str(), path);
+  std::string text;
+  try {
+    text = ReadInputFile(path, "reduce input", kMaxTextInputBytes);
+  } catch (const std::runtime_error& e) {
+    throw SceneError(e.what());
+  }
+  return ParseReduceInput(text, path);
 }
 
 GearReduction PrepareGearReduction(const ReduceInput& in) {

@@ -29,6 +29,7 @@
 #include "import/scene_reader.h"
 #include "import/sensor_reader.h"
 #include "import/surface_mesh.h"
+#include "mbd/file_checks.h"
 
 namespace orrery {
 namespace {
@@ -923,8 +924,9 @@ std::string SceneText(const std::string& original, const std::string& file, cons
 }
 
 Scene Load(const std::string& text, const std::string& file, const std::string& source_path,
-           const std::vector<std::string>& overrides) {
+           const std::vector<std::string>& overrides, const SceneLoadOptions& options) {
   Context ctx(file);
+  ctx.set_make_reduced_bodies(options.make_reduced_bodies);
   // Parse.
   YAML::Node root;
   try {
@@ -944,26 +946,26 @@ Scene Load(const std::string& text, const std::string& file, const std::string& 
   scene.source_path = source_path;
   if (scene.output_path.empty()) scene.output_path = (stem.empty() ? "scene" : stem) + ".h5";
   scene.simulation.scene_text = SceneText(text, file, root, overrides);
+  scene.input_files = ctx.inputs();
   return scene;
 }
 
 }  // namespace
 
-Scene LoadScene(const std::string& path, const std::vector<std::string>& overrides) {
-  // A device or a pipe (/dev/zero) would be read without end
-  std::error_code ec;
-  if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
-    throw SceneError(path + ": not a regular file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw SceneError(path + ": cannot open the scene file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return Load(text.str(), path, path, overrides);
+Scene LoadScene(const std::string& path, const std::vector<std::string>& overrides,
+                const SceneLoadOptions& options) {
+  std::string text;
+  try {
+    text = ReadInputFile(path, "scene file", kMaxTextInputBytes);
+  } catch (const std::runtime_error& e) {
+    throw SceneError(e.what());
+  }
+  return Load(text, path, path, overrides, options);
 }
 
 Scene LoadSceneFromString(const std::string& text, const std::string& name,
-                          const std::vector<std::string>& overrides) {
-  return Load(text, name, "", overrides);
+                          const std::vector<std::string>& overrides, const SceneLoadOptions& options) {
+  return Load(text, name, "", overrides, options);
 }
 
 }  // namespace orrery

@@ -83,18 +83,29 @@ struct Scene {
   std::shared_ptr<const Model> model;
   SimulationOptions simulation;        // end time, output interval, integrator, scene text
   std::string output_path;             // "output: file:" or "<file stem>.h5"
+  std::vector<std::string> input_files;  // other files it read (reduced bodies, reduce inputs)
   SceneKind kind = SceneKind::kMultibody;
   std::shared_ptr<const LumpedStageScene> lumped_stage;  // kLumpedStage only
   std::shared_ptr<const GearTrainScene> gear_train;      // kGearTrain only
 };
 
+struct SceneLoadOptions {
+  // A flexible body whose reduced-body file is missing is reduced from its reduce_input and the
+  // file written where the scene names it (what `orrery run` does). Off: the missing file is an
+  // error naming the command that makes it, and loading writes nothing (the analysis commands).
+  bool make_reduced_bodies = false;
+};
+
 // Loads and validates a scene file. `overrides` are "key.path=value" settings applied to the
 // YAML tree before validation ("solver.end_time=2", "bodies.bob.mass=2"; list items by name);
-// a path that does not exist is a SceneError naming it.
-Scene LoadScene(const std::string& path, const std::vector<std::string>& overrides = {});
+// a path that does not exist is a SceneError naming it. The file is read with a bound
+// (mbd/file_checks.h: /dev/zero or an endless FIFO is refused, not read until memory runs out).
+Scene LoadScene(const std::string& path, const std::vector<std::string>& overrides = {},
+                const SceneLoadOptions& options = {});
 
 // Same from text; `name` stands for the file in messages.
 Scene LoadSceneFromString(const std::string& text, const std::string& name,
-                          const std::vector<std::string>& overrides = {});
+                          const std::vector<std::string>& overrides = {},
+                          const SceneLoadOptions& options = {});
 
 }  // namespace orrery

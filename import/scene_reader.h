@@ -132,9 +132,18 @@ class Context {
     throw SceneError(file_ + ": --set " + key + ": " + reason);
   }
 
+  // Whether a missing reduced-body file may be made from its reduce input (SceneLoadOptions).
+  bool make_reduced_bodies() const { return make_reduced_bodies_; }
+  void set_make_reduced_bodies(bool on) { make_reduced_bodies_ = on; }
+  // Other files the scene reads (Scene::input_files), noted by the readers as they go.
+  void NoteInput(const std::string& path) const { inputs_.push_back(path); }
+  const std::vector<std::string>& inputs() const { return inputs_; }
+
  private:
   std::string file_;
   std::vector<OverrideSetting> overrides_;
+  bool make_reduced_bodies_ = false;
+  mutable std::vector<std::string> inputs_;
 };
 
 // What a node is, for "expected X, got Y".
@@ -142,8 +151,15 @@ inline std::string Describe(const YAML::Node& n) {
   switch (n.Type()) {
     case YAML::NodeType::Undefined:
     case YAML::NodeType::Null: return "nothing (null)";
-    case YAML::NodeType::Scalar:
-      return n.Tag() == "!" ? "the quoted string \"" + n.Scalar() + "\"" : "'" + n.Scalar() + "'";
+    case YAML::NodeType::Scalar: {
+      // At most 60 characters of a value (a binary file read as a scene is one long scalar)
+      std::string value = n.Scalar();
+      if (value.size() > 60) {
+        value.resize(57);
+        value += "...";
+      }
+      return n.Tag() == "!" ? "the quoted string \"" + value + "\"" : "'" + value + "'";
+    }
     case YAML::NodeType::Sequence: return "a list of " + std::to_string(n.size());
     case YAML::NodeType::Map: return "a map";
   }

@@ -7,13 +7,27 @@
 //   (1 - alpha_m) a_{n+1} + alpha_m a_n = (1 - alpha_f) vdot_{n+1} + alpha_f vdot_n,
 //   v_{n+1} = v_n + h (1 - gamma) a_n + h gamma a_{n+1},
 //   q_{n+1} = q_n (+) [h v_n + h^2 (1/2 - beta) a_n + h^2 beta a_{n+1}],
-// with the equations of motion, Phi(q_{n+1}) = 0 (index 3) and the speed constraints enforced at
-// t_{n+1}. Newton on (vdot_{n+1}, lambda_{n+1}) with constraint rows scaled by 1/(h^2 beta') and
-// 1/(h gamma'). After each step the velocities are projected onto G v + g_t = 0 in the metric of
-// M, so the velocity constraints hold too (the drift report shows the rest). The projected
-// velocities are what state() reports; the recurrence carries its own, unprojected ones (v_alpha_):
-// feeding projected velocities back into it leaves the pseudo-acceleration a inconsistent with v,
-// which costs an O(h) error in vdot and lambda (driver efforts, reactions) instead of O(h^2).
+// with the equations of motion, Phi(q_{n+1}) = 0 and G v_{n+1} + g_t = 0 enforced at t_{n+1}: the
+// stabilized index-2 form of Arnold, Cardona & Bruls (2016, "A Lie algebra approach to Lie group
+// time integration of constrained systems"; the GGL idea of Gear, Gupta & Leimkuhler 1985), where
+// the position update takes a second multiplier mu along the constraint normals,
+//   q_{n+1} = q_n (+) [h v_n + h^2 (1/2 - beta) a_n + h^2 beta a_{n+1} + G_h(q_n)^T mu],
+// so that both the positions and the velocities of the holonomic rows satisfy their constraints.
+// Newton on (vdot_{n+1}, lambda_{n+1}, mu~) with the usual scaling (Arnold & Bruls 2007; Bottasso,
+// Bauchau & Cardona 2007): position rows divided by h^2 beta', velocity rows by h gamma', mu = h^2
+// beta' mu~, so that the iteration matrix
+//   [M + gamma' h C + beta' h^2 K, G^T, beta' h^2 K G_h^T;  G_h, 0, G_h G_h^T;  G, 0, 0]
+// does not depend on h as h -> 0 (its condition number stays that of [M G^T; G 0]).
+// Why index 2: the index-3 scheme (positions only) leaves the recurrence's velocities off the
+// velocity constraint, and for rho_inf = 1 that error mode is undamped: it alternates in sign
+// from step to step and drives an alternating acceleration (and multiplier) error that grows
+// linearly, fed by the rounding of Phi the Newton test allows. On the slider-crank at h = 1e-6 s
+// and rho_inf = 1 the driver effort swung between -17 and +21 N m after 20 ms (1.7 to 2.1 N m
+// from IDA); with both levels enforced it follows IDA (tests/mbd/slider_crank_test.cpp).
+// After each step the reported velocities are also projected onto G v + g_t = 0 in the metric of
+// M (to rounding; the Newton tolerance leaves up to h gamma' tol). The recurrence keeps its own
+// velocities (v_alpha_): feeding the projection back into it leaves a inconsistent with v, which
+// costs an O(h) error in vdot and lambda instead of O(h^2).
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -25,6 +39,7 @@
 #include "mbd/constraints.h"
 #include "mbd/dae.h"
 #include "mbd/dynamics.h"
+#include "mbd/element_names.h"
 #include "mbd/evaluate.h"
 #include "mbd/integrator.h"
 #include "mbd/kinematics.h"
@@ -52,20 +67,23 @@ class GeneralizedAlpha final : public Integrator {
       gamma_ = 0.5 + af_ - am_;
       beta_ = 0.25 * (gamma_ + 0.5) * (gamma_ + 0.5);
     }
-    const int nv = model.nv, nc = model.n_constraints;
+    const int nv = model.nv, nc = model.n_constraints, nh = model.n_holonomic;
+    const int n = nv + nc + nh;  // unknowns: vdot, lambda, mu~
     vdot_.setZero(nv);
     a_.setZero(nv);
     lambda_.setZero(nc);
     vdot_new_.setZero(nv);
     a_new_.setZero(nv);
     lambda_new_.setZero(nc);
+    mu_new_.setZero(nh);
+    G_h0_.setZero(nh, nv);
     dq_.setZero(nv);
     Kq_.setZero(nv + nc, nv);
     Cv_.setZero(nv, nv);
-    iteration_.setZero(nv + nc, nv + nc);
-    rhs_.setZero(nv + nc);
-    delta_.setZero(nv + nc);
-    lu_ = Eigen::PartialPivLU<Eigen::MatrixXd>(nv + nc);
+    iteration_.setZero(n, n);
+    rhs_.setZero(n);
+    delta_.setZero(n);
+    lu_ = Eigen::PartialPivLU<Eigen::MatrixXd>(n);
     proj_.setZero(nv + nc, nv + nc);
     proj_rhs_.setZero(nv + nc);
     proj_lu_ = Eigen::PartialPivLU<Eigen::MatrixXd>(nv + nc);
@@ -84,17 +102,36 @@ class GeneralizedAlpha final : public Integrator {
     q_new_ = state_.q;
     v_new_ = state_.v;
     v_alpha_ = state_.v;
+    StoreConstraintNormals();
     RecordDrift();
   }
 
+  // Steps of equal length between two outputs: n = ceil(span / step - 1e-6) steps of span / n,
+  // the last ending on t_out exactly. Outputs on the step grid keep the scene's step (to a
+  // relative 1e-15, which reuses the iteration matrix); others shorten every step of the interval
+  // alike (to no less than half the step when the interval spans a step or more) instead of
+  // leaving a remainder step: a sliver of 1e-12 s scales the position rows by 1/h^2 and
+  // Newton stalls on their rounding. Outputs stay true integrator states (no interpolation of
+  // the accelerations and multipliers the result file records).
   void AdvanceTo(double t_out) override {
-    // Fixed steps; the last one is shortened to land on t_out.
-    while (state_.t < t_out - 1e-12 * std::max(1.0, std::abs(t_out))) {
-      const double h = std::min(options_.step, t_out - state_.t);
-      StepOrHalve(h, 0);
+    const double t_start = state_.t, span = t_out - t_start;
+    if (span > 0) {
+      const double n = std::max(1.0, std::ceil(span / options_.step - 1e-6));
+      for (double k = 1; k <= n; ++k) {
+        const double t_next = k == n ? t_out : t_start + span * (k / n);
+        if (!(t_next > state_.t)) {
+          std::ostringstream s;
+          s << "generalized-alpha: step " << options_.step << " s is below the resolution of time at t = "
+            << state_.t << " s";
+          throw std::runtime_error(s.str());
+        }
+        StepOrHalve(t_next, 0);
+      }
     }
     RecordDrift();
   }
+
+  void SetStepCallback(StepCallback callback) override { step_callback_ = std::move(callback); }
 
   const State& state() const override { return state_; }
   const Eigen::VectorXd& vdot() const override { return vdot_; }
@@ -127,13 +164,53 @@ class GeneralizedAlpha final : public Integrator {
   }
 
  private:
-  // Predicts a, v, q at t + h from the current vdot_new_ (the unknown).
+  // Predicts a, v, q at t + h from the current unknowns vdot_new_ and mu_new_.
   void UpdateKinematics(double h) {
     a_new_ = ((1 - af_) * vdot_new_ + af_ * vdot_ - am_ * a_) / (1 - am_);
     v_new_ = v_alpha_ + h * (1 - gamma_) * a_ + h * gamma_ * a_new_;
     dq_ = h * v_alpha_ + h * h * (0.5 - beta_) * a_ + h * h * beta_ * a_new_;
+    if (model_.n_holonomic > 0) {
+      const double ca = (1 - af_) / (1 - am_);
+      dq_.noalias() += (h * h * beta_ * ca) * (G_h0_.transpose() * mu_new_);
+    }
     q_new_ = state_.q;
     IntegratePositions(model_, dq_, q_new_);
+  }
+
+  // What the largest row of the last residual (rhs_) belongs to: "the equation of motion of
+  // joint 'j' coordinate 0 (body 'b')", "the position constraint of loop closure 'c' row 1", ...
+  std::string WorstRow() const {
+    const int nv = model_.nv, nh = model_.n_holonomic;
+    Eigen::Index row = 0;
+    if (rhs_.size() == 0 || !rhs_.allFinite()) {
+      for (row = 0; row < rhs_.size() && std::isfinite(rhs_(row)); ++row) {
+      }
+      if (row == rhs_.size()) return "no row";
+    } else {
+      rhs_.cwiseAbs().maxCoeff(&row);
+    }
+    const int r = static_cast<int>(row);
+    if (r < nv) return "the equation of motion of " + CoordinateName(model_, r);
+    if (r < nv + nh) return "the position constraint of " + ConstraintRowName(model_, r - nv);
+    return "the velocity constraint of " + ConstraintRowName(model_, r - nv - nh);
+  }
+
+  // Size of a Newton increment: the accelerations' and the (equally scaled) position
+  // multipliers' (a position still moving along the constraint normals is not converged).
+  double Increment() const {
+    const int nv = model_.nv, nh = model_.n_holonomic;
+    double increment = delta_.head(nv).lpNorm<Eigen::Infinity>();
+    if (nh > 0) increment = std::max(increment, delta_.tail(nh).lpNorm<Eigen::Infinity>());
+    return increment;
+  }
+
+  // G_h at the step's start (state_.q): the directions of the position correction mu.
+  void StoreConstraintNormals() {
+    if (model_.n_holonomic == 0) return;
+    Data& d = dae_.data();
+    CalcPositionKinematics(model_, state_.q, d);
+    CalcConstraints(model_, state_.t, d);
+    G_h0_ = d.G.topRows(model_.n_holonomic);
   }
 
   // Residual (scaled) at the predicted state into rhs_; returns its max norm. Also sets
@@ -147,11 +224,13 @@ class GeneralizedAlpha final : public Integrator {
     ++pipeline_evaluations_;
     rhs_.head(nv) = d.tau_id;
     if (nc > 0) {
+      // Position rows of the holonomic constraints, velocity rows of every constraint
       rhs_.head(nv).noalias() += d.G.transpose() * lambda_new_;
       rhs_.segment(nv, nh) = d.phi / (h * h * beta_ * ca);
-      rhs_.tail(nc - nh).noalias() = d.G.bottomRows(nc - nh) * v_new_;
-      rhs_.tail(nc - nh) += d.g_t.tail(nc - nh);
-      rhs_.tail(nc - nh) /= h * gamma_ * ca;
+      auto velocity = rhs_.segment(nv + nh, nc);
+      velocity.noalias() = d.G * v_new_;
+      velocity += d.g_t;
+      velocity /= h * gamma_ * ca;
     }
     double size = std::max(1.0, q_new_.lpNorm<Eigen::Infinity>());
     for (const Transform& X : d.X_WFrame) size = std::max(size, X.p.lpNorm<Eigen::Infinity>());
@@ -164,35 +243,45 @@ class GeneralizedAlpha final : public Integrator {
     const int nv = model_.nv, nh = model_.n_holonomic, nc = model_.n_constraints;
     return rhs_.head(nv).lpNorm<Eigen::Infinity>() <= tol &&
            (nh == 0 || rhs_.segment(nv, nh).lpNorm<Eigen::Infinity>() <= std::max(tol, position_floor_)) &&
-           (nc == nh || rhs_.tail(nc - nh).lpNorm<Eigen::Infinity>() <= tol);
+           (nc == 0 || rhs_.segment(nv + nh, nc).lpNorm<Eigen::Infinity>() <= tol);
   }
 
-  // Iteration matrix at the current iterate: [M + gamma' h C + beta' h^2 K, G^T; G, 0].
+  // Iteration matrix at the current iterate (the file's top comment), unknowns (vdot, lambda,
+  // mu~), rows (dynamics, positions, velocities).
   void RefreshIterationMatrix(double t, double h) {
-    const int nv = model_.nv, nc = model_.n_constraints;
-    const double ca = (1 - af_) / (1 - am_);
+    const int nv = model_.nv, nc = model_.n_constraints, nh = model_.n_holonomic;
+    const double ca = (1 - af_) / (1 - am_), b = h * h * beta_ * ca;
     dae_.Tangents(t, q_new_, v_new_, vdot_new_, lambda_new_, Kq_, Cv_);
     ++stats_.jacobian_evaluations;
     Data& d = dae_.data();
     iteration_.setZero();
-    iteration_.topLeftCorner(nv, nv) = d.M + (h * gamma_ * ca) * Cv_ + (h * h * beta_ * ca) * Kq_.topRows(nv);
+    iteration_.topLeftCorner(nv, nv) = d.M + (h * gamma_ * ca) * Cv_ + b * Kq_.topRows(nv);
     if (nc > 0) {
-      iteration_.topRightCorner(nv, nc) = d.G.transpose();
-      iteration_.bottomLeftCorner(nc, nv) = d.G;
+      iteration_.block(0, nv, nv, nc) = d.G.transpose();
+      iteration_.block(nv + nh, 0, nc, nv) = d.G;
+    }
+    if (nh > 0) {
+      iteration_.block(0, nv + nc, nv, nh).noalias() = b * (Kq_.topRows(nv) * G_h0_.transpose());
+      iteration_.block(nv, 0, nh, nv) = d.G.topRows(nh);
+      iteration_.block(nv, nv + nc, nh, nh).noalias() = d.G.topRows(nh) * G_h0_.transpose();
     }
     lu_.compute(iteration_);
     matrix_h_ = h;
   }
 
   // Step() leaves the state alone when Newton fails: retry as two halves (options' halvings).
-  void StepOrHalve(double h, int halvings) {
+  // The observer sees every accepted step; what it throws is not a failed step.
+  void StepOrHalve(double t_next, int halvings) {
     try {
-      Step(h);
+      Step(t_next);
     } catch (const std::runtime_error&) {
       if (halvings >= options_.max_step_halvings) throw;
-      StepOrHalve(0.5 * h, halvings + 1);
-      StepOrHalve(0.5 * h, halvings + 1);
+      const double t_mid = state_.t + 0.5 * (t_next - state_.t);
+      StepOrHalve(t_mid, halvings + 1);
+      StepOrHalve(t_next, halvings + 1);
+      return;
     }
+    if (step_callback_) step_callback_(state_.t, state_.q, state_.v);
   }
 
   // Modified Newton: the iteration matrix is kept from step to step and refreshed when the step
@@ -202,12 +291,14 @@ class GeneralizedAlpha final : public Integrator {
   // below newton_tolerance times the force scale, or the acceleration increment below
   // newton_tolerance relative to the accelerations (kinks of tabulated mesh stiffness can hold
   // the residual above its floor while the iterates no longer move).
-  void Step(double h) {
+  void Step(double t) {
     const int nv = model_.nv, nc = model_.n_constraints;
-    const double t = state_.t + h;
-    // Predictor: keep the acceleration.
+    const double h = t - state_.t;
+    // Predictor: keep the acceleration, no position correction.
+    const int nh = model_.n_holonomic;
     vdot_new_ = vdot_;
     lambda_new_ = lambda_;
+    mu_new_.setZero();
     UpdateKinematics(h);
     bool fresh = false;
     if (std::abs(matrix_h_ - h) > 1e-6 * h) {
@@ -240,14 +331,15 @@ class GeneralizedAlpha final : public Integrator {
       if (fresh && it > 0 && norm > start_norm && backtracks < kMaxBacktracks) {
         fraction *= 0.5;
         vdot_new_ += fraction * delta_.head(nv);
-        lambda_new_ += fraction * delta_.tail(nc);
+        lambda_new_ += fraction * delta_.segment(nv, nc);
+        mu_new_ += fraction * delta_.tail(nh);
         UpdateKinematics(h);
         ++backtracks;
         ++stats_.newton_backtracks;
         continue;
       }
       delta_.noalias() = lu_.solve(rhs_);
-      double increment = delta_.head(nv).lpNorm<Eigen::Infinity>();
+      double increment = Increment();
       if (!fresh &&
           (increment > options_.matrix_refresh_rate * previous || !std::isfinite(increment))) {
         // Slow with an old matrix: refresh it at the current iterate and take this step again.
@@ -255,12 +347,13 @@ class GeneralizedAlpha final : public Integrator {
         fresh = true;
         norm = Residual(t, h);
         delta_.noalias() = lu_.solve(rhs_);
-        increment = delta_.head(nv).lpNorm<Eigen::Infinity>();
+        increment = Increment();
       }
       start_norm = norm;
       fraction = 1;
       vdot_new_ -= delta_.head(nv);
-      lambda_new_ -= delta_.tail(nc);
+      lambda_new_ -= delta_.segment(nv, nc);
+      mu_new_ -= delta_.tail(nh);
       UpdateKinematics(h);
       previous = increment;
       // Converged when the increment is small against the accelerations, or when it no longer
@@ -281,8 +374,8 @@ class GeneralizedAlpha final : public Integrator {
       ++stats_.newton_failures;
       matrix_h_ = 0;  // never reuse a matrix that failed
       std::ostringstream s;
-      s << "generalized-alpha: Newton did not converge at t = " << t << " s (step " << h
-        << " s, residual " << norm << "); reduce the step or raise rho_inf damping";
+      s << "generalized-alpha: Newton did not converge at t = " << t << " s (step " << h << " s, residual "
+        << norm << "); largest in " << WorstRow() << "; reduce the step or lower rho_inf (more damping)";
       throw std::runtime_error(s.str());
     }
     // Accept, then project velocities onto G v + g_t = 0 in the metric of M.
@@ -295,7 +388,10 @@ class GeneralizedAlpha final : public Integrator {
     vdot_ = vdot_new_;
     a_ = a_new_;
     lambda_ = lambda_new_;
-    if (nc > 0) ProjectVelocities();
+    if (nc > 0) {
+      ProjectVelocities();
+      G_h0_ = dae_.data().G.topRows(nh);  // at state_.q, from the projection
+    }
     ++stats_.steps;
     stats_.last_step = h;
     if (observer_) observer_->OnStep(*this, t_start_, state_.t);
@@ -325,8 +421,9 @@ class GeneralizedAlpha final : public Integrator {
     proj_rhs_.tail(nc).noalias() = d.G * state_.v;
     proj_rhs_.tail(nc) += d.g_t;
     proj_lu_.compute(proj_);
-    delta_.noalias() = proj_lu_.solve(proj_rhs_);
-    state_.v -= delta_.head(nv);
+    auto correction = delta_.head(nv + nc);
+    correction.noalias() = proj_lu_.solve(proj_rhs_);
+    state_.v -= correction.head(nv);
   }
 
   void RecordDrift() {
@@ -348,6 +445,8 @@ class GeneralizedAlpha final : public Integrator {
   State state_;
   Eigen::VectorXd vdot_, a_, lambda_;                 // at state_.t
   Eigen::VectorXd vdot_new_, a_new_, lambda_new_, q_new_, v_new_, dq_;  // iterates at t + h
+  Eigen::VectorXd mu_new_;   // n_holonomic: scaled position multiplier mu~ of the step
+  Eigen::MatrixXd G_h0_;     // n_holonomic x nv: G_h at the step's start (StoreConstraintNormals)
   Eigen::VectorXd v_alpha_;  // the recurrence's velocity at state_.t (before projection)
   Eigen::MatrixXd Kq_, Cv_, iteration_, proj_;
   Eigen::VectorXd rhs_, delta_, proj_rhs_;
@@ -359,6 +458,7 @@ class GeneralizedAlpha final : public Integrator {
   // Dense output (KeepStepStart, with an observer): the last step's start and increment.
   Eigen::VectorXd q_start_, v_start_, vdot_start_, dq_step_, dq_interp_;
   double t_start_ = 0, h_step_ = 1;
+  StepCallback step_callback_;  // SetStepCallback
 };
 
 }  // namespace

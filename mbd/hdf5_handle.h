@@ -10,9 +10,17 @@ namespace orrery::hdf5 {
 
 // Turns HDF5's automatic error printing off for the life of the guard (the setting is per thread
 // in thread-safe builds, so it is set and restored around each call into HDF5).
+//
+// Every entry point into HDF5 starts with this guard, so its first construction also comes before
+// the library initializes: it asks HDF5 not to run its shutdown at exit (H5dont_atexit). That
+// shutdown closes whatever identifiers are still open, and one left open by a close that failed
+// (a full disk, /dev/null) crashed it (SIGSEGV after main returned). Every object of ours is
+// closed by its Handle; files are flushed by their owners, never by the shutdown.
 class QuietHdf5 {
  public:
   QuietHdf5() {
+    static const bool no_shutdown_at_exit = (H5dont_atexit(), true);
+    (void)no_shutdown_at_exit;
     H5Eget_auto2(H5E_DEFAULT, &func_, &data_);
     H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
   }

@@ -8,6 +8,7 @@
 #include "mbd/hdf5_handle.h"
 
 #include <algorithm>
+#include <charconv>
 #include <filesystem>
 #include <stdexcept>
 #include <string_view>
@@ -135,6 +136,72 @@ std::vector<std::string> ReadStringValues(hid_t type, std::size_t n, Read read, 
   return values;
 }
 
+// Shortest text that reads back to the same double.
+std::string DoubleText(double v) {
+  char buf[64];
+  const auto result = std::to_chars(buf, buf + sizeof(buf), v);
+  return std::string(buf, result.ptr);
+}
+
+// Values as "a" (one value) or "[a, b, c]".
+std::string JoinValues(const std::vector<std::string>& values) {
+  if (values.size() == 1) return values.front();
+  std::string out = "[";
+  for (std::size_t i = 0; i < values.size(); ++i) out += (i ? ", " : "") + values[i];
+  return out + "]";
+}
+
+// An open attribute's values as text: strings as they are, integers in full, floating-point
+// numbers at their shortest round trip, several values as "[a, b]". Fails for other types.
+std::string AttributeText(hid_t attr, const std::string& file, const std::string& where) {
+  Handle type = Own(H5Aget_type(attr), H5Tclose, file, where, "cannot get the type");
+  Handle space = Own(H5Aget_space(attr), H5Sclose, file, where, "cannot get the dataspace");
+  const hssize_t npoints = H5Sget_simple_extent_npoints(space.get());
+  if (npoints < 0) Fail(file, where, "cannot count the values");
+  const auto n = static_cast<std::size_t>(npoints);
+  const auto read = [&](hid_t mem, void* buf) { return H5Aread(attr, mem, buf); };
+  std::vector<std::string> values;
+  switch (const H5T_class_t c = H5Tget_class(type.get())) {
+    case H5T_STRING:
+      values = ReadStringValues(type.get(), n, read, file, where);
+      break;
+    case H5T_INTEGER:
+      // Through int64 or uint64, by sign
+      if (H5Tget_sign(type.get()) == H5T_SGN_NONE) {
+        std::vector<unsigned long long> v(n);
+        if (n > 0) Check(read(H5T_NATIVE_ULLONG, v.data()), file, where, "cannot read");
+        for (auto x : v) values.push_back(std::to_string(x));
+      } else {
+        std::vector<long long> v(n);
+        if (n > 0) Check(read(H5T_NATIVE_LLONG, v.data()), file, where, "cannot read");
+        for (auto x : v) values.push_back(std::to_string(x));
+      }
+      break;
+    case H5T_FLOAT: {
+      std::vector<double> v(n);
+      if (n > 0) Check(read(H5T_NATIVE_DOUBLE, v.data()), file, where, "cannot read");
+      for (double x : v) values.push_back(DoubleText(x));
+      break;
+    }
+    default:
+      Fail(file, where, "expected strings or numbers, found " + ClassName(c));
+  }
+  return JoinValues(values);
+}
+
+// Components of an absolute path ("/a/b" -> {a, b}; "/" -> {}), for depth-first ordering.
+std::vector<std::string_view> PathComponents(const std::string& path) {
+  std::vector<std::string_view> parts;
+  std::string_view rest(path);
+  while (rest.size() > 1) {
+    rest.remove_prefix(1);
+    const std::size_t slash = rest.find('/');
+    parts.push_back(rest.substr(0, slash));
+    rest = slash == std::string_view::npos ? std::string_view() : rest.substr(slash);
+  }
+  return parts;
+}
+
 }  // namespace
 
 struct Hdf5Reader::Impl {
@@ -188,6 +255,42 @@ struct Hdf5Reader::Impl {
     if (n != 1) Fail(path, where, "expected a single value, found " + std::to_string(n));
     return H5Tget_class(type->get());
   }
+  // Fills `entry` (kind, shape, attributes) from the object at entry.path; false, leaving it
+  // unfilled, for objects other than groups and datasets (named datatypes).
+  bool Describe(Hdf5Reader::Entry& entry) const {
+    const std::string& object = entry.path;
+    Handle obj = Own(H5Oopen(file.get(), object.c_str(), H5P_DEFAULT), H5Oclose, path, object, "cannot open");
+    const H5I_type_t kind = H5Iget_type(obj.get());
+    if (kind != H5I_GROUP && kind != H5I_DATASET) return false;
+    entry.is_group = kind == H5I_GROUP;
+    if (kind == H5I_DATASET) {
+      Handle space = Own(H5Dget_space(obj.get()), H5Sclose, path, object, "cannot get the dataspace");
+      const std::vector<hsize_t> dims = Dims(space.get(), path, object);
+      entry.shape.assign(dims.begin(), dims.end());
+    }
+    // Attribute names in name order, then their values as text
+    std::vector<std::string> names;
+    Check(H5Aiterate2(
+              obj.get(), H5_INDEX_NAME, H5_ITER_INC, nullptr,
+              [](hid_t, const char* name, const H5A_info_t*, void* data) -> herr_t {
+                static_cast<std::vector<std::string>*>(data)->emplace_back(name);
+                return 0;
+              },
+              &names),
+          path, object, "cannot list the attributes");
+    for (const std::string& name : names) {
+      const std::string where = "attribute " + name + " of " + object;
+      Handle attr = Own(H5Aopen(obj.get(), name.c_str(), H5P_DEFAULT), H5Aclose, path, where, "cannot open");
+      std::string text;
+      try {
+        text = AttributeText(attr.get(), path, where);
+      } catch (const std::runtime_error&) {
+        text = "<unsupported type>";
+      }
+      entry.attributes.emplace_back(name, std::move(text));
+    }
+    return true;
+  }
 };
 
 Hdf5Reader::Hdf5Reader(const std::string& path) : impl_(std::make_unique<Impl>()) {
@@ -196,6 +299,7 @@ Hdf5Reader::Hdf5Reader(const std::string& path) : impl_(std::make_unique<Impl>()
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) throw std::runtime_error(path + ": no such file");
   if (std::filesystem::is_directory(path, ec)) throw std::runtime_error(path + ": is a directory, not an HDF5 file");
+  if (!std::filesystem::is_regular_file(path, ec)) throw std::runtime_error(path + ": not a regular file, not an HDF5 file");
   if (H5Fis_hdf5(path.c_str()) <= 0) {
     H5Eclear2(H5E_DEFAULT);
     throw std::runtime_error(path + ": not an HDF5 file");
@@ -365,6 +469,38 @@ std::int64_t Hdf5Reader::ReadIntAttribute(const std::string& object, const std::
   std::int64_t value = 0;
   Check(H5Aread(attr.get(), H5T_NATIVE_INT64, &value), impl.path, where, "cannot read");
   return value;
+}
+
+std::string Hdf5Reader::ReadAttributeText(const std::string& object, const std::string& key) const {
+  QuietHdf5 quiet;
+  const Impl& impl = *impl_;
+  Handle attr = impl.OpenAttribute(object, key);
+  return AttributeText(attr.get(), impl.path, "attribute " + key + " of " + object);
+}
+
+std::vector<Hdf5Reader::Entry> Hdf5Reader::List() const {
+  QuietHdf5 quiet;
+  const Impl& impl = *impl_;
+  // The paths of every hard link below the root
+  std::vector<std::string> paths{"/"};
+  Check(H5Lvisit(
+            impl.file.get(), H5_INDEX_NAME, H5_ITER_INC,
+            [](hid_t, const char* name, const auto* info, void* data) -> herr_t {
+              if (info->type == H5L_TYPE_HARD) static_cast<std::vector<std::string>*>(data)->push_back("/" + std::string(name));
+              return 0;
+            },
+            &paths),
+        impl.path, "/", "cannot walk the file");
+  // Depth first, by name within a group
+  std::sort(paths.begin(), paths.end(),
+            [](const std::string& a, const std::string& b) { return PathComponents(a) < PathComponents(b); });
+  std::vector<Entry> entries;
+  for (const std::string& p : paths) {
+    Entry entry;
+    entry.path = p;
+    if (impl.Describe(entry)) entries.push_back(std::move(entry));
+  }
+  return entries;
 }
 
 }  // namespace orrery

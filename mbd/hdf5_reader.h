@@ -1,7 +1,8 @@
 #pragma once
-// A small read-only view of an HDF5 file: typed reads of datasets and attributes by absolute path,
-// with errors that name the file and the object. For files the engine reads back (reduced bodies,
-// flex/reduced_body_file.h; result files in tests). HDF5 headers stay in mbd/hdf5_reader.cpp.
+// The one read-only view of an HDF5 file: typed reads of datasets and attributes by absolute path,
+// a listing of everything a file holds, with errors that name the file and the object. For every
+// file the engine reads back: result files (`orrery inspect`, the run summary, tests, examples)
+// and reduced bodies (flex/reduced_body_file.h). HDF5 headers stay in mbd/hdf5_reader.cpp.
 //
 // Every failure throws std::runtime_error "<file>: <object>: <reason>" (the object is the
 // dataset or group path, "attribute <key> of <path>" for attributes), e.g.
@@ -14,9 +15,11 @@
 //   std::vector<std::int64_t> ids = r.ReadInts("/modes/nodes/ids");
 //   std::string source = r.ReadStringAttribute("/provenance", "source");
 //   for (const std::string& name : r.ListGroup("/")) ...
+//   for (const Hdf5Reader::Entry& e : r.List()) ...      // every group and dataset, depth first
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -34,6 +37,17 @@ class Hdf5Reader {
   Hdf5Reader& operator=(Hdf5Reader&&) noexcept;
 
   const std::string& path() const;
+
+  struct Entry {
+    std::string path;                  // "/bodies/link1/position"
+    bool is_group = false;
+    std::vector<std::int64_t> shape;   // datasets only
+    std::vector<std::pair<std::string, std::string>> attributes;  // key -> value as text
+                                                                  // (ReadAttributeText), by name
+  };
+  // Every group and dataset in the file, "/" first, depth first, sorted by name within a group.
+  // An attribute of a type other than strings and numbers reads as "<unsupported type>".
+  std::vector<Entry> List() const;
 
   // Whether an object (group or dataset) exists at the absolute path `object`; false for paths
   // that are not absolute and for missing parents.
@@ -65,6 +79,9 @@ class Hdf5Reader {
   std::string ReadStringAttribute(const std::string& object, const std::string& key) const;
   double ReadNumberAttribute(const std::string& object, const std::string& key) const;
   std::int64_t ReadIntAttribute(const std::string& object, const std::string& key) const;
+  // Any string or numeric attribute (scalar or array) as text: strings as they are, numbers at
+  // full precision (shortest round trip), arrays as "[a, b, c]".
+  std::string ReadAttributeText(const std::string& object, const std::string& key) const;
 
  private:
   struct Impl;

@@ -10,6 +10,7 @@
 
 #include "mbd/constraints.h"
 #include "mbd/dae.h"
+#include "mbd/element_names.h"
 #include "mbd/evaluate.h"
 #include "mbd/integrator.h"
 #include "mbd/kinematics.h"
@@ -109,6 +110,10 @@ class IdaIntegrator final : public Integrator {
       if (flag < 0) Fail("IDASolve", flag);
       RecordStepDrift();
       if (observer_) observer_->OnStep(*this, t_begin, t_step_);
+      if (step_callback_) {
+        VecMap y(N_VGetArrayPointer(y_), n);
+        step_callback_(t_step_, y.head(dae_.nq()), y.segment(dae_.nq(), dae_.nv()));
+      }
     }
     Check(IDAGetDky(mem_, t_out, 0, y_out_), "IDAGetDky");
     Check(IDAGetDky(mem_, t_out, 1, yp_out_), "IDAGetDky");
@@ -129,6 +134,7 @@ class IdaIntegrator final : public Integrator {
   const Eigen::VectorXd& vdot() const override { return vdot_; }
   const Eigen::VectorXd& lambda() const override { return lambda_; }
   std::string name() const override { return "ida"; }
+  void SetStepCallback(StepCallback callback) override { step_callback_ = std::move(callback); }
 
   void Interpolate(double t, Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::VectorXd> v,
                    Eigen::Ref<Eigen::VectorXd> vdot) override {
@@ -216,6 +222,17 @@ class IdaIntegrator final : public Integrator {
     RecordDrift(t_step_, y.head(dae_.nq()), y.segment(dae_.nq(), dae_.nv()));
   }
 
+  // "; largest weighted local error in <unknown>" from IDA's estimate of the last step, or "".
+  std::string WorstComponent() {
+    if (!mem_ || !y_out_ || !yp_out_) return "";
+    const int n = dae_.size();
+    if (IDAGetErrWeights(mem_, y_out_) < 0 || IDAGetEstLocalErrors(mem_, yp_out_) < 0) return "";
+    VecMap w(N_VGetArrayPointer(y_out_), n), e(N_VGetArrayPointer(yp_out_), n);
+    Eigen::Index worst = 0;
+    if (!(e.cwiseProduct(w).cwiseAbs().maxCoeff(&worst) > 0)) return "";
+    return "; largest weighted local error in the " + DaeUnknownName(model_, static_cast<int>(worst));
+  }
+
   void Check(int flag, const char* call) {
     if (flag < 0) Fail(call, flag);
   }
@@ -229,6 +246,7 @@ class IdaIntegrator final : public Integrator {
       s << " (steps kept failing: the model may be too stiff for the tolerances, or a force or "
            "constraint is discontinuous; try the generalized-alpha integrator or a smaller max step)";
     if (flag == IDA_TOO_MUCH_WORK) s << " (more than " << options_.max_steps_per_output << " steps between outputs)";
+    if (flag == IDA_CONV_FAIL || flag == IDA_ERR_FAIL || flag == IDA_TOO_MUCH_WORK) s << WorstComponent();
     if (!callback_error_.empty()) s << "; " << callback_error_;
     if (!last_message_.empty()) s << "; " << last_message_;
     throw std::runtime_error(s.str());
@@ -251,6 +269,7 @@ class IdaIntegrator final : public Integrator {
   SUNLinearSolver ls_ = nullptr;
   bool needs_ic_ = true;
   std::string callback_error_, last_message_;
+  StepCallback step_callback_;  // SetStepCallback
 };
 
 }  // namespace

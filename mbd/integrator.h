@@ -15,6 +15,7 @@
 //   std::unique_ptr<Integrator> integ = MakeIntegrator(*model, opt);
 //   integ->Initialize(State::Initial(*model));
 //   integ->AdvanceTo(0.01);   // then integ->state(), vdot(), lambda()
+#include <functional>
 #include <limits>
 #include <memory>
 #include <string>
@@ -99,6 +100,14 @@ class StepObserver {
 
 class Integrator {
  public:
+  // Called after every accepted step with the time and state the integrator reached (its own
+  // steps: IDA's internal steps, generalized-alpha's steps and halves; not interpolated
+  // outputs). It may throw to stop the run (an interrupt, a health check that found the result
+  // meaningless); AdvanceTo passes the exception on, never as a failed step. It runs inside the
+  // step loop, so it must not allocate.
+  using StepCallback = std::function<void(double t, const Eigen::Ref<const Eigen::VectorXd>& q,
+                                          const Eigen::Ref<const Eigen::VectorXd>& v)>;
+
   virtual ~Integrator() = default;
   // Starts from `state`: assembles it onto the constraints, computes consistent accelerations
   // and multipliers. Throws std::runtime_error with the reason if it cannot.
@@ -122,6 +131,9 @@ class Integrator {
                            Eigen::Ref<Eigen::VectorXd> vdot) = 0;
   // Observer of accepted steps (not owned; nullptr: none).
   void set_step_observer(StepObserver* observer) { observer_ = observer; }
+
+  // Replaces the step callback (empty: none).
+  virtual void SetStepCallback(StepCallback callback) = 0;
 
  protected:
   StepObserver* observer_ = nullptr;

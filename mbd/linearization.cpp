@@ -71,6 +71,8 @@ LinearModel Linearize(const Model& model, const State& op, const Eigen::VectorXd
 }
 
 ModalResult CalcModes(const LinearModel& lin) {
+  // No free motion (every coordinate constrained): no modes
+  if (lin.M_r.rows() == 0) return {{}, Eigen::MatrixXd::Zero(lin.T.rows(), 0)};
   const Eigen::MatrixXd K = 0.5 * (lin.K_r + lin.K_r.transpose());
   const Eigen::MatrixXd M = 0.5 * (lin.M_r + lin.M_r.transpose());
   Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(K, M);

@@ -20,6 +20,21 @@
 //   * series datasets have no chunk cache and no fill value, so a full block goes straight to its
 //     chunk (new space past the flushed end, or the tail of the chunk the last Flush wrote part
 //     of) and HDF5 holds no rows of its own; chunks are unfiltered, so they never move.
+// Running out of room (a full disk, a file-size limit such as `ulimit -f`, the caller's quota) must
+// leave a readable file too, and a file half-written by a flush that failed half way is not one.
+// So the room is checked before it runs out, and a write that fails anyway leaves the file alone:
+// - CheckRoom() (called before each row by the simulation loop) stops the run with
+//   ResultFileFullError while what the file may still need fits: at most one chunk per series
+//   (every series' current block; a full block's chunk is allocated when written), the metadata
+//   the cache holds (written at the next flush) and kFinalBytes for what a run writes at its end.
+//   Limits: the smallest of the quota, RLIMIT_FSIZE and the file's size plus the free space of
+//   its file system (statvfs, looked at again once half of what was free may have been used).
+//   Then Flush() and Close() write every row appended, within that room.
+// - A write or flush that fails all the same (another process filled the disk) detaches the file:
+//   HDF5's descriptor is pointed at an anonymous memory file (memfd), so that nothing more reaches
+//   the disk and the handles close cleanly; the file keeps what the last successful Flush() wrote.
+//   The error says so. HDF5's library shutdown is not run at exit (H5dont_atexit, hdf5_handle.h),
+//   so an identifier a failed close left open cannot crash the process as it ends.
 // - Not covered: a kill inside Flush() itself. HDF5 writes the metadata of a flush in several
 //   pieces, in no crash-safe order outside SWMR; in stress runs such kills left files that opened
 //   but had a series unreadable ("addr overflow", "incorrect metadata checksum").
@@ -27,15 +42,18 @@
 #include "mbd/result_file.h"
 
 #include <hdf5.h>
+#include <sys/mman.h>
+#include <sys/resource.h>
+#include <sys/statvfs.h>
+#include <unistd.h>
 
+#include "mbd/file_checks.h"
 #include "mbd/hdf5_handle.h"
 
 #include <algorithm>
-#include <charconv>
 #include <cstdint>
 #include <filesystem>
 #include <stdexcept>
-#include <string_view>
 #include <unordered_map>
 #include <utility>
 
@@ -46,6 +64,9 @@ namespace {
 constexpr std::size_t kChunkBytes = 8192;
 // Fixed metadata cache size of a writer (see the top comment).
 constexpr std::size_t kMetadataCacheBytes = 32u << 20;
+// Room kept for what a run writes after its last row (statistics, health, attributes) and for the
+// metadata of the last flush beyond what the cache holds now (chunk index nodes, object headers).
+constexpr std::uint64_t kFinalBytes = 64u << 10;
 
 using hdf5::Handle;
 using hdf5::Hdf5Detail;
@@ -155,86 +176,6 @@ void WriteStringAttribute(hid_t obj, const std::string& key, const std::string& 
   WriteScalarAttribute(obj, key, type.get(), &text, file, object);
 }
 
-// Shortest text that reads back to the same double.
-std::string DoubleText(double v) {
-  char buf[64];
-  const auto result = std::to_chars(buf, buf + sizeof(buf), v);
-  return std::string(buf, result.ptr);
-}
-
-// Joins values as "a" (one value) or "[a, b, c]".
-std::string JoinValues(const std::vector<std::string>& values) {
-  if (values.size() == 1) return values.front();
-  std::string out = "[";
-  for (std::size_t i = 0; i < values.size(); ++i) out += (i ? ", " : "") + values[i];
-  return out + "]";
-}
-
-// An attribute's value as text: strings as they are, numbers at full precision, arrays as
-// "[a, b]". Throws naming `where` for types other than string, integer and float.
-std::string AttributeText(hid_t attr, const std::string& file, const std::string& where) {
-  Handle type = MakeHandle(H5Aget_type(attr), H5Tclose, file, "cannot get type of", where);
-  Handle space = MakeHandle(H5Aget_space(attr), H5Sclose, file, "cannot get dataspace of", where);
-  const hssize_t npoints = H5Sget_simple_extent_npoints(space.get());
-  if (npoints < 0) Fail(file, "cannot count values of", where);
-  const auto n = static_cast<std::size_t>(npoints);
-  std::vector<std::string> values;
-  values.reserve(n);
-  switch (H5Tget_class(type.get())) {
-    case H5T_STRING: {
-      const htri_t is_variable = H5Tis_variable_str(type.get());
-      Check(static_cast<herr_t>(is_variable), file, "cannot inspect string type of", where);
-      if (is_variable > 0) {
-        // Variable length: HDF5 allocates each string, freed with H5free_memory
-        Handle mem = Utf8StringType(file, where);
-        Check(H5Tset_cset(mem.get(), H5Tget_cset(type.get())), file, "cannot set character set for", where);
-        std::vector<char*> strings(n, nullptr);
-        Check(H5Aread(attr, mem.get(), strings.data()), file, "cannot read", where);
-        for (char* s : strings) {
-          values.emplace_back(s != nullptr ? s : "");
-          H5free_memory(s);
-        }
-      } else {
-        // Fixed length: cut each string at its first NUL, trim space padding
-        const std::size_t size = H5Tget_size(type.get());
-        if (size == 0) Fail(file, "cannot get string size of", where);
-        std::vector<char> buf(n * size);
-        Check(H5Aread(attr, type.get(), buf.data()), file, "cannot read", where);
-        const bool space_pad = H5Tget_strpad(type.get()) == H5T_STR_SPACEPAD;
-        for (std::size_t i = 0; i < n; ++i) {
-          std::string_view s(buf.data() + i * size, size);
-          s = s.substr(0, s.find('\0'));
-          if (space_pad) s = s.substr(0, s.find_last_not_of(' ') + 1);
-          values.emplace_back(s);
-        }
-      }
-      break;
-    }
-    case H5T_INTEGER: {
-      // Integers through int64 or uint64, by sign
-      if (H5Tget_sign(type.get()) == H5T_SGN_NONE) {
-        std::vector<unsigned long long> v(n);
-        Check(H5Aread(attr, H5T_NATIVE_ULLONG, v.data()), file, "cannot read", where);
-        for (auto x : v) values.push_back(std::to_string(x));
-      } else {
-        std::vector<long long> v(n);
-        Check(H5Aread(attr, H5T_NATIVE_LLONG, v.data()), file, "cannot read", where);
-        for (auto x : v) values.push_back(std::to_string(x));
-      }
-      break;
-    }
-    case H5T_FLOAT: {
-      std::vector<double> v(n);
-      Check(H5Aread(attr, H5T_NATIVE_DOUBLE, v.data()), file, "cannot read", where);
-      for (double x : v) values.push_back(DoubleText(x));
-      break;
-    }
-    default:
-      throw std::runtime_error("result file " + file + ": unsupported attribute type of " + where);
-  }
-  return JoinValues(values);
-}
-
 // One time series: its dataset and the block buffer rows are collected in.
 struct Series {
   std::string path;
@@ -256,6 +197,89 @@ struct ResultFile::Impl {
   std::vector<Series> series;                      // indexed by SeriesId
   std::unordered_map<std::string, SeriesId> ids;   // series path -> id
   bool closed = false;
+  bool detached = false;              // a write failed: nothing more reaches the disk (Detach)
+  bool in_memory = false;             // CreateInMemory: no disk, no room to check
+  std::string full_reason;            // CheckRoom found no room for another row ("" before)
+  std::uint64_t limit_bytes = UINT64_MAX;  // quota and RLIMIT_FSIZE, whichever is smaller
+  std::string limit_name;                   // what limit_bytes is, for messages
+  std::uint64_t disk_checked_until = 0;     // file size up to which the free space last seen suffices
+  std::uint64_t chunk_bytes = 0;            // sum over series of one chunk (AddSeries)
+
+  // Size of the file as HDF5 has allocated it (end of allocated space), 0 if unknown.
+  std::uint64_t FileSize() const {
+    hsize_t size = 0;
+    if (H5Fget_filesize(file.get(), &size) < 0) H5Eclear2(H5E_DEFAULT);
+    return size;
+  }
+
+  // What the file may still need beyond its size: one chunk per series, the metadata the cache
+  // holds, and kFinalBytes.
+  std::uint64_t Pending() const {
+    std::size_t cache = 0;
+    if (H5Fget_mdc_size(file.get(), nullptr, nullptr, &cache, nullptr) < 0) {
+      H5Eclear2(H5E_DEFAULT);
+      cache = kMetadataCacheBytes;
+    }
+    return chunk_bytes + cache + kFinalBytes;
+  }
+
+  // "" when a file of `needed` bytes fits every limit, else the reason it does not.
+  std::string NoRoom(std::uint64_t size, std::uint64_t needed) {
+    if (needed > limit_bytes)
+      return "the " + limit_name + " of " + std::to_string(limit_bytes) + " bytes would be exceeded (the file has " +
+             std::to_string(size) + " bytes)";
+    if (needed <= disk_checked_until) return "";
+    // Free space of the file system, looked at again
+    struct statvfs fs {};
+    if (::statvfs(path.c_str(), &fs) != 0) return "";  // cannot tell: go on
+    const std::uint64_t free_bytes = static_cast<std::uint64_t>(fs.f_bavail) * fs.f_frsize;
+    if (needed > size + free_bytes)
+      return "the disk is full (" + std::to_string(free_bytes) + " bytes free, " + std::to_string(needed - size) +
+             " needed to go on and close the file)";
+    disk_checked_until = size + free_bytes / 2;
+    return "";
+  }
+
+  // Points HDF5's descriptor at an anonymous memory file and closes every handle, so that the
+  // file on disk keeps what the last successful flush wrote (top comment). Errors are ignored.
+  void Detach() {
+    if (detached) return;
+    detached = true;
+    if (file.get() >= 0) {
+      const hid_t fapl = H5Fget_access_plist(file.get());
+      void* handle = nullptr;
+      if (fapl >= 0 && H5Fget_vfd_handle(file.get(), fapl, &handle) >= 0 && handle != nullptr) {
+        const int memory = ::memfd_create("orrery-detached-result", MFD_CLOEXEC);
+        if (memory >= 0) {
+          ::dup2(memory, *static_cast<int*>(handle));
+          ::close(memory);
+        }
+      }
+      if (fapl >= 0) H5Pclose(fapl);
+    }
+    for (Series& s : series) s.dataset.Reset();
+    file.Reset();
+    H5Eclear2(H5E_DEFAULT);
+  }
+
+  // Throws after a failed write has detached the file.
+  void CheckNotDetached(const char* operation) const {
+    if (detached)
+      throw std::runtime_error("result file " + path + ": " + operation +
+                               " after a failed write (the file keeps what the last flush wrote)");
+  }
+
+  // Runs `write`; a failure detaches the file and rethrows with what the file keeps.
+  template <class Write>
+  void Guarded(Write write) {
+    CheckNotDetached("write");
+    try {
+      write();
+    } catch (const std::runtime_error& e) {
+      Detach();
+      throw std::runtime_error(std::string(e.what()) + "; nothing more was written: the file keeps what the last flush wrote");
+    }
+  }
 
   // Writes block rows [block_written, block_rows) of `s` to the file, extending the dataset.
   void WriteBlockRows(Series& s) {
@@ -362,11 +386,11 @@ ResultFile::~ResultFile() {
   }
 }
 
-ResultFile ResultFile::Create(const std::string& path) {
-  QuietHdf5 quiet;
-  auto impl = std::make_unique<Impl>();
-  impl->path = path;
-  // File access: version 1.8 objects (no superblock status flags), fixed metadata cache
+namespace {
+
+// File access list of a writer: version 1.8 objects (no superblock status flags), fixed metadata
+// cache (the top comment).
+Handle WriterAccessList(const std::string& path) {
   Handle fapl = MakeHandle(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, path, "cannot create file access list", "");
   Check(H5Pset_libver_bounds(fapl.get(), H5F_LIBVER_V18, H5F_LIBVER_V18), path, "cannot set format version", "");
   H5AC_cache_config_t mdc{};
@@ -380,9 +404,45 @@ ResultFile ResultFile::Create(const std::string& path) {
   mdc.flash_incr_mode = H5C_flash_incr__off;
   mdc.decr_mode = H5C_decr__off;
   Check(H5Pset_mdc_config(fapl.get(), &mdc), path, "cannot set metadata cache configuration", "");
+  return fapl;
+}
+
+}  // namespace
+
+ResultFile ResultFile::Create(const std::string& path, const ResultFileOptions& options) {
+  QuietHdf5 quiet;
+  // A device, FIFO or directory is no place for a result file (HDF5 reads back what it writes)
+  CheckOutputPath(path, "result file");
+  auto impl = std::make_unique<Impl>();
+  impl->path = path;
+  // Limits on the file's size: the caller's quota, the process's file-size limit
+  if (options.max_bytes > 0) {
+    impl->limit_bytes = options.max_bytes;
+    impl->limit_name = "result file size limit";
+  }
+  struct rlimit fsize {};
+  if (::getrlimit(RLIMIT_FSIZE, &fsize) == 0 && fsize.rlim_cur != RLIM_INFINITY &&
+      static_cast<std::uint64_t>(fsize.rlim_cur) < impl->limit_bytes) {
+    impl->limit_bytes = static_cast<std::uint64_t>(fsize.rlim_cur);
+    impl->limit_name = "file-size limit (ulimit -f)";
+  }
   // Create (truncate) the file
+  Handle fapl = WriterAccessList(path);
   impl->file = MakeHandle(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()), H5Fclose, path,
                           "cannot create file", "");
+  return ResultFile(std::move(impl));
+}
+
+ResultFile ResultFile::CreateInMemory(const std::string& name) {
+  QuietHdf5 quiet;
+  auto impl = std::make_unique<Impl>();
+  impl->path = name;
+  impl->in_memory = true;
+  // The core driver without a backing store: nothing reaches the disk
+  Handle fapl = WriterAccessList(name);
+  Check(H5Pset_fapl_core(fapl.get(), 1 << 20, 0), name, "cannot set the memory driver", "");
+  impl->file = MakeHandle(H5Fcreate(name.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()), H5Fclose, name,
+                          "cannot create file in memory", "");
   return ResultFile(std::move(impl));
 }
 
@@ -429,6 +489,7 @@ ResultFile::SeriesId ResultFile::AddSeries(const std::string& path, int ncols, c
   }
   // The block buffer: the only allocation a series makes
   s.block.assign(s.block_capacity * s.ncols, 0.0);
+  impl.chunk_bytes += s.block_capacity * s.ncols * sizeof(double);
   const auto id = static_cast<SeriesId>(impl.series.size());
   impl.series.push_back(std::move(s));
   impl.ids.emplace(path, id);
@@ -440,16 +501,12 @@ void ResultFile::Append(SeriesId id, const double* row) {
   if (id < 0 || static_cast<std::size_t>(id) >= impl.series.size())
     throw std::invalid_argument("result file " + impl.path + ": no series with id " + std::to_string(id));
   Series& s = impl.series[static_cast<std::size_t>(id)];
-  // A block left full by a failed write is written before it takes more rows
-  if (s.block_rows == s.block_capacity) {
-    QuietHdf5 quiet;
-    impl.WriteFullBlock(s);
-  }
+  impl.CheckNotDetached("Append");
   // Copy the row; write the block when it fills
   std::copy_n(row, s.ncols, s.block.data() + s.block_rows * s.ncols);
   if (++s.block_rows == s.block_capacity) {
     QuietHdf5 quiet;
-    impl.WriteFullBlock(s);
+    impl.Guarded([&] { impl.WriteFullBlock(s); });
   }
 }
 
@@ -539,23 +596,44 @@ void ResultFile::Flush() {
   QuietHdf5 quiet;
   Impl& impl = Live(impl_, "Flush");
   // Buffered rows of every series, then all metadata
-  for (Series& s : impl.series) impl.WriteBlockRows(s);
-  Check(H5Fflush(impl.file.get(), H5F_SCOPE_GLOBAL), impl.path, "cannot flush file", "");
+  impl.Guarded([&] {
+    for (Series& s : impl.series) impl.WriteBlockRows(s);
+    Check(H5Fflush(impl.file.get(), H5F_SCOPE_GLOBAL), impl.path, "cannot flush file", "");
+  });
+}
+
+void ResultFile::CheckRoom() {
+  Impl& impl = Live(impl_, "CheckRoom");
+  impl.CheckNotDetached("CheckRoom");
+  if (impl.in_memory) return;
+  if (!impl.full_reason.empty()) throw ResultFileFullError(impl.full_reason);
+  QuietHdf5 quiet;
+  const std::uint64_t size = impl.FileSize();
+  const std::string reason = impl.NoRoom(size, size + impl.Pending());
+  if (reason.empty()) return;
+  impl.full_reason = "result file " + impl.path + ": " + reason + "; writing stopped";
+  throw ResultFileFullError(impl.full_reason);
+}
+
+std::int64_t ResultFile::bytes_per_row() const {
+  if (!impl_) throw std::logic_error("result file: bytes_per_row on a moved-from object");
+  std::int64_t bytes = 0;
+  for (const Series& s : impl_->series) bytes += static_cast<std::int64_t>(s.ncols * sizeof(double));
+  return bytes;
 }
 
 void ResultFile::Close() {
   QuietHdf5 quiet;
   Impl& impl = Live(impl_, "Close");
   impl.closed = true;
-  // Write buffered rows; keep the first error and close every handle regardless
+  if (impl.detached) return;  // closed by Detach, after the error that said why
+  // Write buffered rows and the metadata (a failure detaches: the file keeps the last flush)
+  impl.Guarded([&] {
+    for (Series& s : impl.series) impl.WriteBlockRows(s);
+    Check(H5Fflush(impl.file.get(), H5F_SCOPE_GLOBAL), impl.path, "cannot flush file", "");
+  });
+  // Close every handle; keep the first error
   std::string error;
-  for (Series& s : impl.series) {
-    try {
-      impl.WriteBlockRows(s);
-    } catch (const std::exception& e) {
-      if (error.empty()) error = e.what();
-    }
-  }
   for (Series& s : impl.series) {
     if (!s.dataset.Reset() && error.empty()) error = FailMessage(impl.path, "cannot close dataset", s.path);
   }
@@ -566,163 +644,6 @@ void ResultFile::Close() {
 const std::string& ResultFile::path() const {
   static const std::string kNone;
   return impl_ ? impl_->path : kNone;
-}
-
-// ---------------------------------------------------------------------------------------------
-// ResultReader
-
-struct ResultReader::Impl {
-  std::string path;
-  Handle file;
-
-  // Fills `entry` (kind, shape, attributes) from the object at entry.path; returns false, leaving
-  // it unfilled, for objects other than groups and datasets.
-  bool Describe(ResultReader::Entry& entry) const {
-    Handle obj = MakeHandle(H5Oopen(file.get(), entry.path.c_str(), H5P_DEFAULT), H5Oclose, path, "cannot open object",
-                            entry.path);
-    const H5I_type_t kind = H5Iget_type(obj.get());
-    if (kind != H5I_GROUP && kind != H5I_DATASET) return false;
-    entry.is_group = kind == H5I_GROUP;
-    // Dataset shape
-    if (kind == H5I_DATASET) {
-      Handle space = MakeHandle(H5Dget_space(obj.get()), H5Sclose, path, "cannot get dataspace of", entry.path);
-      const int rank = H5Sget_simple_extent_ndims(space.get());
-      if (rank < 0) Fail(path, "cannot get rank of", entry.path);
-      std::vector<hsize_t> dims(static_cast<std::size_t>(rank));
-      if (rank > 0 && H5Sget_simple_extent_dims(space.get(), dims.data(), nullptr) < 0)
-        Fail(path, "cannot get shape of", entry.path);
-      entry.shape.assign(dims.begin(), dims.end());
-    }
-    // Attribute names in name order, then their values
-    std::vector<std::string> names;
-    Check(H5Aiterate2(
-              obj.get(), H5_INDEX_NAME, H5_ITER_INC, nullptr,
-              [](hid_t, const char* name, const H5A_info_t*, void* data) -> herr_t {
-                static_cast<std::vector<std::string>*>(data)->emplace_back(name);
-                return 0;
-              },
-              &names),
-          path, "cannot list attributes of", entry.path);
-    for (const std::string& name : names) {
-      const std::string where = entry.path + " attribute " + name;
-      Handle attr = MakeHandle(H5Aopen(obj.get(), name.c_str(), H5P_DEFAULT), H5Aclose, path, "cannot open", where);
-      std::string text;
-      try {
-        text = AttributeText(attr.get(), path, where);
-      } catch (const std::runtime_error&) {
-        text = "<unsupported type>";
-      }
-      entry.attributes.emplace_back(name, std::move(text));
-    }
-    return true;
-  }
-};
-
-ResultReader::ResultReader(const std::string& path) : impl_(std::make_unique<Impl>()) {
-  QuietHdf5 quiet;
-  impl_->path = path;
-  // A missing file and a file HDF5 cannot open get different messages
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec))
-    throw std::runtime_error("result file " + path + ": cannot open: no such file");
-  impl_->file = MakeHandle(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose, path,
-                           "cannot open: not a readable HDF5 file", "");
-}
-
-ResultReader::~ResultReader() {
-  if (impl_) {
-    QuietHdf5 quiet;
-    impl_->file.Reset();
-  }
-}
-
-ResultReader::ResultReader(ResultReader&&) noexcept = default;
-ResultReader& ResultReader::operator=(ResultReader&&) noexcept = default;
-
-std::vector<ResultReader::Entry> ResultReader::List() const {
-  QuietHdf5 quiet;
-  const Impl& impl = Live(impl_, "List");
-  // Collect the paths of hard links
-  std::vector<std::string> paths{"/"};
-  const herr_t status = H5Lvisit(
-      impl.file.get(), H5_INDEX_NAME, H5_ITER_INC,
-      [](hid_t, const char* name, const auto* info, void* data) -> herr_t {
-        if (info->type == H5L_TYPE_HARD)
-          static_cast<std::vector<std::string>*>(data)->push_back("/" + std::string(name));
-        return 0;
-      },
-      &paths);
-  Check(status, impl.path, "cannot walk", "/");
-  // Depth first, by name within a group: compare component by component
-  const auto components = [](const std::string& p) {
-    std::vector<std::string_view> parts;
-    std::string_view rest(p);
-    while (rest.size() > 1) {
-      rest.remove_prefix(1);
-      const std::size_t slash = rest.find('/');
-      parts.push_back(rest.substr(0, slash));
-      rest = slash == std::string_view::npos ? std::string_view() : rest.substr(slash);
-    }
-    return parts;
-  };
-  std::sort(paths.begin(), paths.end(),
-            [&](const std::string& a, const std::string& b) { return components(a) < components(b); });
-  // Describe the groups and datasets (named datatypes are left out)
-  std::vector<Entry> entries;
-  for (const std::string& p : paths) {
-    Entry entry;
-    entry.path = p;
-    if (impl.Describe(entry)) entries.push_back(std::move(entry));
-  }
-  return entries;
-}
-
-bool ResultReader::Exists(const std::string& path) const {
-  QuietHdf5 quiet;
-  const Impl& impl = Live(impl_, "Exists");
-  if (path.empty() || path.front() != '/') return false;
-  return ObjectExists(impl.file.get(), path);
-}
-
-Eigen::MatrixXd ResultReader::ReadMatrix(const std::string& path) const {
-  QuietHdf5 quiet;
-  const Impl& impl = Live(impl_, "ReadMatrix");
-  if (!Exists(path)) throw std::runtime_error("result file " + impl.path + ": no dataset " + path);
-  Handle dataset = MakeHandle(H5Dopen2(impl.file.get(), path.c_str(), H5P_DEFAULT), H5Dclose, impl.path,
-                              "cannot open dataset", path);
-  // Numbers only, rank 0 to 2
-  Handle type = MakeHandle(H5Dget_type(dataset.get()), H5Tclose, impl.path, "cannot get type of", path);
-  const H5T_class_t type_class = H5Tget_class(type.get());
-  if (type_class != H5T_FLOAT && type_class != H5T_INTEGER)
-    throw std::runtime_error("result file " + impl.path + ": dataset " + path + " does not hold numbers");
-  Handle space = MakeHandle(H5Dget_space(dataset.get()), H5Sclose, impl.path, "cannot get dataspace of", path);
-  const int rank = H5Sget_simple_extent_ndims(space.get());
-  if (rank < 0 || rank > 2)
-    throw std::runtime_error("result file " + impl.path + ": dataset " + path + " has rank " + std::to_string(rank) +
-                             ", expected 1 or 2");
-  hsize_t dims[2] = {1, 1};
-  if (rank > 0 && H5Sget_simple_extent_dims(space.get(), dims, nullptr) < 0)
-    Fail(impl.path, "cannot get shape of", path);
-  // Read row-major, return column-major
-  const auto rows = static_cast<Eigen::Index>(dims[0]);
-  const auto cols = static_cast<Eigen::Index>(rank == 2 ? dims[1] : 1);
-  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> m(rows, cols);
-  if (m.size() > 0)
-    Check(H5Dread(dataset.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, m.data()), impl.path,
-          "cannot read dataset", path);
-  return m;
-}
-
-std::string ResultReader::ReadAttribute(const std::string& path, const std::string& key) const {
-  QuietHdf5 quiet;
-  const Impl& impl = Live(impl_, "ReadAttribute");
-  const std::string where = path + " attribute " + key;
-  if (!Exists(path)) throw std::runtime_error("result file " + impl.path + ": no object " + path);
-  if (H5Aexists_by_name(impl.file.get(), path.c_str(), key.c_str(), H5P_DEFAULT) <= 0)
-    throw std::runtime_error("result file " + impl.path + ": object " + path + " has no attribute " + key);
-  Handle attr = MakeHandle(H5Aopen_by_name(impl.file.get(), path.c_str(), key.c_str(), H5P_DEFAULT, H5P_DEFAULT),
-                           H5Aclose, impl.path, "cannot open", where);
-  return AttributeText(attr.get(), impl.path, where);
 }
 
 }  // namespace orrery

@@ -5,7 +5,8 @@
 // chunked and extendible along the first dimension) and fixed datasets and attributes. Rows are
 // buffered in memory and written in blocks; `Flush()` pushes buffered rows and the file's metadata
 // to disk so that a run killed after it leaves a readable file holding every flushed row.
-// HDF5 headers stay inside mbd/result_file.cpp (this header is HDF5-free).
+// HDF5 headers stay inside mbd/result_file.cpp (this header is HDF5-free). Files are read back
+// with Hdf5Reader (mbd/hdf5_reader.h).
 //
 // Usage:
 //   ResultFile out = ResultFile::Create("run.h5");
@@ -17,6 +18,7 @@
 // Paths are absolute ("/bodies/link1/position"); missing groups are created.
 #include <cstdint>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -24,12 +26,32 @@
 
 namespace orrery {
 
+struct ResultFileOptions {
+  // Largest size the file may reach (bytes; 0: no quota). Like a file-size limit (RLIMIT_FSIZE)
+  // or a full disk, reaching it stops the rows (CheckRoom) while the file can still be closed.
+  std::uint64_t max_bytes = 0;
+};
+
+// Thrown by CheckRoom when the file has no room for more rows: what() names the file and the
+// limit (quota, file-size limit, free disk space). Every row appended before still fits:
+// Flush() and Close() write them.
+class ResultFileFullError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 class ResultFile {
  public:
   using SeriesId = int;
 
-  // Creates (truncates) `path`. Throws std::runtime_error naming the path when it cannot.
-  static ResultFile Create(const std::string& path);
+  // Creates (truncates) `path`. Throws std::runtime_error naming the path when it cannot, or
+  // when the path exists and is not a regular file (a device such as /dev/null, a FIFO, a
+  // directory).
+  static ResultFile Create(const std::string& path, const ResultFileOptions& options = {});
+  // A file held in memory only (HDF5's core driver, no backing store), e.g. to lay out a run's
+  // series and count their columns before deciding to write anything; `name` stands for it in
+  // messages.
+  static ResultFile CreateInMemory(const std::string& name);
 
   ResultFile(ResultFile&&) noexcept;
   ResultFile& operator=(ResultFile&&) noexcept;
@@ -67,7 +89,18 @@ class ResultFile {
   // Writes buffered rows of every series and flushes the file to disk.
   void Flush();
 
+  // Throws ResultFileFullError when one more row of every series, and what a run writes at its
+  // end, might not fit in the room left (quota, file-size limit, free disk space; see
+  // result_file.cpp), before anything is written; once it threw, it throws again. Allocation-
+  // free; a statvfs now and then.
+  void CheckRoom();
+
+  // Bytes of one row of every series (doubles), for estimates of a file's size.
+  std::int64_t bytes_per_row() const;
+
   // Flushes and closes; later calls are errors. Called by the destructor if not called before.
+  // A write, flush or close that fails (a full disk) throws and leaves the file as the last
+  // successful Flush() wrote it: nothing more reaches the disk, and later writes throw.
   void Close();
 
   const std::string& path() const;
@@ -75,35 +108,6 @@ class ResultFile {
  private:
   struct Impl;
   explicit ResultFile(std::unique_ptr<Impl> impl);
-  std::unique_ptr<Impl> impl_;
-};
-
-// Read-only access to a result file (for `orrery inspect`, tests and post-processing).
-class ResultReader {
- public:
-  // Opens `path` read-only. Throws std::runtime_error naming the path when it cannot.
-  explicit ResultReader(const std::string& path);
-  ~ResultReader();
-  ResultReader(ResultReader&&) noexcept;
-  ResultReader& operator=(ResultReader&&) noexcept;
-
-  struct Entry {
-    std::string path;                  // "/bodies/link1/position"
-    bool is_group = false;
-    std::vector<std::int64_t> shape;   // datasets only
-    std::vector<std::pair<std::string, std::string>> attributes;  // key -> value as text
-  };
-  // Every group and dataset in the file, depth first, sorted by name within a group.
-  std::vector<Entry> List() const;
-
-  bool Exists(const std::string& path) const;
-  // A dataset of doubles as a matrix (a 1-D dataset becomes one column). Throws naming the path.
-  Eigen::MatrixXd ReadMatrix(const std::string& path) const;
-  // An attribute as text (strings as they are, numbers printed with full precision). Throws.
-  std::string ReadAttribute(const std::string& path, const std::string& key) const;
-
- private:
-  struct Impl;
   std::unique_ptr<Impl> impl_;
 };
 

@@ -53,6 +53,8 @@ class ResultRecorder {
   ResultRecorder(const Model& model, ResultFile& out);
   // Computes and appends one row of every series at (state, vdot, lambda). Allocation-free.
   void Record(const State& state, const Eigen::VectorXd& vdot, const Eigen::VectorXd& lambda);
+  // The pipeline as the last Record() evaluated it (energies, powers, constraints at the row).
+  const Data& data() const { return data_; }
 
  private:
   const Model& model_;

@@ -2,8 +2,12 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
 #include <stdexcept>
 
+#include "mbd/evaluate.h"
+#include "mbd/output_schedule.h"
 #include "mbd/result_recorder.h"
 
 namespace orrery {
@@ -48,15 +52,55 @@ void FinishSensors(SensorSampler* sensors, double last_row_t) {
     sensors->Finish(last_row_t);
   } catch (const std::exception&) {
   }
+// One output row: room in the file, the recorder's row, then the row's health from the
+// recorder's evaluation (or from an evaluation of its own without a file).
+void RecordRow(const Model& model, const Integrator& integrator, ResultFile* out, ResultRecorder* recorder,
+               RunHealth& health, Data* own) {
+  const State& s = integrator.state();
+  if (recorder) {
+    out->CheckRoom();
+    recorder->Record(s, integrator.vdot(), integrator.lambda());
+    health.OnOutput(s, integrator.lambda(), recorder->data(), integrator.stats().last_step);
+    return;
+  }
+  EvaluateDynamics(model, s.t, s.q, s.v, integrator.vdot(), *own);
+  health.OnOutput(s, integrator.lambda(), *own, integrator.stats().last_step);
+}
+
+// Throws SimulationInterrupted when the flag was raised.
+void CheckInterrupt(const std::atomic<int>* flag, double t) {
+  if (flag == nullptr) return;
+  if (const int signal = flag->load(std::memory_order_relaxed)) throw SimulationInterrupted(signal, t);
+}
+
+std::string InterruptedMessage(double t_s) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "interrupted at t = %g s", t_s);
+  return buffer;
 }
 
 }  // namespace
 
+SimulationInterrupted::SimulationInterrupted(int signal, double t_s)
+    : std::runtime_error(InterruptedMessage(t_s)), signal_(signal), t_s_(t_s) {}
+
+void CheckSimulationSettings(const Model& model, const SimulationOptions& options, const State* initial) {
+  const OutputSchedule schedule = MakeOutputSchedule(initial ? initial->t : 0.0, options);
+  if (!(options.max_output_bytes > 0)) return;
+  // The run's series laid out in memory, for the bytes of a row
+  static std::atomic<long> count{0};
+  ResultFile layout = ResultFile::CreateInMemory("in-memory layout " + std::to_string(++count));
+  const ResultRecorder recorder(model, layout);
+  RunHealth(model, options.integrator, options.health, options.output_interval).Declare(layout);
+  CheckOutputSize(schedule, layout.bytes_per_row(), options.max_output_bytes);
+}
+
 SimulationReport Simulate(const Model& model, const SimulationOptions& options, ResultFile* out,
                           const std::function<void(const SimulationProgress&)>& progress,
                           const State* initial) {
-  if (!(options.end_time > 0)) throw std::invalid_argument("end time must be > 0");
-  if (!(options.output_interval > 0)) throw std::invalid_argument("output interval must be > 0");
+  // Time bookkeeping checked before anything runs
+  const State start_state = initial ? *initial : State::Initial(model);
+  const OutputSchedule schedule = MakeOutputSchedule(start_state.t, options);
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
   auto wall = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
@@ -64,6 +108,7 @@ SimulationReport Simulate(const Model& model, const SimulationOptions& options, 
   std::unique_ptr<Integrator> integrator = MakeIntegrator(model, options.integrator);
   std::unique_ptr<ResultRecorder> recorder;
   std::unique_ptr<SensorSampler> sensors;
+  RunHealth health(model, options.integrator, options.health, options.output_interval);
   if (out) {
     out->SetAttribute("/", "engine", std::string("orrery"));
     out->SetAttribute("/", "engine_version", std::string(ORRERY_VERSION));
@@ -75,23 +120,33 @@ SimulationReport Simulate(const Model& model, const SimulationOptions& options, 
     out->SetAttribute("/", "output_interval", options.output_interval);
     recorder = std::make_unique<ResultRecorder>(model, *out);
     sensors = MakeSensorSampler(model, options, *out, *integrator);
+    health.Declare(*out);
+    CheckOutputSize(schedule, out->bytes_per_row(), options.max_output_bytes);
   }
+  // Every accepted step: the interrupt flag, then the step's health
+  integrator->SetStepCallback([&](double t, const Eigen::Ref<const Eigen::VectorXd>& q,
+                                  const Eigen::Ref<const Eigen::VectorXd>& v) {
+    CheckInterrupt(options.interrupt, t);
+    health.OnStep(t, q, v);
+  });
+  std::unique_ptr<Data> own_data;  // the health's evaluations when there is no recorder
+  if (!recorder) own_data = std::make_unique<Data>(model);
   SimulationReport report;
   report.integrator = integrator->name();
   double last_flush = 0;
   double last_row_t = 0;  // time of the last /time row (for the sensors' last rows)
   try {
-    integrator->Initialize(initial ? *initial : State::Initial(model));
-    const double t0 = integrator->state().t;
-    if (recorder) recorder->Record(integrator->state(), integrator->vdot(), integrator->lambda());
+    integrator->Initialize(start_state);
+    health.Start(integrator->state());
+    RecordRow(model, *integrator, out, recorder.get(), health, own_data.get());
     if (sensors) sensors->Start(integrator->state(), integrator->vdot());
-    last_row_t = t0;
+    last_row_t = integrator->state().t;
     ++report.output_rows;
-    const long n_out = std::lround(std::ceil((options.end_time - t0) / options.output_interval - 1e-9));
-    for (long k = 1; k <= n_out; ++k) {
-      const double t = std::min(t0 + k * options.output_interval, options.end_time);
+    for (std::int64_t k = 1; k < schedule.rows; ++k) {
+      const double t = schedule.Time(k);
       integrator->AdvanceTo(t);
-      if (recorder) recorder->Record(integrator->state(), integrator->vdot(), integrator->lambda());
+      CheckInterrupt(options.interrupt, integrator->state().t);
+      RecordRow(model, *integrator, out, recorder.get(), health, own_data.get());
       if (sensors) sensors->Release(t);
       ++report.output_rows;
       last_row_t = t;
@@ -103,9 +158,26 @@ SimulationReport Simulate(const Model& model, const SimulationOptions& options, 
       if (progress) progress({integrator->state().t, options.end_time, integrator->stats().steps, w});
     }
   } catch (...) {
+    // Statistics, health and sensors of the run so far; the error that stopped it is the one
+    // passed on
+    FinishSensors(sensors.get(), last_row_t);
+    if (out) {
+      try {
+        WriteStats(*out, integrator->stats(), integrator->name(), wall(), false);
+        health.Write(*out);
+        out->Flush();
+      } catch (const std::exception&) {
+      }
+    }
+    throw;
+  }
+  try {
+    health.Finish(integrator->state().t);
+  } catch (...) {
     FinishSensors(sensors.get(), last_row_t);
     if (out) {
       WriteStats(*out, integrator->stats(), integrator->name(), wall(), false);
+      health.Write(*out);
       out->Flush();
     }
     throw;
@@ -114,8 +186,14 @@ SimulationReport Simulate(const Model& model, const SimulationOptions& options, 
   report.stats = integrator->stats();
   report.final_state = integrator->state();
   report.wall_s = wall();
+  report.health = health.warnings();
+  report.energy_residual_relative = health.energy_residual_relative();
+  report.energy_quadrature_relative = health.energy_quadrature_relative();
+  report.omega_max_h = health.omega_max_h();
+  report.rho_infinity = health.rho_infinity();
   if (out) {
     WriteStats(*out, report.stats, integrator->name(), report.wall_s, true);
+    health.Write(*out);
     out->Flush();
   }
   return report;

@@ -7,6 +7,7 @@
 //   build/bin/example_broken_tooth_pair
 #include <cstdio>
 
+#include "mbd/hdf5_reader.h"
 #include "mbd/result_file.h"
 #include "mbd/simulation.h"
 #include "models/gear_pair_model.h"
@@ -42,7 +43,7 @@ int main() {
     const SimulationReport r = Simulate(*m.model, sim, &out);
     out.Close();
 
-    const ResultReader in(path);
+    const Hdf5Reader in(path);
     const Eigen::MatrixXd delta = in.ReadMatrix("/gear_meshes/mesh/deflection");
     const Eigen::VectorXd late = delta.col(0).tail(delta.rows() / 2);  // after the load step
     std::printf("%-8s mean stiffness %.3e N/m (%s), TE %.3f .. %.3f um; %ld steps, %.2f s wall -> %s\n",

@@ -6,6 +6,7 @@
 #include <cstdlib>
 
 #include "mbd/model.h"
+#include "mbd/hdf5_reader.h"
 #include "mbd/result_file.h"
 #include "mbd/simulation.h"
 
@@ -40,7 +41,7 @@ int main(int argc, char** argv) {
   out.Close();
 
   // Energy at the start and the end, from the file.
-  const ResultReader in("double_pendulum.h5");
+  const Hdf5Reader in("double_pendulum.h5");
   const Eigen::MatrixXd energy = in.ReadMatrix("/energy");
   const double e0 = energy.row(0).sum(), e1 = energy.row(energy.rows() - 1).sum();
   std::printf("double pendulum: %.1f s simulated in %.3f s wall, %ld steps; energy %.9f -> %.9f J\n",

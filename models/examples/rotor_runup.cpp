@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "mbd/model.h"
+#include "mbd/hdf5_reader.h"
 #include "mbd/result_file.h"
 #include "mbd/simulation.h"
 
@@ -58,7 +59,7 @@ int main() {
     ResultFile out = ResultFile::Create(path);
     const SimulationReport r = Simulate(*model, options, &out);
     out.Close();
-    const Eigen::MatrixXd torque = ResultReader(path).ReadMatrix("/drivers/motor_speed/effort");
+    const Eigen::MatrixXd torque = Hdf5Reader(path).ReadMatrix("/drivers/motor_speed/effort");
     std::printf("%-18s %6ld steps %8ld residuals %7.3f s wall | motor torque %8.2f .. %8.2f N m | "
                 "drift |phi| %.1e |phidot| %.1e -> %s\n",
                 r.integrator.c_str(), r.stats.steps, r.stats.residual_evaluations, r.wall_s,

@@ -8,6 +8,7 @@
 #include <cstdlib>
 
 #include "mbd/model.h"
+#include "mbd/hdf5_reader.h"
 #include "mbd/result_file.h"
 #include "mbd/simulation.h"
 
@@ -45,7 +46,7 @@ int main(int argc, char** argv) {
   const SimulationReport report = Simulate(*model, options, &out);
   out.Close();
 
-  const ResultReader in("slider_crank.h5");
+  const Hdf5Reader in("slider_crank.h5");
   const Eigen::MatrixXd torque = in.ReadMatrix("/drivers/motor/effort");
   const Eigen::MatrixXd x = in.ReadMatrix("/joints/guide/q");
   std::printf("slider-crank at %.1f rad/s: stroke %.4f m, motor torque %.2f .. %.2f N m, "

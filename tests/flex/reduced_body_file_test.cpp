@@ -155,9 +155,8 @@ void ExpectIdentical(const ReducedBody& a, const ReducedBody& b) {
 void CopyFile(const std::string& from, const std::string& to,
               const std::function<bool(const std::string&, Eigen::MatrixXd&)>& edit) {
   const Hdf5Reader r(from);
-  const ResultReader list(from);
   ResultFile out = ResultFile::Create(to);
-  for (const ResultReader::Entry& e : list.List()) {
+  for (const Hdf5Reader::Entry& e : r.List()) {
     if (!e.is_group) {
       bool is_string = false, is_int = false;
       try {

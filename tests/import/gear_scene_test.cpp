@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "import/scene.h"
+#include "mbd/hdf5_reader.h"
 #include "mbd/result_file.h"
 #include "mbd/simulation.h"
 #include "models/lumped_planetary.h"
@@ -50,7 +51,7 @@ TEST(GearScene, EverySceneInModelsScenesLoads) {
     if (entry.path().extension() != ".yaml") continue;
     SCOPED_TRACE(entry.path().string());
     Scene scene;
-    ASSERT_NO_THROW(scene = LoadScene(entry.path().string()));
+    ASSERT_NO_THROW(scene = LoadScene(entry.path().string(), {}, {.make_reduced_bodies = true}));
     EXPECT_TRUE(scene.model);
     ++count;
   }
@@ -223,7 +224,7 @@ TEST(GearScene, ContactMeshModelRunsSeed003WithTorqueBalanceInTheMean) {
     std::printf("%ld steps, %ld residual evaluations, %.1f s wall\n", r.stats.steps,
                 r.stats.residual_evaluations, r.wall_s);
   }
-  const ResultReader in(file.string());
+  const Hdf5Reader in(file.string());
   const int rows = static_cast<int>(in.ReadMatrix("/time").rows());
   ASSERT_GE(rows, 40);
   // Base radii and tip radii of the stage (module 4 mm, 22.5 deg, standard gears).
@@ -355,7 +356,7 @@ output: {interval: 0.001}
   }
   std::string error;
   try {
-    LoadScene((dir / "scene.yaml").string());
+    LoadScene((dir / "scene.yaml").string(), {}, {.make_reduced_bodies = true});
   } catch (const SceneError& e) {
     error = e.what();
   }

@@ -16,6 +16,7 @@
 
 #include "mbd/integrator.h"
 #include "mbd/model.h"
+#include "mbd/hdf5_reader.h"
 #include "mbd/result_file.h"
 #include "mbd/simulation.h"
 
@@ -58,7 +59,7 @@ Series Record(const Model& m, const IntegratorOptions& opt, double t_end, double
     s.stats = Simulate(m, so, &out).stats;
   }
   {
-    ResultReader in(path);
+    Hdf5Reader in(path);
     s.t = in.ReadMatrix("/time").col(0);
     s.q = in.ReadMatrix("/joints/pivot/q").col(0);
     s.v = in.ReadMatrix("/joints/pivot/v").col(0);

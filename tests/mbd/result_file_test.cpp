@@ -1,6 +1,8 @@
-// Tests for mbd/result_file.cpp: round trips through ResultReader, List(), error messages, and
+// Tests for mbd/result_file.cpp: round trips through Hdf5Reader, List(), error messages, and
 // crash safety (a writer killed with SIGKILL after Flush() leaves every flushed row readable).
 #include "mbd/result_file.h"
+
+#include "mbd/hdf5_reader.h"
 
 #include <gtest/gtest.h>
 
@@ -98,7 +100,7 @@ TEST(ResultFileTest, SeriesRoundTripWithPartialBlocksAndFlushes) {
     for (auto id : ids) EXPECT_EQ(out.rows(id), rows);
     out.Close();
   }
-  ResultReader in(file.path());
+  Hdf5Reader in(file.path());
   for (std::size_t s = 0; s < ncols.size(); ++s) {
     SCOPED_TRACE(paths[s]);
     ExpectSeries(in.ReadMatrix(paths[s]), static_cast<int>(s), ncols[s], rows);
@@ -112,7 +114,7 @@ TEST(ResultFileTest, DestructorWritesBufferedRows) {
     const auto q = out.AddSeries("/q", 2, "rad");
     AppendRows(out, q, 0, 2, 0, 5);  // fewer rows than a block, never flushed
   }
-  ResultReader in(file.path());
+  Hdf5Reader in(file.path());
   ExpectSeries(in.ReadMatrix("/q"), 0, 2, 5);
 }
 
@@ -122,7 +124,7 @@ TEST(ResultFileTest, EmptySeriesHasZeroRows) {
     ResultFile out = ResultFile::Create(file.path());
     out.AddSeries("/nothing", 4, "m");
   }
-  ResultReader in(file.path());
+  Hdf5Reader in(file.path());
   const Eigen::MatrixXd m = in.ReadMatrix("/nothing");
   EXPECT_EQ(m.rows(), 0);
   EXPECT_EQ(m.cols(), 4);
@@ -144,7 +146,7 @@ TEST(ResultFileTest, MoveKeepsTheOpenFile) {
     EXPECT_EQ(third.rows(t), 30);
     EXPECT_THROW(first.Append(t, nullptr), std::logic_error);
   }
-  ResultReader in(file.path());
+  Hdf5Reader in(file.path());
   ExpectSeries(in.ReadMatrix("/t"), 0, 1, 30);
 }
 
@@ -166,16 +168,16 @@ TEST(ResultFileTest, AttributesOfEveryKindAnywhereAndAnytime) {
     out.SetAttribute("/", "seed", std::int64_t{9007199254740993});
     AppendRows(out, w, 0, 3, 400, 100);
   }
-  ResultReader in(file.path());
-  EXPECT_EQ(in.ReadAttribute("/joints/crank/w", "unit"), "rad/s");
-  EXPECT_EQ(in.ReadAttribute("/joints/crank/w", "columns"), "wx,wy,wz");
-  EXPECT_EQ(in.ReadAttribute("/joints/crank/w", "description"), "ω of the crank, Kurbel");
-  EXPECT_EQ(in.ReadAttribute("/", "orrery_version"), "0.1.0");
-  EXPECT_EQ(in.ReadAttribute("/", "step_s"), "0.1");
-  EXPECT_EQ(std::stod(in.ReadAttribute("/", "step_s")), 0.1);
-  EXPECT_EQ(in.ReadAttribute("/solver/settings", "max_iterations"), "-42");
-  EXPECT_EQ(std::stod(in.ReadAttribute("/solver/settings", "tolerance")), 1e-300);
-  EXPECT_EQ(in.ReadAttribute("/", "seed"), "9007199254740993");
+  Hdf5Reader in(file.path());
+  EXPECT_EQ(in.ReadAttributeText("/joints/crank/w", "unit"), "rad/s");
+  EXPECT_EQ(in.ReadAttributeText("/joints/crank/w", "columns"), "wx,wy,wz");
+  EXPECT_EQ(in.ReadAttributeText("/joints/crank/w", "description"), "ω of the crank, Kurbel");
+  EXPECT_EQ(in.ReadAttributeText("/", "orrery_version"), "0.1.0");
+  EXPECT_EQ(in.ReadAttributeText("/", "step_s"), "0.1");
+  EXPECT_EQ(std::stod(in.ReadAttributeText("/", "step_s")), 0.1);
+  EXPECT_EQ(in.ReadAttributeText("/solver/settings", "max_iterations"), "-42");
+  EXPECT_EQ(std::stod(in.ReadAttributeText("/solver/settings", "tolerance")), 1e-300);
+  EXPECT_EQ(in.ReadAttributeText("/", "seed"), "9007199254740993");
   EXPECT_TRUE(in.Exists("/solver/settings"));
   ExpectSeries(in.ReadMatrix("/joints/crank/w"), 0, 3, 500);
 }
@@ -196,7 +198,7 @@ TEST(ResultFileTest, FixedMatricesAndVectors) {
     out.WriteVector("/model/empty", {}, "1");
     out.WriteMatrix("/time_table", m.transpose(), "s");
   }
-  ResultReader in(file.path());
+  Hdf5Reader in(file.path());
   EXPECT_EQ(in.ReadMatrix("/model/mass_matrix"), m);
   EXPECT_EQ(in.ReadMatrix("/time_table"), m.transpose());
   const Eigen::MatrixXd masses = in.ReadMatrix("/model/masses");
@@ -204,7 +206,7 @@ TEST(ResultFileTest, FixedMatricesAndVectors) {
   ASSERT_EQ(masses.cols(), 1);
   for (int i = 0; i < 4; ++i) EXPECT_EQ(masses(i, 0), v[static_cast<std::size_t>(i)]);
   EXPECT_EQ(in.ReadMatrix("/model/empty").size(), 0);
-  EXPECT_EQ(in.ReadAttribute("/model/mass_matrix", "unit"), "kg");
+  EXPECT_EQ(in.ReadAttributeText("/model/mass_matrix", "unit"), "kg");
   ExpectSeries(in.ReadMatrix("/time"), 0, 1, 3000);
 }
 
@@ -221,8 +223,8 @@ TEST(ResultFileTest, ListWalksDepthFirstSortedByName) {
     out.SetAttribute("/", "seed", std::int64_t{7});
     out.SetAttribute("/a", "kind", std::string("joint"));
   }
-  ResultReader in(file.path());
-  const std::vector<ResultReader::Entry> entries = in.List();
+  Hdf5Reader in(file.path());
+  const std::vector<Hdf5Reader::Entry> entries = in.List();
   std::vector<std::string> paths;
   for (const auto& e : entries) paths.push_back(e.path);
   EXPECT_EQ(paths, (std::vector<std::string>{"/", "/a", "/a/b", "/a/b/c", "/a/x", "/a-b"}));
@@ -246,7 +248,7 @@ TEST(ResultFileTest, ListWalksDepthFirstSortedByName) {
 TEST(ResultFileErrorsTest, MissingAndForeignFilesNameThePath) {
   TempFile missing("missing");
   try {
-    ResultReader in(missing.path());
+    Hdf5Reader in(missing.path());
     FAIL() << "opened a missing file";
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find(missing.path()), std::string::npos) << e.what();
@@ -254,7 +256,7 @@ TEST(ResultFileErrorsTest, MissingAndForeignFilesNameThePath) {
   TempFile text("not_hdf5");
   std::ofstream(text.path()) << "time,q\n0,1\n";
   try {
-    ResultReader in(text.path());
+    Hdf5Reader in(text.path());
     FAIL() << "opened a text file";
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find(text.path()), std::string::npos) << e.what();
@@ -305,7 +307,7 @@ TEST(ResultFileErrorsTest, BadSeriesAndObjectsNameThePaths) {
   out.Close();
   EXPECT_THROW(out.Flush(), std::logic_error);
   // Reading what is not there
-  ResultReader in(file.path());
+  Hdf5Reader in(file.path());
   for (const std::string path : {"/nothing", "/bodies"}) {
     try {
       in.ReadMatrix(path);
@@ -314,7 +316,7 @@ TEST(ResultFileErrorsTest, BadSeriesAndObjectsNameThePaths) {
       EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
     }
   }
-  EXPECT_THROW(in.ReadAttribute("/fixed", "no_such_key"), std::runtime_error);
+  EXPECT_THROW(in.ReadAttributeText("/fixed", "no_such_key"), std::runtime_error);
   EXPECT_FALSE(in.Exists("/fixed/below"));
   EXPECT_FALSE(in.Exists("/no/such/group"));
 }
@@ -354,14 +356,14 @@ TEST(ResultFileCrashTest, SigkillAfterFlushKeepsEveryFlushedRow) {
     std::raise(SIGKILL);
   });
   ASSERT_TRUE(killed);
-  ResultReader in(file.path());
+  Hdf5Reader in(file.path());
   ExpectSeries(in.ReadMatrix("/time"), 0, 1, first + second);
   ExpectSeries(in.ReadMatrix("/bodies/link1/position"), 1, 3, first + second);
   ExpectSeries(in.ReadMatrix("/late/c"), 2, 5, late);
   EXPECT_EQ(in.ReadMatrix("/fixed/m"), m);
-  EXPECT_EQ(in.ReadAttribute("/", "model"), "crank");
-  EXPECT_EQ(in.ReadAttribute("/bodies/link1/position", "frame"), "W");
-  EXPECT_EQ(in.ReadAttribute("/bodies/link1/position", "columns"), "x,y,z");
+  EXPECT_EQ(in.ReadAttributeText("/", "model"), "crank");
+  EXPECT_EQ(in.ReadAttributeText("/bodies/link1/position", "frame"), "W");
+  EXPECT_EQ(in.ReadAttributeText("/bodies/link1/position", "columns"), "x,y,z");
   EXPECT_FALSE(in.Exists("/unflushed"));
   // The whole file walks (no damaged object anywhere)
   EXPECT_EQ(in.List().size(), 9u);  // / /bodies /bodies/link1 .../position /fixed /fixed/m /late /late/c /time
@@ -387,7 +389,7 @@ TEST(ResultFileCrashTest, SigkillAfterManySeriesWroteUnflushedBlocks) {
     std::raise(SIGKILL);
   });
   ASSERT_TRUE(killed);
-  ResultReader in(file.path());
+  Hdf5Reader in(file.path());
   for (int s = 0; s < nseries; ++s) {
     SCOPED_TRACE(path(s));
     ExpectSeries(in.ReadMatrix(path(s)), s, 3, flushed);
@@ -441,7 +443,7 @@ TEST(ResultFileCrashTest, SigkillAtRandomMomentsWhileAppending) {
     int status = 0;
     ASSERT_EQ(::waitpid(pid, &status, 0), pid);
     ASSERT_TRUE(WIFSIGNALED(status)) << "writer exited with " << WEXITSTATUS(status);
-    ResultReader in(file.path());
+    Hdf5Reader in(file.path());
     ExpectSeries(in.ReadMatrix("/a"), 0, 1, flushed);
     ExpectSeries(in.ReadMatrix("/group/b"), 1, 6, flushed);
     EXPECT_EQ(in.List().size(), 4u);

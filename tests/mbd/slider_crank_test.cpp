@@ -297,6 +297,71 @@ TEST(SliderCrank, GeneralizedAlphaDriftAndAgreementWithIda) {
   (void)m;
 }
 
+// Generalized-alpha without numerical damping (rho_inf = 1) at a microsecond step. The index-3
+// scheme left the recurrence's velocities off the velocity constraint in an undamped mode that
+// alternates from step to step and grows the accelerations and multipliers linearly: after 20 ms
+// at h = 1e-6 s the driver effort swung between -17 and +21 N m (IDA: 1.74 to 2.08 N m). With
+// both constraint levels enforced (stabilized index 2, generalized_alpha.cpp) it must follow IDA
+// to the rounding of the scaled position rows: accelerations are fixed by Phi(q) only to
+// 64 eps max(1, |q|) / (h^2 beta (1 - af)/(1 - am)) (the Newton floor), efforts to that times
+// the mass matrix norm. The truncation error (est. 5e-6 N m at h = 1e-3 above, h^2) is far below.
+TEST(SliderCrank, GeneralizedAlphaWithoutDampingConvergesAtMicrosecondSteps) {
+  const SliderCrank sc = Build();
+  const Model& m = *sc.model;
+  const double h = 1e-6, t_end = 0.02, dt = 1e-3;
+  IntegratorOptions o = Alpha(h);
+  o.rho_inf = 1.0;
+  const Trace ga = RunModel(sc, o, t_end, dt);
+  const Trace ida = RunModel(sc, Ida(1e-11, 1e-13), t_end, dt);
+  const Trace ida_loose = RunModel(sc, Ida(1e-9, 1e-11), t_end, dt);
+  // Bound: the Newton floor in efforts, plus the IDA error (against a run 100 times looser)
+  Data data(m);
+  State s0 = State::Initial(m);
+  CalcPositionKinematics(m, s0.q, data);
+  CalcMassMatrix(m, data);
+  const double m_norm = data.M.cwiseAbs().rowwise().sum().maxCoeff();
+  const double beta = 0.25, ca = 1.0;  // rho_inf = 1: alpha_m = alpha_f = 1/2, gamma = 1/2
+  const double floor = 64 * kEps * std::max(1.0, ga.max_abs_q) / (h * h * beta * ca) * m_norm;
+  double diff = 0, ida_error = 0;
+  for (size_t k = 0; k < ga.t.size(); ++k) {
+    diff = std::max(diff, std::abs(ga.effort[k] - ida.effort[k]));
+    ida_error = std::max(ida_error, std::abs(ida_loose.effort[k] - ida.effort[k]));
+  }
+  std::printf("[slider-crank GA rho_inf=1 h=1e-6] effort diff to IDA %.3g N m (floor %.3g, IDA error %.3g); "
+              "max|Phi| %.3g, max|Phidot| %.3g\n", diff, floor, ida_error, ga.stats.max_abs_phi, ga.stats.max_abs_phidot);
+  EXPECT_LE(diff, floor + ida_error);
+  EXPECT_EQ(ga.stats.newton_failures, 0);
+}
+
+// Outputs off the step grid: the steps between two outputs are spread evenly, never a remainder
+// step. At step 1e-3 s and an output interval of 2.5e-3 s every step is 2.5e-3 / 3 s; an
+// interval a rounding error longer than the step (1e-3 + 1e-13 s, as accumulated output times
+// give late in a run) is one step, not a step and a 1e-13 s sliver (the sliver's position rows,
+// scaled by 1/h^2, stalled Newton: slider_crank.yaml at step 2e-5 s and interval 2e-3 s stopped
+// at t = 1.644 s).
+TEST(SliderCrank, GeneralizedAlphaStepsSpanOutputIntervalsWithoutSlivers) {
+  const SliderCrank sc = Build();
+  for (const double interval : {2.5e-3, 1e-3 + 1e-13}) {
+    std::unique_ptr<Integrator> integ = MakeIntegrator(*sc.model, Alpha(1e-3));
+    integ->Initialize(State::Initial(*sc.model));
+    double last_t = 0, shortest = 1, longest = 0;
+    integ->SetStepCallback([&](double t, const Eigen::Ref<const Eigen::VectorXd>&,
+                               const Eigen::Ref<const Eigen::VectorXd>&) {
+      shortest = std::min(shortest, t - last_t);
+      longest = std::max(longest, t - last_t);
+      last_t = t;
+    });
+    for (int k = 1; k <= 40; ++k) {
+      integ->AdvanceTo(k * interval);
+      EXPECT_EQ(integ->state().t, k * interval);  // outputs land on their times exactly
+    }
+    const double expected = interval / std::ceil(interval / 1e-3 - 1e-6);
+    EXPECT_NEAR(shortest, expected, 1e-12) << interval;
+    EXPECT_NEAR(longest, expected, 1e-12) << interval;
+    EXPECT_EQ(integ->stats().newton_failures, 0);
+  }
+}
+
 TEST(SliderCrank, DriverPowerBalancesEnergyRate) {
   const SliderCrank sc = Build();
   const double dt = 1e-3, rtol = 1e-9;

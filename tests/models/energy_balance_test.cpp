@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "mbd/hdf5_reader.h"
 #include "mbd/result_file.h"
 #include "mbd/simulation.h"
 #include "models/lumped_planetary.h"
@@ -58,7 +59,7 @@ TEST(EnergyBalance, InputWorkEqualsOutputWorkPlusDissipationPlusStoredEnergy) {
       o.integrator.atol = 1e-12;
       Simulate(*stage.model, o, &out);
     }
-    const ResultReader in(path);
+    const Hdf5Reader in(path);
     const Eigen::MatrixXd power = in.ReadMatrix("/power"), energy = in.ReadMatrix("/energy");
     const double h = 2e-5;
     const double w_applied = Simpson(power.col(0), h), w_driver = Simpson(power.col(1), h);

@@ -36,7 +36,8 @@ const Stage& LoadStage(const std::string& file) {
   static std::map<std::string, std::unique_ptr<Stage>> stages;
   auto& s = stages[file];
   if (s) return *s;
-  s = std::make_unique<Stage>(Stage{.scene = LoadScene(std::string(ORRERY_SOURCE_DIR) + "/models/scenes/" + file)});
+  s = std::make_unique<Stage>(
+      Stage{.scene = LoadScene(std::string(ORRERY_SOURCE_DIR) + "/models/scenes/" + file, {}, {.make_reduced_bodies = true})});
   IntegratorOptions o = s->scene.simulation.integrator;
   std::unique_ptr<Integrator> integ = MakeIntegrator(*s->scene.model, o);
   integ->Initialize(State::Initial(*s->scene.model));

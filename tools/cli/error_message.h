@@ -21,10 +21,16 @@ inline constexpr int kExitUsage = 2;
 inline constexpr int kExitSignalBase = 128;
 
 // `text` folded onto one line: line breaks and tabs become spaces, runs of spaces collapse,
-// leading and trailing blanks go. An empty result becomes "unknown error".
+// leading and trailing blanks go; control bytes (ESC, BEL, NUL, ...) and bytes that are not
+// UTF-8 become "\xNN", so that no file content a message quotes can drive the terminal. An
+// empty result becomes "unknown error".
 std::string OneLine(std::string_view text);
 
-// Writes "orrery: error: " + OneLine(reason) + "\n" to `err` and flushes it.
+// OneLine(text), cut after max_chars characters with "... (N more characters)" (a message that
+// quotes a file never floods the terminal).
+std::string Sanitized(std::string_view text, std::size_t max_chars = 600);
+
+// Writes "orrery: error: " + Sanitized(reason) + "\n" to `err` and flushes it.
 void ReportError(std::ostream& err, std::string_view reason);
 
 }  // namespace orrery::cli

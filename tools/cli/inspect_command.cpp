@@ -5,13 +5,13 @@
 #include <exception>
 #include <vector>
 
-#include "mbd/result_file.h"
+#include "mbd/hdf5_reader.h"
 #include "tools/cli/error_message.h"
 
 namespace orrery::cli {
 namespace {
 
-using Entry = ResultReader::Entry;
+using Entry = Hdf5Reader::Entry;
 
 // Depth of an entry below the root ("/" is 0, "/bodies" 1, "/bodies/bob" 2)
 int Depth(const std::string& path) {
@@ -107,7 +107,7 @@ std::string AttributeSummary(const std::string& value, std::size_t max_chars) {
 int InspectCommand(const InspectArgs& args, std::ostream& out, std::ostream& err) {
   std::vector<Entry> entries;
   try {
-    const ResultReader reader(args.path);
+    const Hdf5Reader reader(args.path);
     entries = reader.List();
   } catch (const std::exception& e) {
     ReportError(err, e.what());

@@ -1,5 +1,5 @@
 #pragma once
-// `orrery inspect FILE.h5`: what a result file holds, from ResultReader::List().
+// `orrery inspect FILE.h5`: what a result file holds, from Hdf5Reader::List().
 //
 // Prints the file's attributes (engine version, scene name, integrator, end time, ...; a
 // multi-line value such as the stored scene as its first line and "(N lines)"), then the tree

@@ -2,8 +2,8 @@
 
 #include <atomic>
 #include <cerrno>
-#include <cstdio>
 #include <cstring>
+#include <stdexcept>
 #include <string>
 
 namespace orrery::cli {
@@ -49,17 +49,6 @@ InterruptGuard::~InterruptGuard() {
 
 int PendingInterrupt() { return g_pending_signal.load(std::memory_order_relaxed); }
 
-namespace {
-
-std::string InterruptedMessage(double t_s) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "interrupted at t = %g s", t_s);
-  return buffer;
-}
-
-}  // namespace
-
-Interrupted::Interrupted(int signal, double t_s)
-    : std::runtime_error(InterruptedMessage(t_s)), signal_(signal), t_s_(t_s) {}
+const std::atomic<int>* InterruptFlag() { return &g_pending_signal; }
 
 }  // namespace orrery::cli

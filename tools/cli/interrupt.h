@@ -2,18 +2,18 @@
 // Graceful interruption of long runs by SIGINT (Ctrl-C) and SIGTERM (kill, batch schedulers).
 //
 // While an `InterruptGuard` lives, the first SIGINT or SIGTERM only records the signal in an
-// atomic flag; the computation polls `PendingInterrupt()` at a safe point (the progress callback
-// of Simulate) and throws `Interrupted`, so the result file is flushed on the way out. The handler
-// is installed with SA_RESETHAND: a second Ctrl-C terminates the process the default way, for a
-// run stuck between two safe points. The destructor restores the previous handlers.
+// atomic flag; Simulate polls the flag after every integrator step (SimulationOptions::interrupt)
+// and throws SimulationInterrupted, so the result file is flushed on the way out within one step
+// of the signal, however coarse the output interval. The handler is installed with SA_RESETHAND:
+// a second Ctrl-C terminates the process the default way, for a run stuck inside a step. The
+// destructor restores the previous handlers.
 //
 // Usage:
 //   InterruptGuard guard;
-//   Simulate(model, options, &out, [](const SimulationProgress& p) {
-//     if (const int sig = PendingInterrupt()) throw Interrupted(sig, p.t);
-//   });
+//   options.interrupt = InterruptFlag();
+//   Simulate(model, options, &out);   // throws SimulationInterrupted after a signal
+#include <atomic>
 #include <csignal>
-#include <stdexcept>
 
 namespace orrery::cli {
 
@@ -34,17 +34,7 @@ class InterruptGuard {
 // The signal number received since the current guard was installed, 0 if none.
 int PendingInterrupt();
 
-// Thrown from a progress callback when a signal asked the run to stop; what() is
-// "interrupted at t = <t> s".
-class Interrupted : public std::runtime_error {
- public:
-  Interrupted(int signal, double t_s);
-  int signal() const { return signal_; }
-  double t() const { return t_s_; }
-
- private:
-  int signal_;
-  double t_s_;
-};
+// The flag the handler sets (the signal number), for SimulationOptions::interrupt.
+const std::atomic<int>* InterruptFlag();
 
 }  // namespace orrery::cli

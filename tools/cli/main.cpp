@@ -2,6 +2,7 @@
 // library (run_command.h, inspect_command.h).
 //
 //   orrery run SCENE [-o OUT.h5] [--end-time T] [--set key=value ...] [--integrator NAME] [--quiet]
+//              [--strict] [--max-output-gb GB]
 //   orrery inspect OUT.h5
 //   orrery kinematics SCENE [--json] [--range NAME] [--set key=value ...]
 //   orrery modes SCENE [--json] [--set key=value ...]
@@ -28,6 +29,7 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <csignal>
 #include <exception>
 #include <optional>
 #include <iostream>
@@ -214,6 +216,12 @@ int Main(int argc, char** argv) {
   run->add_option("--study-attribute", run_args.study_attributes, "")  // set by `orrery study`
       ->allow_extra_args(false)
       ->group("");
+  run->add_flag("--strict", run_args.strict, "Stop at the first health warning (run_health.h)");
+  double max_output_gb = 0;
+  CLI::Option* max_output_option =
+      run->add_option("--max-output-gb", max_output_gb,
+                      "Largest result file the run may write, estimated before it starts (GB, default 10)")
+          ->check(kPositiveValue);
 
   // orrery inspect
   InspectArgs inspect_args;
@@ -336,6 +344,7 @@ int Main(int argc, char** argv) {
   // Dispatch
   if (run->parsed()) {
     if (end_time_option->count() > 0) run_args.end_time = end_time;
+    if (max_output_option->count() > 0) run_args.max_output_gb = max_output_gb;
     run_args.err_is_terminal = isatty(STDERR_FILENO) == 1;
     return RunCommand(run_args, std::cout, std::cerr);
   }
@@ -355,6 +364,9 @@ int Main(int argc, char** argv) {
 int main(int argc, char** argv) {
   // A run started by `orrery study` dies with the study
   orrery::study::PrepareStudyChild();
+  // A file-size limit (ulimit -f) makes a write fail with EFBIG instead of killing the process
+  // with SIGXFSZ: the result file then says what it holds (result_file.cpp)
+  std::signal(SIGXFSZ, SIG_IGN);
   // Last line of defence: nothing escapes as a stack trace or an abort
   try {
     return Main(argc, argv);

@@ -22,6 +22,7 @@
 #include "import/reduce_input.h"
 #include "models/gear_fe_mesh.h"
 #include "models/gear_geometry.h"
+#include "mbd/file_checks.h"
 #include "tools/cli/error_message.h"
 #include "tools/cli/json_writer.h"
 
@@ -133,6 +134,11 @@ int ReduceCommand(const ReduceArgs& args, std::ostream& out, std::ostream& err) 
   std::error_code ec;
   if (!std::filesystem::exists(args.input_path, ec)) {
     ReportError(err, "input file " + args.input_path + ": no such file");
+    return kExitFailure;
+  }
+  if (SameFile(args.output_path, args.input_path)) {
+    ReportError(err, "reduced-body file " + args.output_path + " is the input " + args.input_path +
+                         "; name another file with -o");
     return kExitFailure;
   }
   std::string extension = std::filesystem::path(args.input_path).extension().string();

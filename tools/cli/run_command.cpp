@@ -7,6 +7,7 @@
 #include <system_error>
 
 #include "import/scene.h"
+#include "mbd/file_checks.h"
 #include "mbd/hdf5_reader.h"
 #include "mbd/result_file.h"
 #include "mbd/xdmf_writer.h"
@@ -68,6 +69,53 @@ void PrintFlexibleBodies(std::ostream& out, const Model& model, const std::strin
   }
 }
 
+// The run's health: "ok" with its numbers, or one line per warning.
+void PrintHealth(std::ostream& out, const SimulationReport& report) {
+  std::string numbers = "energy balance " + Number("%.2g", report.energy_residual_relative) + " of its scale";
+  if (report.energy_quadrature_relative > 0.01)
+    numbers += Number(" (rows resolve it to %.2g)", report.energy_quadrature_relative);
+  if (report.omega_max_h >= 0) {
+    numbers += ", omega_max h " + Number("%.3g", report.omega_max_h);
+    if (report.omega_max_h > 3.14159 && report.rho_infinity <= 0.99)
+      numbers += Number(" (stiffest mode not resolved, damped: rho_inf %.2g)", report.rho_infinity);
+  }
+  if (report.health.empty()) {
+    SummaryLine(out, "health", "ok (" + numbers + ")");
+    return;
+  }
+  SummaryLine(out, "health", std::to_string(report.health.size()) + " warning" +
+                                 (report.health.size() > 1 ? "s" : "") + " (" + numbers + "; /health in the file)");
+  for (const HealthWarning& w : report.health) {
+    std::string line = Number("t = %.6g s: ", w.t) + w.element + ": " + w.cause;
+    if (w.count > 1) line += " (" + std::to_string(w.count) + " times, worst " + Number("%.3g", w.worst_value) +
+                             Number(" at t = %.6g s)", w.worst_t);
+    SummaryLine(out, "warning", line);
+  }
+}
+
+// What the result file holds, read back from the disk: "the file holds N rows (t = a to b s)".
+std::string RowsInFile(const std::string& path) {
+  try {
+    const Hdf5Reader r(path);
+    if (!r.Exists("/time")) return "the file " + path + " holds no rows";
+    const Eigen::MatrixXd t = r.ReadMatrix("/time");
+    if (t.rows() == 0) return "the file " + path + " holds no rows";
+    return path + " holds " + std::to_string(t.rows()) + " rows (t = " + Number("%g", t(0, 0)) + " to " +
+           Number("%g", t(t.rows() - 1, 0)) + " s)";
+  } catch (const std::exception& e) {
+    return std::string("the file cannot be read back: ") + e.what();
+  }
+}
+
+// "" when the result file may be written at `output`, else why not: it must not be the scene or
+// a file the scene reads (same file by device and inode, however the paths are spelt).
+std::string InputClash(const std::string& output, const std::string& scene_path, const std::vector<std::string>& inputs) {
+  if (SameFile(output, scene_path)) return "result file " + output + " is the scene file " + scene_path;
+  for (const std::string& input : inputs)
+    if (SameFile(output, input)) return "result file " + output + " is " + input + ", which the scene reads";
+  return "";
+}
+
 void PrintSummary(std::ostream& out, const std::string& output_path, const SimulationReport& report) {
   const IntegratorStats& s = report.stats;
   const double simulated_s = report.final_state.t;
@@ -86,6 +134,7 @@ void PrintSummary(std::ostream& out, const std::string& output_path, const Simul
   SummaryLine(out, "error-test fails", std::to_string(s.error_test_failures));
   SummaryLine(out, "max |Phi|", Number("%.3g", s.max_abs_phi));
   SummaryLine(out, "max |Phi-dot|", Number("%.3g", s.max_abs_phidot));
+  PrintHealth(out, report);
   out << std::flush;
 }
 
@@ -122,7 +171,8 @@ std::vector<std::string> SceneOverrides(const RunArgs& args) {
 }
 
 int RunCommand(const RunArgs& args, std::ostream& out, std::ostream& err) {
-  // Load the scene (a missing file gets a plain message before the parser sees it)
+  // Load the scene (a missing file gets a plain message before the parser sees it); `run` may
+  // make a missing reduced body from its reduce input
   std::error_code ec;
   if (!std::filesystem::exists(args.scene_path, ec)) {
     ReportError(err, "scene file " + args.scene_path + ": no such file");
@@ -130,14 +180,28 @@ int RunCommand(const RunArgs& args, std::ostream& out, std::ostream& err) {
   }
   std::optional<Scene> scene;
   try {
-    scene = LoadScene(args.scene_path, SceneOverrides(args));
+    scene = LoadScene(args.scene_path, SceneOverrides(args), {.make_reduced_bodies = true});
+  } catch (const std::exception& e) {
+    ReportError(err, e.what());
+    return kExitFailure;
+  }
+
+  // Settings of the run; refused ones (absurd times, an oversized file) before any file is touched
+  SimulationOptions options = scene->simulation;
+  options.interrupt = InterruptFlag();
+  options.health.strict = args.strict;
+  if (args.max_output_gb) options.max_output_bytes = *args.max_output_gb * 1e9;
+  const std::string output_path = args.output_path.empty() ? scene->output_path : args.output_path;
+  try {
+    CheckSimulationSettings(*scene->model, options);
+    if (const std::string clash = InputClash(output_path, args.scene_path, scene->input_files); !clash.empty())
+      throw std::invalid_argument(clash + "; name another result file with -o");
   } catch (const std::exception& e) {
     ReportError(err, e.what());
     return kExitFailure;
   }
 
   // Create the result file
-  const std::string output_path = args.output_path.empty() ? scene->output_path : args.output_path;
   std::optional<ResultFile> result;
   try {
     result = ResultFile::Create(output_path);
@@ -147,29 +211,29 @@ int RunCommand(const RunArgs& args, std::ostream& out, std::ostream& err) {
     return kExitFailure;
   }
 
-  // Simulate, drawing progress and polling for Ctrl-C after every output row
+  // Simulate, drawing progress; a signal stops it within one integrator step
   ProgressBar bar(err, ProgressStyle(args));
-  long rows = 1;  // Simulate records the initial state before the first callback
   SimulationReport report;
   try {
     InterruptGuard guard;
-    report = Simulate(*scene->model, scene->simulation, &*result, [&](const SimulationProgress& p) {
-      ++rows;
+    report = Simulate(*scene->model, options, &*result, [&](const SimulationProgress& p) {
       bar.Update(p);
       if (args.observer) args.observer(p);
-      if (const int signal = PendingInterrupt()) throw Interrupted(signal, p.t);
     });
     bar.Finish();
-  } catch (const Interrupted& e) {
-    // Simulate flushed the rows; close the file before saying so
+  } catch (const SimulationInterrupted& e) {
+    // Simulate flushed the rows; close the file before saying what it holds
     bar.Abandon();
     result.reset();
-    ReportError(err, std::string(e.what()) + "; " + std::to_string(rows) + " rows saved in " + output_path);
+    ReportError(err, std::string(e.what()) + "; " + RowsInFile(output_path));
     return kExitSignalBase + e.signal();
   } catch (const std::exception& e) {
+    // Failures (solver, health check, full disk): the file keeps the rows written until then
     bar.Abandon();
     result.reset();
-    ReportError(err, std::string("simulation failed: ") + e.what() + " (rows until then are in " + output_path + ")");
+    const bool stopped = dynamic_cast<const RunHealthError*>(&e) || dynamic_cast<const ResultFileFullError*>(&e);
+    ReportError(err, std::string(stopped ? "run stopped: " : "simulation failed: ") + e.what() + "; " +
+                         RowsInFile(output_path));
     return kExitFailure;
   }
 
@@ -177,7 +241,7 @@ int RunCommand(const RunArgs& args, std::ostream& out, std::ostream& err) {
   try {
     result->Close();
   } catch (const std::exception& e) {
-    ReportError(err, e.what());
+    ReportError(err, std::string(e.what()) + "; " + RowsInFile(output_path));
     return kExitFailure;
   }
   PrintSummary(out, output_path, report);

@@ -8,8 +8,12 @@
 // the run and the solver statistics on `out`.
 //
 // Failures print one line "orrery: error: <reason>" on `err` and return kExitFailure (1); an
-// interrupted run flushes the result file and returns 128 + the signal number (130 for Ctrl-C).
-// The result file is created only once the scene has loaded.
+// interrupted run flushes the result file and returns 128 + the signal number (130 for Ctrl-C),
+// within one integrator step of the signal. After a failure the message says what the file holds
+// (rows and times, read back from the disk). The result file is created only once the scene has
+// loaded and the run's settings passed their checks (CheckSimulationSettings), and never at the
+// path of the scene or of a file the scene reads. The summary ends with the run's health
+// (run_health.h): "ok", or one line per warning; --strict stops at the first warning.
 //
 // Usage:
 //   RunArgs args;  args.scene_path = "pendulum.yaml";  args.end_time = 2.0;
@@ -35,6 +39,8 @@ struct RunArgs {
   // --study-attribute key=value (hidden; `orrery study` sets them): attributes of the result
   // file's /study group, numbers where the value reads as one (integers as integers)
   std::vector<std::string> study_attributes;
+  bool strict = false;                   // --strict: stop at the first health warning
+  std::optional<double> max_output_gb;   // --max-output-gb: bound on the estimated result file
   // Called after every output row, before the interrupt check (tests use it to raise a signal).
   std::function<void(const SimulationProgress&)> observer;
 };
