@@ -10,6 +10,7 @@
 #include "mbd/hdf5_reader.h"
 #include "mbd/result_file.h"
 #include "mbd/xdmf_writer.h"
+#include "tools/cli/kinematic_lines_writer.h"
 #include "tools/cli/error_message.h"
 #include "tools/cli/interrupt.h"
 #include "tools/cli/progress_bar.h"
@@ -123,6 +124,7 @@ int RunCommand(const RunArgs& args, std::ostream& out, std::ostream& err) {
   std::optional<ResultFile> result;
   try {
     result = ResultFile::Create(output_path);
+    WriteKinematicLines(*scene, *result);
   } catch (const std::exception& e) {
     ReportError(err, e.what());
     return kExitFailure;
