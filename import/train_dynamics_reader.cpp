@@ -226,6 +226,35 @@ void ReadToothContact(const Context& ctx, const std::optional<Item>& item, const
   }
 }
 
+// `housing:` {mass, polar_inertia, transverse_inertia, mount_radial_stiffness,
+// mount_axial_stiffness, mount_torsional_stiffness, mount_tilt_stiffness, mount_damping_ratio}.
+gears::TrainHousing ReadHousing(const MapReader& dynamics, const Item& item) {
+  const MapReader m(dynamics.ctx(), item,
+                    {"mass", "polar_inertia", "transverse_inertia", "mount_radial_stiffness",
+                     "mount_axial_stiffness", "mount_torsional_stiffness", "mount_tilt_stiffness",
+                     "mount_damping_ratio"});
+  gears::TrainHousing h;
+  h.mass_kg = NeedScaled(m, Plain("mass"));
+  h.polar_inertia_kg_m2 = NeedScaled(m, Plain("polar_inertia"));
+  h.transverse_inertia_kg_m2 = OptScaled(m, Plain("transverse_inertia"), 0, true);
+  const bool planar = dynamics.Choice("dofs", {"torsional", "planar", "spatial"}, "torsional") != "torsional";
+  const bool spatial = dynamics.Choice("dofs", {"torsional", "planar", "spatial"}, "torsional") == "spatial";
+  h.mount_torsional_stiffness_n_m_per_rad = NeedScaled(m, Plain("mount_torsional_stiffness"));
+  if (planar) h.mount_radial_stiffness_n_per_m = NeedScaled(m, Plain("mount_radial_stiffness"));
+  if (spatial) {
+    h.mount_axial_stiffness_n_per_m = NeedScaled(m, Plain("mount_axial_stiffness"));
+    h.mount_tilt_stiffness_n_m_per_rad = NeedScaled(m, Plain("mount_tilt_stiffness"));
+  }
+  for (const char* key : {"mount_radial_stiffness", "mount_axial_stiffness", "mount_tilt_stiffness",
+                          "transverse_inertia"})
+    if (m.Has(key) && ((std::string(key) == "mount_radial_stiffness" && !planar) ||
+                       (std::string(key) != "mount_radial_stiffness" && !spatial)))
+      m.ctx().Fail(m.Need(key), std::string("not used with dofs: ") +
+                                    dynamics.Choice("dofs", {"torsional", "planar", "spatial"}, "torsional"));
+  h.mount_damping_ratio = OptScaled(m, Plain("mount_damping_ratio"), 0);
+  return h;
+}
+
 // Scalar options of the dynamics map.
 void ReadDynamicsScalars(const MapReader& m, TrainModelOptions& o) {
   o.mesh_damping_ratio = OptScaled(m, Plain("mesh_damping_ratio"), 0);
@@ -303,7 +332,7 @@ void ReadTrainDynamics(const Context& ctx, const std::optional<Item>& item, Gear
                                    "brake_stiffness", "bearing_stiffness", "axial_bearing_stiffness",
                                    "tilt_bearing_stiffness", "bearing_damping", "port_loads",
                                    "stage_phase_cycles", "members", "meshes", "backlash", "backlash_um",
-                                   "flexible_bodies", "mesh_model", "tooth_contact"};
+                                   "flexible_bodies", "mesh_model", "tooth_contact", "housing"};
   Append(allowed, Names(LengthMm("stage_spacing")));
   const MapReader m(ctx, *item, allowed,
                     {{"damping_ratio", "write 'mesh_damping_ratio'"},
@@ -339,6 +368,7 @@ void ReadTrainDynamics(const Context& ctx, const std::optional<Item>& item, Gear
       r.sources.dynamics_entries.emplace_back(name, entry);
     }
   }
+  if (const auto h = m.Find("housing")) o.housing = ReadHousing(m, *h);
   ReadMeshModel(m, o);
   ReadToothContact(ctx, m.Find("tooth_contact"), names, o.contact);
   ReadDynamicsScalars(m, o);

@@ -80,6 +80,24 @@ std::shared_ptr<const PlanetaryTrain> MakeSeed002WindTurbineStage() {
   return std::move(b).Finalize();
 }
 
+GearTrainDescription MakeSeed003StageDescription(double sun_speed_rad_s) {
+  GearTrainDescription d;
+  d.train.stages.push_back(SinglePlanetStageSpec{
+      .name = "S", .sun = {22}, .planet = {14}, .ring = {50}, .num_planets = 3,
+      .tooth_form = Spur(4e-3, 22.5)});
+  d.train.stage_face_widths_m["S"] = 0.04;
+  d.train.ranges = {{.name = "steer"}};
+  d.train.inputs = {"S.ring", "S.sun"};
+  d.train.output = "S.carrier";
+  d.range = "steer";
+  TrainModelOptions& o = d.options;
+  o.input = TrainModelOptions::Input::kSpeed;
+  o.input_speed_functions = {TimeFunction::Constant(80.6), TimeFunction::Constant(sun_speed_rad_s)};
+  o.output_port_torque_n_m = -6000;
+  o.operating_speeds_rad_s = {80.6, sun_speed_rad_s};
+  return d;
+}
+
 std::shared_ptr<const PlanetaryTrain> MakeSeed003SteeringDifferential() {
   PlanetaryTrainBuilder b;
   b.AddSinglePlanetStage({.name = "S", .sun = {22}, .planet = {14}, .ring = {50},

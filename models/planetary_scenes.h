@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "models/planetary_train.h"
+#include "models/train_description.h"
 
 namespace orrery::gears {
 
@@ -46,5 +47,14 @@ std::shared_ptr<const PlanetaryTrain> MakeSeed002WindTurbineStage();
 // 3 planets, no tooth form (module not given). Two inputs, S.ring then S.sun (speed vector order),
 // output S.carrier, range "steer" with nothing engaged (2 DOF).
 std::shared_ptr<const PlanetaryTrain> MakeSeed003SteeringDifferential();
+
+// Seed 003's stage as a scene description (train_description.h), the stage of
+// models/scenes/seed003_*.yaml: 22/14/50, 3 planets, and the gear data the paper does not give:
+// module 4 mm, pressure angle 22.5 deg (a 14-tooth planet undercuts at 20 deg; at 25 deg the rack
+// fillets overlap), face width 40 mm. The ring driven at +80.6 rad/s and the sun at
+// `sun_speed_rad_s` (case 1: -10, case 2: -30: the sun turns against the ring), 6000 N m on the
+// carrier against its rotation (output_port_torque_n_m = -6000 at these speeds). Torsional,
+// lumped meshes with c_gamma b: set the fidelity on the returned options.
+GearTrainDescription MakeSeed003StageDescription(double sun_speed_rad_s = -10);
 
 }  // namespace orrery::gears

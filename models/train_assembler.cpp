@@ -192,6 +192,7 @@ TrainModel BuildTrainModel(const PlanetaryTrain& train, int range, const TrainMo
   TrainAssembly a(train, range, options);
   ResolveOperatingPoint(a);
   ResolveBodyParameters(a);
+  AddHousing(a);
   AddMembers(a);
   AddPlanets(a);
   AddMeshes(a);

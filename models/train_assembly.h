@@ -56,6 +56,8 @@ struct TrainAssembly {
   JointIndex GearJoint(int gear, int branch) const;
   FrameIndex GearMeshFrame(int gear, int branch) const;
   const TrainBodyParams& GearParams(int gear) const;
+  // The body the members' joints and bearings seat in: the housing, or the world.
+  BodyIndex HousingBody() const { return tm.housing_body >= 0 ? tm.housing_body : kWorldBody; }
   // The override of a member or planet set by name (an empty one if none).
   const TrainMemberOverride& Override(const std::string& name) const;
   // The flexible body of that name, or nullptr.
@@ -75,6 +77,7 @@ const std::string& TrainGearOwnerName(const PlanetaryTrain& train, int g);
 // The stages, in the order BuildTrainModel calls them (train_dynamics.h).
 void ResolveOperatingPoint(TrainAssembly& a);   // train_operating_point.cpp
 void ResolveBodyParameters(TrainAssembly& a);   // train_bodies.cpp
+void AddHousing(TrainAssembly& a);              // train_members.cpp
 void AddMembers(TrainAssembly& a);              // train_members.cpp
 void AddPlanets(TrainAssembly& a);              // train_members.cpp
 // A torsional spring of member `member` to ground (brakes, k_jg; train_members.cpp).

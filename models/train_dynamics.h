@@ -142,6 +142,15 @@
 // of a flexible gear use its FE tooth surfaces (models/train_contact.h). A flexible carrier is
 // not supported (its planets' pins would need joints on its interface nodes).
 //
+// Housing (`housing`): a rigid body named "housing" on a joint to the ground of the DOF set's
+// type (torsional: turning about the axis; planar: x, y and turning; spatial: free), held by
+// elastic mounts (coordinate springs on its joint, or a 6-DOF bushing in the spatial set). The
+// central members' joints, bearings, brakes and springs to ground seat in it instead of the
+// ground, so that the mesh and bearing forces reach it through a transfer path and a sensor on it
+// measures what an accelerometer on a gearbox case does (McFadden & Smith 1985: each planet's
+// mesh seen through a path that changes as the planet passes). Speed drivers then drive a member
+// relative to the housing (the motor sits in it).
+//
 // Usage:
 //   auto train = MakeSeed001AutomaticTransmission();
 //   TrainModelOptions o;
@@ -227,6 +236,19 @@ struct TrainMeshOverride {
   std::optional<std::vector<double>> phase_cycles;      // per branch, replaces the derived phase
                                                         // (over table_cycles cycles)
   std::optional<MeshStiffnessSource> stiffness_source;  // replaces mesh_stiffness_source
+};
+
+// A gearbox housing (header, "Housing"): a rigid body on elastic mounts to the ground.
+struct TrainHousing {
+  double mass_kg = 0;
+  double polar_inertia_kg_m2 = 0;         // about the train axis
+  double transverse_inertia_kg_m2 = 0;    // about a diameter (spatial; 0: half the polar)
+  double mount_radial_stiffness_n_per_m = 0;         // x and y (planar, spatial)
+  double mount_axial_stiffness_n_per_m = 0;          // z (spatial)
+  double mount_torsional_stiffness_n_m_per_rad = 0;  // about the axis
+  double mount_tilt_stiffness_n_m_per_rad = 0;       // about x and y (spatial)
+  double mount_damping_ratio = 0;   // per mount direction: c = 2 zeta sqrt(k m), m the housing's
+                                    // mass or inertia in that direction
 };
 
 // A flexible body of the train (header, "Flexible bodies").
@@ -315,6 +337,9 @@ struct TrainModelOptions {
   // Flexible bodies, by body name: planets by set name and branch number ("S.planet1"), central
   // members by member name ("S.sun", "S.ring").
   std::unordered_map<std::string, TrainFlexibleBody> flexible_bodies;
+
+  // A housing the central members seat in (none: they seat in the ground).
+  std::optional<TrainHousing> housing;
 };
 
 // Resolved lumped parameters of a member or planet set (filled by BuildTrainModel).
@@ -369,6 +394,8 @@ struct TrainModel {
   double input_torque_Nm = 0;           // as used (given, or from output_port_torque_n_m)
   std::vector<JointIndex> member_joints;             // (members)
   std::vector<std::vector<JointIndex>> planet_joints;  // (planet sets) x (branches)
+  BodyIndex housing_body = -1;                       // the housing, -1 without one
+  JointIndex housing_joint = -1;
   std::vector<BodyIndex> member_bodies;              // (members)
   std::vector<std::vector<BodyIndex>> planet_bodies;   // (planet sets) x (branches)
   std::vector<TrainBodyParams> member_params;        // (members)

@@ -3,6 +3,8 @@
 // pins, joint frames turned by the planet angle psi (x radial, y tangential), with their pin
 // bearings. A body named in TrainModelOptions::flexible_bodies is its reduced FE body instead of
 // a rigid one.
+#include <cmath>
+
 #include "models/train_assembly.h"
 
 namespace orrery::gears {
@@ -65,11 +67,46 @@ void AddTrainGroundSpring(TrainAssembly& a, const std::string& name, int member,
   const JointIndex j = a.tm.member_joints[member];
   if (a.spatial) {
     const BodyIndex body = a.b.draft().joints[j].spec.child;
-    const FrameIndex housing = a.b.AddFrame(name + "_ground", kWorldBody, a.b.draft().joints[j].spec.X_PF);
+    const FrameIndex housing = a.b.AddFrame(name + "_ground", a.HousingBody(), a.b.draft().joints[j].spec.X_PF);
     a.b.AddRotationalSpring({.name = name, .frame_a = housing, .frame_b = a.b.body_frame(body), .stiffness = k});
   } else {
     a.b.AddCoordinateSpring({.name = name, .joint = j, .coordinate = a.rot, .stiffness = k});
   }
+}
+
+void AddHousing(TrainAssembly& a) {
+  if (!a.o.housing) return;
+  const TrainHousing& h = *a.o.housing;
+  if (!(h.mass_kg > 0) || !(h.polar_inertia_kg_m2 > 0))
+    FailTrain("housing: mass and polar inertia must be > 0");
+  const double transverse = h.transverse_inertia_kg_m2 > 0 ? h.transverse_inertia_kg_m2 : 0.5 * h.polar_inertia_kg_m2;
+  const BodyIndex body = a.b.AddBody("housing", h.mass_kg, Vec3::Zero(), AxisymmetricInertia(h.polar_inertia_kg_m2, transverse));
+  const JointIndex j = a.b.AddJoint({.name = "housing", .type = a.joint_type, .parent = kWorldBody, .child = body,
+                                     .axis = Vec3::UnitZ(), .axis2 = Vec3::UnitX()});
+  a.tm.housing_body = body;
+  a.tm.housing_joint = j;
+  // Mounts: springs with damping c = 2 zeta sqrt(k m) on the joint's coordinates (torsional,
+  // planar), or a 6-DOF bushing to the ground (spatial).
+  auto damping = [&](double k, double m) { return 2 * h.mount_damping_ratio * std::sqrt(k * m); };
+  const double kr = h.mount_radial_stiffness_n_per_m, kt = h.mount_torsional_stiffness_n_m_per_rad;
+  if (a.spatial) {
+    const double ka = h.mount_axial_stiffness_n_per_m, kb = h.mount_tilt_stiffness_n_m_per_rad;
+    const Vec6 k(kr, kr, ka, kb, kb, kt);  // the bushing's deflection: translation, rotation
+    const Vec6 m(h.mass_kg, h.mass_kg, h.mass_kg, transverse, transverse, h.polar_inertia_kg_m2);
+    Vec6 c;
+    for (int i = 0; i < 6; ++i) c(i) = damping(k(i), m(i));
+    BushingSpec mount{.name = "housing_mount", .frame_a = kWorldFrame, .frame_b = a.b.body_frame(body)};
+    mount.stiffness = k.asDiagonal();
+    mount.damping = c.asDiagonal();
+    a.b.AddBushing(mount);
+    return;
+  }
+  if (!a.torsional)
+    for (int k = 0; k < 2; ++k)
+      a.b.AddCoordinateSpring({.name = k ? "housing_mount_y" : "housing_mount_x", .joint = j, .coordinate = k,
+                               .stiffness = kr, .damping = damping(kr, h.mass_kg)});
+  a.b.AddCoordinateSpring({.name = "housing_mount_torsion", .joint = j, .coordinate = a.rot, .stiffness = kt,
+                           .damping = damping(kt, h.polar_inertia_kg_m2)});
 }
 
 void AddMembers(TrainAssembly& a) {
@@ -79,7 +116,7 @@ void AddMembers(TrainAssembly& a) {
     const TrainMemberOverride& ov = a.Override(m.name);
     const BodyIndex body = AddTrainBody(a, m.name, a.tm.member_params[i]);
     const Vec3 origin(0, 0, a.spatial ? m.stage * spacing : 0.0);
-    const JointIndex j = a.b.AddJoint({.name = m.name, .type = a.joint_type, .parent = kWorldBody,
+    const JointIndex j = a.b.AddJoint({.name = m.name, .type = a.joint_type, .parent = a.HousingBody(),
                                        .child = body, .X_PF = Transform(Mat3::Identity(), origin),
                                        .axis = Vec3::UnitZ(), .axis2 = Vec3::UnitX()});
     a.tm.member_bodies.push_back(body);
@@ -88,7 +125,7 @@ void AddMembers(TrainAssembly& a) {
     a.b.SetJointVelocity(j, a.JointVelocity(a.tm.kinematics.speeds_rad_s(i)));
     // Bearings to the housing.
     const FrameIndex housing =
-        a.spatial ? a.b.AddFrame(m.name + "_housing", kWorldBody, Transform(Mat3::Identity(), origin)) : kWorldFrame;
+        a.spatial ? a.b.AddFrame(m.name + "_housing", a.HousingBody(), Transform(Mat3::Identity(), origin)) : kWorldFrame;
     AddTrainBearing(a, m.name, housing, body, j, ov);
     if (ov.ground_torsional_stiffness_N_m_rad)
       AddTrainGroundSpring(a, m.name + "_ground", i, *ov.ground_torsional_stiffness_N_m_rad);

@@ -14,27 +14,17 @@
 #include "mbd/hdf5_reader.h"
 #include "mbd/result_file.h"
 #include "mbd/simulation.h"
+#include "models/planetary_scenes.h"
 #include "models/train_description.h"
 
 using namespace orrery;
 using namespace orrery::gears;
 
 int main() {
-  const double pi = 3.14159265358979323846;
-  // The train: one single-planet stage, the ring and the sun driven, the carrier the output.
-  GearTrainDescription d;
-  d.train.stages.push_back(SinglePlanetStageSpec{
-      .name = "S", .sun = {22}, .planet = {14}, .ring = {50}, .num_planets = 3,
-      .tooth_form = ToothForm{.normal_module_m = 4e-3, .normal_pressure_angle_rad = 22.5 * pi / 180}});
-  d.train.stage_face_widths_m["S"] = 0.04;
-  d.train.ranges = {{.name = "steer"}};
-  d.train.inputs = {"S.ring", "S.sun"};
-  d.train.output = "S.carrier";
-  // Speeds on both inputs; 6000 N m on the carrier (its sign: against its rotation).
+  // Seed 003's stage (models/planetary_scenes.h), with the sun at +10 rad/s as
+  // seed003_contact_stage.yaml has it.
+  GearTrainDescription d = MakeSeed003StageDescription(10);
   TrainModelOptions& o = d.options;
-  o.input = TrainModelOptions::Input::kSpeed;
-  o.input_speeds_rad_s = {80.6, 10.0};
-  o.output_port_torque_n_m = -6000.0;
   // Tooth contact on every mesh: 40 involute intervals per flank, 20 um backlash, the penalty
   // calibrated to ISO 6336 c' b at the branches' static force along the line of action.
   o.mesh_model = MeshModel::kContact;

@@ -19,6 +19,7 @@
 #include "mbd/result_file.h"
 #include "mbd/simulation.h"
 #include "models/gear_fe_mesh.h"
+#include "models/planetary_scenes.h"
 #include "models/train_description.h"
 
 using namespace orrery;
@@ -48,19 +49,9 @@ std::shared_ptr<const FlexibleBodyModes> ReducePlanet() {
 }  // namespace
 
 int main() {
-  GearTrainDescription d;
-  // The train: one single-planet stage, ring and sun driven, the carrier the output.
-  d.train.stages.push_back(SinglePlanetStageSpec{
-      .name = "S", .sun = {22}, .planet = {14}, .ring = {50}, .num_planets = 3,
-      .tooth_form = ToothForm{.normal_module_m = 4e-3, .normal_pressure_angle_rad = 22.5 * kPi / 180}});
-  d.train.stage_face_widths_m["S"] = 0.04;
-  d.train.ranges = {{.name = "steer"}};
-  d.train.inputs = {"S.ring", "S.sun"};
-  d.train.output = "S.carrier";
+  // Seed 003's stage (models/planetary_scenes.h): ring +80.6 rad/s, sun -10 rad/s, 6000 N m.
+  GearTrainDescription d = MakeSeed003StageDescription(-10);
   TrainModelOptions& o = d.options;
-  o.input = TrainModelOptions::Input::kSpeed;
-  o.input_speed_functions = {TimeFunction::Constant(80.6), TimeFunction::Constant(-10)};
-  o.output_port_torque_n_m = -6000;
   // Fidelity: lumped TVMS meshes by default, tooth contact on planet 1's two branches, planet 1
   // flexible.
   o.mesh_model = MeshModel::kLumped;

@@ -73,7 +73,9 @@ TEST(ContactPointRecord, GearElementRecordsItsLargestPointsOnGearOne) {
   double sum = 0;
   for (int k = 0; k < 10; ++k) {
     EXPECT_GT(force[k], 0);
-    if (k > 0) EXPECT_LE(force[k], force[k - 1]);
+    if (k > 0) {
+      EXPECT_LE(force[k], force[k - 1]);
+    }
     sum += force[k];
     // In body 1's frame, gear 1's frame is turned by 0.3 about z: radius and height unchanged.
     const double r = std::hypot(pos[3 * k], pos[3 * k + 1]);

@@ -6,7 +6,6 @@
 // data a program can change and assemble again (the healthy twin of a study, a fidelity swap).
 #include <cmath>
 #include <filesystem>
-#include <numbers>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -17,6 +16,7 @@
 #include "mbd/result_file.h"
 #include "mbd/simulation.h"
 #include "mbd/state.h"
+#include "models/planetary_scenes.h"
 #include "models/train_description.h"
 
 namespace orrery {
@@ -40,20 +40,8 @@ Scene LoadMixedScene() {
 
 // The description of models/examples/mixed_fidelity_stage.cpp, with the planet's modes given.
 GearTrainDescription CxxDescription(std::shared_ptr<const FlexibleBodyModes> planet_modes) {
-  const double deg = std::numbers::pi / 180;
-  GearTrainDescription d;
-  d.train.stages.push_back(SinglePlanetStageSpec{
-      .name = "S", .sun = {22}, .planet = {14}, .ring = {50}, .num_planets = 3,
-      .tooth_form = ToothForm{.normal_module_m = 4e-3, .normal_pressure_angle_rad = 22.5 * deg}});
-  d.train.stage_face_widths_m["S"] = 0.04;
-  d.train.ranges = {{.name = "steer"}};
-  d.train.inputs = {"S.ring", "S.sun"};
-  d.train.output = "S.carrier";
+  GearTrainDescription d = MakeSeed003StageDescription(-10);
   TrainModelOptions& o = d.options;
-  o.input = TrainModelOptions::Input::kSpeed;
-  o.input_speed_functions = {TimeFunction::Constant(80.6), TimeFunction::Constant(-10)};
-  o.output_port_torque_n_m = -6000;
-  o.operating_speeds_rad_s = {80.6, -10};
   o.mesh_model = MeshModel::kLumped;
   o.mesh_stiffness_source = MeshStiffnessSource::kTvms;
   o.mesh_models["S.sun-planet#1"] = MeshModel::kContact;

@@ -259,7 +259,9 @@ TEST(GearCli, ModesOfSeed001AndOfAGenericScene) {
     ASSERT_EQ(ModesCommand(args, out, err), kExitSuccess) << err.str();
     const Json j = ParseJson(out.str());
     ASSERT_FALSE(j["modes"].array.empty());
-    if (name == "pendulum.yaml") EXPECT_EQ(j["modes"].array[0]["class"].string, "mode");
+    if (name == "pendulum.yaml") {
+      EXPECT_EQ(j["modes"].array[0]["class"].string, "mode");
+    }
     else EXPECT_EQ(j["modes"].array[0]["class"].string, "rigid_body");  // a free train (Table 3)
   }
 }

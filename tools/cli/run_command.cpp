@@ -11,6 +11,7 @@
 #include "mbd/hdf5_reader.h"
 #include "mbd/result_file.h"
 #include "mbd/xdmf_writer.h"
+#include "tools/cli/kinematic_lines_writer.h"
 #include "tools/cli/error_message.h"
 #include "tools/cli/interrupt.h"
 #include "tools/cli/progress_bar.h"
@@ -206,6 +207,7 @@ int RunCommand(const RunArgs& args, std::ostream& out, std::ostream& err) {
   try {
     result = ResultFile::Create(output_path);
     WriteStudyAttributes(*result, args.study_attributes);
+    WriteKinematicLines(*scene, *result);
   } catch (const std::exception& e) {
     ReportError(err, e.what());
     return kExitFailure;
