@@ -135,7 +135,7 @@ void ReadGearTrain(const Context& ctx, const Item& section, Scene& scene) {
   g->range = a.range;
   g->input_speed_functions = r.input_speed_functions;
   g->input_speeds_rad_s = r.input_speeds_rad_s;
-  g->input_torque_Nm = a.model.input_torque_Nm;
+  g->input_torque_n_m = a.model.input_torque_n_m;
   g->mesh_stiffness = r.mesh_stiffness;
   g->options = a.options;
   g->model = std::make_shared<const gears::TrainModel>(std::move(a.model));

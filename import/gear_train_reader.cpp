@@ -265,12 +265,12 @@ void ReadDrive(const Context& ctx, const MapReader& m, const Item& section, doub
     m.FailMissing("input_speed", "'drive: speed' needs 'input_speed' (or 'input_speed_rpm', 'input_speeds')");
   if (m.Has("input_torque") && m.Has("output_torque"))
     ctx.Fail(m.Need("output_torque"), "give either 'input_torque' or 'output_torque', not both");
-  if (m.Has("input_torque")) o.input_torque_Nm = m.Number("input_torque");
+  if (m.Has("input_torque")) o.input_torque_n_m = m.Number("input_torque");
   if (m.Has("output_torque")) {
     o.output_port_torque_n_m = m.Number("output_torque");
     o.operating_speeds_rad_s = r.input_speeds_rad_s;
   }
-  if (drive == "torque" && o.input_torque_Nm == 0 && o.output_port_torque_n_m.value_or(0) == 0)
+  if (drive == "torque" && o.input_torque_n_m == 0 && o.output_port_torque_n_m.value_or(0) == 0)
     ctx.Fail(section, "'drive: torque' needs a non-zero 'input_torque' or 'output_torque'");
   o.input = drive == "speed" ? gears::TrainModelOptions::Input::kSpeed
             : drive == "torque" ? gears::TrainModelOptions::Input::kTorque

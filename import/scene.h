@@ -67,7 +67,7 @@ struct GearTrainScene {
   std::vector<double> input_speeds_rad_s;          // operating point of the analyses: per input,
                                                    // the function's value of largest magnitude
                                                    // over [0, solver.end_time]
-  double input_torque_Nm = 0;                      // on train->inputs[0] (from input_torque, or
+  double input_torque_n_m = 0;                      // on train->inputs[0] (from input_torque, or
                                                    // from output_torque through the power flow)
   std::string mesh_stiffness;                      // "c_gamma" (default), "value", "iso6336",
                                                    // "tvms", "tvms_mean"

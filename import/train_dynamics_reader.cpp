@@ -38,12 +38,12 @@ gears::TrainMemberOverride ReadMemberOverride(const Context& ctx, const Item& it
   positive(LengthMm("face_width"), o.face_width_m);
   non_negative(RadiusKeys("bore"), o.bore_radius_m);
   positive(RadiusKeys("outer"), o.outer_radius_m);
-  non_negative(Plain("bearing_stiffness"), o.radial_bearing_stiffness_N_m);
-  non_negative(Plain("axial_bearing_stiffness"), o.axial_bearing_stiffness_N_m);
-  non_negative(Plain("tilt_bearing_stiffness"), o.tilt_bearing_stiffness_N_m_rad);
-  non_negative(Plain("bearing_damping"), o.bearing_damping_N_s_m);
-  non_negative(Plain("ground_torsional_stiffness"), o.ground_torsional_stiffness_N_m_rad);
-  positive(Plain("brake_stiffness"), o.brake_stiffness_N_m_rad);
+  non_negative(Plain("bearing_stiffness"), o.radial_bearing_stiffness_n_per_m);
+  non_negative(Plain("axial_bearing_stiffness"), o.axial_bearing_stiffness_n_per_m);
+  non_negative(Plain("tilt_bearing_stiffness"), o.tilt_bearing_stiffness_n_m_per_rad);
+  non_negative(Plain("bearing_damping"), o.bearing_damping_n_s_per_m);
+  non_negative(Plain("ground_torsional_stiffness"), o.ground_torsional_stiffness_n_m_per_rad);
+  positive(Plain("brake_stiffness"), o.brake_stiffness_n_m_per_rad);
   return o;
 }
 
@@ -70,10 +70,10 @@ void ReadMeshEntry(const Context& ctx, const Item& item, const std::string& name
   const MapReader m(ctx, item, allowed);
   if (m.Has("model")) options.mesh_models[name] = ToMeshModel(m.Choice("model", {"kinematic", "lumped", "contact"}));
   gears::TrainMeshOverride o;
-  if (m.Has("stiffness")) o.stiffness_N_m = NeedScaled(m, Plain("stiffness"));
+  if (m.Has("stiffness")) o.stiffness_n_per_m = NeedScaled(m, Plain("stiffness"));
   if (const auto t = m.Find("stiffness_table")) {
-    o.stiffness_table_N_m = ToNumbers(ctx, *t, -1);
-    if (o.stiffness_table_N_m->empty()) ctx.Fail(*t, "needs at least one value");
+    o.stiffness_table_n_per_m = ToNumbers(ctx, *t, -1);
+    if (o.stiffness_table_n_per_m->empty()) ctx.Fail(*t, "needs at least one value");
   }
   if (m.Has("table_cycles")) {
     o.table_cycles = m.Int("table_cycles", 1);
@@ -261,18 +261,18 @@ void ReadDynamicsScalars(const MapReader& m, TrainModelOptions& o) {
   o.mesh_phasing = m.Bool("mesh_phasing", true);
   o.port_loads = m.Bool("port_loads", true);
   o.unloaded_mesh_stiffness_factor = OptScaled(m, Plain("unloaded_mesh_stiffness_factor"), o.unloaded_mesh_stiffness_factor, true);
-  o.mesh_stiffness_per_face_width_N_m2 = OptScaled(m, Plain("mesh_stiffness_per_face_width"), o.mesh_stiffness_per_face_width_N_m2, true);
+  o.mesh_stiffness_per_face_width_n_per_m2 = OptScaled(m, Plain("mesh_stiffness_per_face_width"), o.mesh_stiffness_per_face_width_n_per_m2, true);
   o.density_kg_m3 = OptScaled(m, Plain("density"), o.density_kg_m3, true);
   o.bore_to_pitch_ratio = OptScaled(m, Plain("bore_to_pitch_ratio"), o.bore_to_pitch_ratio);
   o.ring_rim_modules = OptScaled(m, Plain("ring_rim_modules"), o.ring_rim_modules, true);
   o.stage_spacing_m = OptScaled(m, LengthMm("stage_spacing"), 0);
-  o.connection_stiffness_N_m_rad = OptScaled(m, Plain("connection_stiffness"), o.connection_stiffness_N_m_rad, true);
-  o.clutch_stiffness_N_m_rad = OptScaled(m, Plain("clutch_stiffness"), o.clutch_stiffness_N_m_rad, true);
-  o.brake_stiffness_N_m_rad = OptScaled(m, Plain("brake_stiffness"), o.brake_stiffness_N_m_rad, true);
-  o.radial_bearing_stiffness_N_m = OptScaled(m, Plain("bearing_stiffness"), o.radial_bearing_stiffness_N_m);
-  o.axial_bearing_stiffness_N_m = OptScaled(m, Plain("axial_bearing_stiffness"), o.axial_bearing_stiffness_N_m);
-  o.tilt_bearing_stiffness_N_m_rad = OptScaled(m, Plain("tilt_bearing_stiffness"), o.tilt_bearing_stiffness_N_m_rad);
-  o.bearing_damping_N_s_m = OptScaled(m, Plain("bearing_damping"), 0);
+  o.connection_stiffness_n_m_per_rad = OptScaled(m, Plain("connection_stiffness"), o.connection_stiffness_n_m_per_rad, true);
+  o.clutch_stiffness_n_m_per_rad = OptScaled(m, Plain("clutch_stiffness"), o.clutch_stiffness_n_m_per_rad, true);
+  o.brake_stiffness_n_m_per_rad = OptScaled(m, Plain("brake_stiffness"), o.brake_stiffness_n_m_per_rad, true);
+  o.radial_bearing_stiffness_n_per_m = OptScaled(m, Plain("bearing_stiffness"), o.radial_bearing_stiffness_n_per_m);
+  o.axial_bearing_stiffness_n_per_m = OptScaled(m, Plain("axial_bearing_stiffness"), o.axial_bearing_stiffness_n_per_m);
+  o.tilt_bearing_stiffness_n_m_per_rad = OptScaled(m, Plain("tilt_bearing_stiffness"), o.tilt_bearing_stiffness_n_m_per_rad);
+  o.bearing_damping_n_s_per_m = OptScaled(m, Plain("bearing_damping"), 0);
   if (const auto p = m.Find("stage_phase_cycles")) o.stage_phase_cycles = ToNumbers(m.ctx(), *p, -1);
 }
 

@@ -51,15 +51,15 @@ TrainModelOptions OperatingPointOptions(const TrainModel& tm) {
   TrainModelOptions o = tm.options;
   if (o.input == TrainModelOptions::Input::kTorque) o.input = TrainModelOptions::Input::kNone;
   o.port_loads = false;
-  o.output_torque_Nm.reset();
+  o.output_torque_n_m.reset();
   o.two_sided_contact = false;
   o.backlash_m = 0;
   o.tooth_faults.clear();
   for (const TrainMeshElement& e : tm.meshes) {
     TrainMeshOverride& ov = o.meshes[tm.train->meshes[e.train_mesh].name];
     // The stiffness as used, before the unloaded factor that the build applies again.
-    ov.stiffness_N_m = e.stiffness_N_m / (e.loaded ? 1.0 : o.unloaded_mesh_stiffness_factor);
-    ov.stiffness_table_N_m.reset();
+    ov.stiffness_n_per_m = e.stiffness_n_per_m / (e.loaded ? 1.0 : o.unloaded_mesh_stiffness_factor);
+    ov.stiffness_table_n_per_m.reset();
     ov.ste_amplitudes_m = std::vector<double>{};
     ov.ste_phases_rad = std::vector<double>{};
   }
@@ -253,7 +253,7 @@ ForcedResponse CalcForcedResponse(const TrainModel& tm, const TrainModes& modes,
   ForcedResponse fr;
   fr.input_speeds_rad_s = o.input_speeds_rad_s;
   fr.stage_mesh_frequencies_hz.setZero(nspeeds, ns);
-  fr.mesh_force_p2p_N.setZero(nspeeds, nmesh);
+  fr.mesh_force_p2p_n.setZero(nspeeds, nmesh);
   fr.mesh_deflection_p2p_m.setZero(nspeeds, nmesh);
   fr.member_angle_p2p_rad.setZero(nspeeds, nmem);
   // Work arrays, sized once for the sweep.
@@ -300,7 +300,7 @@ ForcedResponse CalcForcedResponse(const TrainModel& tm, const TrainModes& modes,
         out(k, row) = hi - lo;
       }
     };
-    p2p(F, fr.mesh_force_p2p_N);
+    p2p(F, fr.mesh_force_p2p_n);
     p2p(X, fr.mesh_deflection_p2p_m);
     p2p(A, fr.member_angle_p2p_rad);
   }

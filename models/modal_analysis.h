@@ -95,7 +95,7 @@ struct ForcedResponseOptions {
 struct ForcedResponse {
   std::vector<double> input_speeds_rad_s;
   Eigen::MatrixXd stage_mesh_frequencies_hz;  // speeds x stages
-  Eigen::MatrixXd mesh_force_p2p_N;           // speeds x meshes: k (J q - e), seed 001 eq. 18
+  Eigen::MatrixXd mesh_force_p2p_n;           // speeds x meshes: k (J q - e), seed 001 eq. 18
   Eigen::MatrixXd mesh_deflection_p2p_m;      // speeds x meshes: J q, the motion along the line
   Eigen::MatrixXd member_angle_p2p_rad;       // speeds x members (seed 001 Fig. 7)
 };

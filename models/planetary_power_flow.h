@@ -22,7 +22,7 @@
 //
 // Usage:
 //   PlanetaryPowerFlow p = CalcPlanetaryPowerFlow(*train, kin, train->inputs[0], 300.0);
-//   double f = p.mesh_tangential_forces_N(train->MeshIndex("S1.sun-planet"));
+//   double f = p.mesh_tangential_forces_n(train->MeshIndex("S1.sun-planet"));
 #include <vector>
 
 #include <Eigen/Core>
@@ -36,27 +36,27 @@ namespace orrery::gears {
 // (planet sets), positive in the positive sense of rotation, in N m.
 struct PlanetaryPowerFlow {
   int range = -1;
-  Eigen::VectorXd port_torques_Nm;         // (members) external torque at the ports, 0 elsewhere
-  Eigen::VectorXd external_torques_Nm;     // (members) ports + brake reactions
-  Eigen::VectorXd mesh_torques_Nm;         // (members) torque of the stage's meshes on the member
+  Eigen::VectorXd port_torques_n_m;         // (members) external torque at the ports, 0 elsewhere
+  Eigen::VectorXd external_torques_n_m;     // (members) ports + brake reactions
+  Eigen::VectorXd mesh_torques_n_m;         // (members) torque of the stage's meshes on the member
                                            //  (carrier: pin reactions); 0 = member unloaded
-  Eigen::VectorXd connection_torques_Nm;   // (connections) torque applied to member_b (-a's)
-  Eigen::VectorXd clutch_torques_Nm;       // (clutches) same; 0 when disengaged
-  Eigen::VectorXd brake_torques_Nm;        // (brakes) torque of the ground on the member; 0 released
-  Eigen::VectorXd mesh_loads_Nm;           // (meshes) lambda, torque per tooth, all branches
-  Eigen::VectorXd mesh_gear_a_torques_Nm;  // (meshes) Z_a lambda, on gear a, all branches
-  Eigen::VectorXd mesh_tangential_forces_N;      // (meshes) F_t per planet (eq. 6); NaN w/o form
-  Eigen::VectorXd mesh_line_of_action_forces_N;  // (meshes) F_bt per planet; NaN without form
-  Eigen::VectorXd mesh_normal_forces_N;          // (meshes) F_n per planet; NaN without form
+  Eigen::VectorXd connection_torques_n_m;   // (connections) torque applied to member_b (-a's)
+  Eigen::VectorXd clutch_torques_n_m;       // (clutches) same; 0 when disengaged
+  Eigen::VectorXd brake_torques_n_m;        // (brakes) torque of the ground on the member; 0 released
+  Eigen::VectorXd mesh_loads_n_m;           // (meshes) lambda, torque per tooth, all branches
+  Eigen::VectorXd mesh_gear_a_torques_n_m;  // (meshes) Z_a lambda, on gear a, all branches
+  Eigen::VectorXd mesh_tangential_forces_n;      // (meshes) F_t per planet (eq. 6); NaN w/o form
+  Eigen::VectorXd mesh_line_of_action_forces_n;  // (meshes) F_bt per planet; NaN without form
+  Eigen::VectorXd mesh_normal_forces_n;          // (meshes) F_n per planet; NaN without form
   std::vector<bool> mesh_loaded;           // (meshes)
   std::vector<bool> member_loaded;         // (members) |mesh torque| above the tolerance
   std::vector<bool> stage_loaded;          // (stages) any mesh loaded; unloaded stages add zero
                                            //  modes to the dynamic model (seed 001 Table 3)
-  double input_power_W = 0;                // sum over inputs of T w
-  double output_power_W = 0;               // -T_out w_out
-  double torque_residual_Nm = 0;           // |sum of external torques|
-  double power_residual_W = 0;             // |sum over ports of T w|
-  double load_tolerance_Nm = 0;            // threshold used for the *_loaded flags
+  double input_power_w = 0;                // sum over inputs of T w
+  double output_power_w = 0;               // -T_out w_out
+  double torque_residual_n_m = 0;           // |sum of external torques|
+  double power_residual_w = 0;             // |sum over ports of T w|
+  double load_tolerance_n_m = 0;            // threshold used for the *_loaded flags
 };
 
 // Given the torque on one port member (an input or the output), computes all the above for the
@@ -65,6 +65,6 @@ struct PlanetaryPowerFlow {
 // are indeterminate (e.g. the output is held in that range).
 PlanetaryPowerFlow CalcPlanetaryPowerFlow(const PlanetaryTrain& train,
                                           const PlanetaryKinematics& kinematics, int known_member,
-                                          double known_torque_Nm);
+                                          double known_torque_n_m);
 
 }  // namespace orrery::gears

@@ -33,7 +33,7 @@ TrainModelOptions Seed002DynamicsOptions(const TimeFunction& carrier_speed) {
   o.dofs = TrainDofs::kSpatial;
   o.input = TrainModelOptions::Input::kSpeed;
   o.input_speed_functions = {carrier_speed};
-  o.input_torque_Nm = 3e5;
+  o.input_torque_n_m = 3e5;
   o.face_width_m = 0.33;
   o.members["S.carrier"].polar_inertia_kg_m2 = 15;
   o.members["S.sun"].polar_inertia_kg_m2 = 0.25;
@@ -42,10 +42,10 @@ TrainModelOptions Seed002DynamicsOptions(const TimeFunction& carrier_speed) {
   o.members["S.ring"].profile_shift = 0.27;
   o.mesh_stiffness_source = MeshStiffnessSource::kTvms;
   o.mesh_damping_ratio = 0.05;
-  o.radial_bearing_stiffness_N_m = 2e9;
-  o.axial_bearing_stiffness_N_m = 1e9;
-  o.tilt_bearing_stiffness_N_m_rad = 1e9;
-  o.bearing_damping_N_s_m = 2 * 0.05 * std::sqrt(2e9 * 513.0);  // planet mass 513 kg
+  o.radial_bearing_stiffness_n_per_m = 2e9;
+  o.axial_bearing_stiffness_n_per_m = 1e9;
+  o.tilt_bearing_stiffness_n_m_per_rad = 1e9;
+  o.bearing_damping_n_s_per_m = 2 * 0.05 * std::sqrt(2e9 * 513.0);  // planet mass 513 kg
   return o;
 }
 

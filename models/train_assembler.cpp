@@ -54,8 +54,8 @@ void CheckOptionValues(const PlanetaryTrain& train, const TrainModelOptions& o) 
   }
   if (!o.operating_speeds_rad_s.empty() && static_cast<int>(o.operating_speeds_rad_s.size()) != num_inputs)
     FailTrain("operating_speeds_rad_s needs one speed per train input (" + std::to_string(num_inputs) + ")");
-  if (o.output_port_torque_n_m && o.input_torque_Nm != 0)
-    FailTrain("give input_torque_Nm or output_port_torque_n_m, not both");
+  if (o.output_port_torque_n_m && o.input_torque_n_m != 0)
+    FailTrain("give input_torque_n_m or output_port_torque_n_m, not both");
   if (o.two_sided_contact && !(o.backlash_m >= 0)) FailTrain("backlash must be >= 0");
   if (o.tvms_samples_per_cycle < 2) FailTrain("tvms_samples_per_cycle must be >= 2");
   if (o.mesh_stiffness_n_per_m && !(*o.mesh_stiffness_n_per_m > 0))

@@ -12,13 +12,13 @@ void AddCouplings(TrainAssembly& a) {
     a.b.AddRotationalSpring({.name = name, .frame_a = a.b.body_frame(a.tm.member_bodies[c.member_a]),
                              .frame_b = a.b.body_frame(a.tm.member_bodies[c.member_b]), .stiffness = k});
   };
-  for (const Coupling& c : train.connections) coupling(c.name, c, a.o.connection_stiffness_N_m_rad);
+  for (const Coupling& c : train.connections) coupling(c.name, c, a.o.connection_stiffness_n_m_per_rad);
   const GearRange& gr = train.ranges[a.range];
-  for (int ci : gr.clutches) coupling(train.clutches[ci].name, train.clutches[ci], a.o.clutch_stiffness_N_m_rad);
+  for (int ci : gr.clutches) coupling(train.clutches[ci].name, train.clutches[ci], a.o.clutch_stiffness_n_m_per_rad);
   for (int bi : gr.brakes) {
     const Brake& br = train.brakes[bi];
     const TrainMemberOverride& ov = a.Override(train.members[br.member].name);
-    AddTrainGroundSpring(a, br.name, br.member, ov.brake_stiffness_N_m_rad.value_or(a.o.brake_stiffness_N_m_rad));
+    AddTrainGroundSpring(a, br.name, br.member, ov.brake_stiffness_n_m_per_rad.value_or(a.o.brake_stiffness_n_m_per_rad));
   }
 }
 
@@ -36,19 +36,19 @@ void AddDrives(TrainAssembly& a) {
                                                                  : o.input_speed_functions[i]});
     } else if (o.input == TrainModelOptions::Input::kTorque && i == 0) {
       a.b.AddJointLoad({.name = "torque_" + name, .joint = j, .coordinate = a.rot,
-                        .function = TimeFunction::Constant(a.tm.input_torque_Nm)});
+                        .function = TimeFunction::Constant(a.tm.input_torque_n_m)});
     } else if (o.port_loads && a.load_scale != 0 && i > 0) {
       a.b.AddJointLoad({.name = "torque_" + name, .joint = j, .coordinate = a.rot,
-                        .function = TimeFunction::Constant(a.tm.power_flow.port_torques_Nm(member))});
+                        .function = TimeFunction::Constant(a.tm.power_flow.port_torques_n_m(member))});
     }
   }
   const JointIndex out = a.tm.member_joints[train.output];
   const std::string load = "load_" + train.members[train.output].name;
-  if (o.output_torque_Nm)
-    a.b.AddJointLoad({.name = load, .joint = out, .coordinate = a.rot, .function = *o.output_torque_Nm});
+  if (o.output_torque_n_m)
+    a.b.AddJointLoad({.name = load, .joint = out, .coordinate = a.rot, .function = *o.output_torque_n_m});
   else if (o.port_loads && a.load_scale != 0)
     a.b.AddJointLoad({.name = load, .joint = out, .coordinate = a.rot,
-                      .function = TimeFunction::Constant(a.tm.power_flow.port_torques_Nm(train.output))});
+                      .function = TimeFunction::Constant(a.tm.power_flow.port_torques_n_m(train.output))});
 }
 
 }  // namespace orrery::gears

@@ -96,14 +96,14 @@
 //
 // Mesh stiffness (`mesh_stiffness_source`, per mesh `stiffness_source`):
 //   kGiven:    the per-mesh override, else `mesh_stiffness_n_per_m` for every mesh, else c_gamma b
-//              with `mesh_stiffness_per_face_width_N_m2` (ISO 6336-1's typical 20 N/(mm um)).
+//              with `mesh_stiffness_per_face_width_n_per_m2` (ISO 6336-1's typical 20 N/(mm um)).
 //   kIso6336:  ISO 6336-1 c_gamma_alpha b of the mesh's GearPair (mesh_stiffness.h).
 //   kTvms:     the potential-energy TVMS of the GearPair (CalcTvms) as GearMeshSpec::stiffness_table
 //              over one mesh cycle, `tvms_samples_per_cycle` samples per cycle; with a tooth fault
 //              (`tooth_faults`) on one gear G of the mesh, over Z_G cycles (one turn of G relative
 //              to the carrier) with GearMeshSpec::phase_gear = G.
 //   kTvmsMean: the mean of that TVMS, constant (linear analyses about the mean mesh).
-//   Explicit per-mesh stiffness_N_m / stiffness_table_N_m overrides win over every source.
+//   Explicit per-mesh stiffness_n_per_m / stiffness_table_n_per_m overrides win over every source.
 //   GearPair of a train mesh (MakeTrainGearPair): gear 1 is the spec's gear a (the sun of a
 //   sun-planet mesh, the planet of a ring-planet mesh), gear 2 gear b, at the train's centre
 //   distance (pin radius); module, pressure and helix angle from the train's tooth forms; profile
@@ -155,7 +155,7 @@
 //   auto train = MakeSeed001AutomaticTransmission();
 //   TrainModelOptions o;
 //   o.face_width_m = 0.030;
-//   o.input_torque_Nm = 300;
+//   o.input_torque_n_m = 300;
 //   TrainModel tm = BuildTrainModel(*train, train->RangeIndex("1st"), o);
 //   State x0 = State::Initial(*tm.model);  // members at their kinematic speeds
 //   State x_static = SolveTrainStaticState(tm, x0);  // loads carried, no start-up step response
@@ -211,21 +211,21 @@ struct TrainMemberOverride {
   std::optional<double> face_width_m;
   std::optional<double> bore_radius_m;             // external gears and carriers
   std::optional<double> outer_radius_m;            // rings, carriers
-  std::optional<double> radial_bearing_stiffness_N_m;   // planar, spatial
-  std::optional<double> axial_bearing_stiffness_N_m;    // spatial
-  std::optional<double> tilt_bearing_stiffness_N_m_rad; // spatial
-  std::optional<double> bearing_damping_N_s_m;
-  std::optional<double> ground_torsional_stiffness_N_m_rad;  // a spring to ground in every range
+  std::optional<double> radial_bearing_stiffness_n_per_m;   // planar, spatial
+  std::optional<double> axial_bearing_stiffness_n_per_m;    // spatial
+  std::optional<double> tilt_bearing_stiffness_n_m_per_rad; // spatial
+  std::optional<double> bearing_damping_n_s_per_m;
+  std::optional<double> ground_torsional_stiffness_n_m_per_rad;  // a spring to ground in every range
                                                              // (seed 001 k_jg; Lin & Parker's ring)
-  std::optional<double> brake_stiffness_N_m_rad;   // when a brake on this member is engaged
+  std::optional<double> brake_stiffness_n_m_per_rad;   // when a brake on this member is engaged
   std::optional<double> profile_shift;             // gears: x (ISO 21771), stiffness geometry
   std::optional<double> addendum_coefficient;      // gears: h_a*, stiffness geometry
 };
 
 // Per train mesh ("S1.sun-planet", "S1.ring-planet", ...), applied to all of its branches.
 struct TrainMeshOverride {
-  std::optional<double> stiffness_N_m;
-  std::optional<std::vector<double>> stiffness_table_N_m;  // over table_cycles mesh cycles
+  std::optional<double> stiffness_n_per_m;
+  std::optional<std::vector<double>> stiffness_table_n_per_m;  // over table_cycles mesh cycles
   std::optional<int> table_cycles;
   std::optional<double> working_pressure_angle_rad;  // published lumped data (no centre check)
   std::optional<double> damping_ratio;
@@ -262,7 +262,7 @@ struct TrainModelOptions {
   TrainDofs dofs = TrainDofs::kTorsional;
 
   // Ports. kSpeed: every input driven at its speed (a velocity constraint); kTorque: the first
-  // input loaded by input_torque_Nm; kNone: no input element (a free train, seed 001's modal
+  // input loaded by input_torque_n_m; kNone: no input element (a free train, seed 001's modal
   // model). The other ports (further inputs, the output) carry their power-flow torques when
   // port_loads is set.
   enum class Input { kNone, kTorque, kSpeed } input = Input::kTorque;
@@ -271,13 +271,13 @@ struct TrainModelOptions {
   // the constant speeds; the initial speeds are their values at t = 0 (input_speeds_rad_s must
   // then be empty).
   std::vector<TimeFunction> input_speed_functions;
-  // Load torque on the output member (N m, sign as PlanetaryPowerFlow::port_torques_Nm) as a
+  // Load torque on the output member (N m, sign as PlanetaryPowerFlow::port_torques_n_m) as a
   // function of time, replacing the power-flow constant (e.g. a load step). Applied even when
   // port_loads is false.
-  std::optional<TimeFunction> output_torque_Nm;
-  double input_torque_Nm = 0;              // on train.inputs[0]; also sets the power flow
-  // Instead of input_torque_Nm: the steady torque on the output port (N m, sign as
-  // PlanetaryPowerFlow::port_torques_Nm), turned into the input torque by the power flow at
+  std::optional<TimeFunction> output_torque_n_m;
+  double input_torque_n_m = 0;              // on train.inputs[0]; also sets the power flow
+  // Instead of input_torque_n_m: the steady torque on the output port (N m, sign as
+  // PlanetaryPowerFlow::port_torques_n_m), turned into the input torque by the power flow at
   // `operating_speeds_rad_s` (one per input; empty: the input speeds at t = 0; a zero speed
   // counts as 1 rad/s, only the ratios matter).
   std::optional<double> output_port_torque_n_m;
@@ -299,7 +299,7 @@ struct TrainModelOptions {
   // Lumped mesh stiffness (header, "Mesh stiffness").
   MeshStiffnessSource mesh_stiffness_source = MeshStiffnessSource::kGiven;
   std::optional<double> mesh_stiffness_n_per_m;   // kGiven: every mesh (else c_gamma b)
-  double mesh_stiffness_per_face_width_N_m2 = 2e10;
+  double mesh_stiffness_per_face_width_n_per_m2 = 2e10;
   double unloaded_mesh_stiffness_factor = 1e-12;  // seed 001: unloaded meshes "very small"; 1 keeps
   int tvms_samples_per_cycle = 64;                // kTvms table samples per mesh cycle
   double ring_addendum_coefficient = 0.85;        // h_a* of ring gears (every level's geometry)
@@ -321,15 +321,15 @@ struct TrainModelOptions {
   std::vector<double> stage_phase_cycles;
 
   // Couplings (seed 001 section 3).
-  double connection_stiffness_N_m_rad = 1e8;
-  double clutch_stiffness_N_m_rad = 1e8;
-  double brake_stiffness_N_m_rad = 1e10;
+  double connection_stiffness_n_m_per_rad = 1e8;
+  double clutch_stiffness_n_m_per_rad = 1e8;
+  double brake_stiffness_n_m_per_rad = 1e10;
 
   // Bearings (planar and spatial DOF sets), central members to the housing and planets to pins.
-  double radial_bearing_stiffness_N_m = 1e8;
-  double axial_bearing_stiffness_N_m = 1e8;
-  double tilt_bearing_stiffness_N_m_rad = 1e7;
-  double bearing_damping_N_s_m = 0;
+  double radial_bearing_stiffness_n_per_m = 1e8;
+  double axial_bearing_stiffness_n_per_m = 1e8;
+  double tilt_bearing_stiffness_n_m_per_rad = 1e7;
+  double bearing_damping_n_s_per_m = 0;
 
   std::unordered_map<std::string, TrainMemberOverride> members;  // by member or planet-set name
   std::unordered_map<std::string, TrainMeshOverride> meshes;     // by train mesh name
@@ -353,14 +353,14 @@ struct TrainBodyParams {
 struct TrainMeshElement {
   int train_mesh = -1, branch = -1, stage = -1;
   int model_mesh = -1;           // index into Model::gear_meshes
-  double stiffness_N_m = 0;      // mean stiffness used
+  double stiffness_n_per_m = 0;      // mean stiffness used
   double working_pressure_angle_rad = 0;
   GearMeshSpec::Contact contact = GearMeshSpec::Contact::kLinearDrive;  // loaded flank
   double phase_cycles = 0;       // GearMeshSpec::phase
   bool loaded = false;           // power flow
   int phase_gear_speed = -1;     // speed index of the spec's gear a (phase advances with it)
   MeshStiffnessSource stiffness_source = MeshStiffnessSource::kGiven;
-  double stiffness_min_N_m = 0, stiffness_max_N_m = 0;  // over the table (= mean if constant)
+  double stiffness_min_n_per_m = 0, stiffness_max_n_per_m = 0;  // over the table (= mean if constant)
   int table_cycles = 1;          // GearMeshSpec::table_cycles
   int faulted_gear = -1;         // train gear index of a faulted gear of this mesh, or -1
 };
@@ -390,8 +390,8 @@ struct TrainModel {
   PlanetaryKinematics kinematics;       // at options.input_speeds_rad_s
   PlanetaryKinematics unit_kinematics;  // inputs scaled so that train.inputs[0] turns at 1 rad/s
                                         // (+1 on every input if all given speeds are 0)
-  PlanetaryPowerFlow power_flow;        // at input_torque_Nm (1 N m if 0: signs only)
-  double input_torque_Nm = 0;           // as used (given, or from output_port_torque_n_m)
+  PlanetaryPowerFlow power_flow;        // at input_torque_n_m (1 N m if 0: signs only)
+  double input_torque_n_m = 0;           // as used (given, or from output_port_torque_n_m)
   std::vector<JointIndex> member_joints;             // (members)
   std::vector<std::vector<JointIndex>> planet_joints;  // (planet sets) x (branches)
   BodyIndex housing_body = -1;                       // the housing, -1 without one

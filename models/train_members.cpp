@@ -41,15 +41,15 @@ FrameIndex MeshFrame(TrainAssembly& a, const std::string& name, BodyIndex body) 
 int AddTrainBearing(TrainAssembly& a, const std::string& name, FrameIndex seat, BodyIndex body,
                     JointIndex joint, const TrainMemberOverride& ov) {
   const TrainModelOptions& o = a.o;
-  const double kr = ov.radial_bearing_stiffness_N_m.value_or(o.radial_bearing_stiffness_N_m);
-  const double cr = ov.bearing_damping_N_s_m.value_or(o.bearing_damping_N_s_m);
+  const double kr = ov.radial_bearing_stiffness_n_per_m.value_or(o.radial_bearing_stiffness_n_per_m);
+  const double cr = ov.bearing_damping_n_s_per_m.value_or(o.bearing_damping_n_s_per_m);
   if (a.spatial) {
     // A bearing, not a bushing: members spin past half a turn.
     const int index = static_cast<int>(a.b.draft().bearings.size());
     a.b.AddBearing({.name = name + "_bearing", .frame_a = seat, .frame_b = a.b.body_frame(body),
                     .radial_stiffness = kr,
-                    .axial_stiffness = ov.axial_bearing_stiffness_N_m.value_or(o.axial_bearing_stiffness_N_m),
-                    .tilt_stiffness = ov.tilt_bearing_stiffness_N_m_rad.value_or(o.tilt_bearing_stiffness_N_m_rad),
+                    .axial_stiffness = ov.axial_bearing_stiffness_n_per_m.value_or(o.axial_bearing_stiffness_n_per_m),
+                    .tilt_stiffness = ov.tilt_bearing_stiffness_n_m_per_rad.value_or(o.tilt_bearing_stiffness_n_m_per_rad),
                     .radial_damping = cr, .axial_damping = cr});
     return index;
   }
@@ -127,8 +127,8 @@ void AddMembers(TrainAssembly& a) {
     const FrameIndex housing =
         a.spatial ? a.b.AddFrame(m.name + "_housing", a.HousingBody(), Transform(Mat3::Identity(), origin)) : kWorldFrame;
     AddTrainBearing(a, m.name, housing, body, j, ov);
-    if (ov.ground_torsional_stiffness_N_m_rad)
-      AddTrainGroundSpring(a, m.name + "_ground", i, *ov.ground_torsional_stiffness_N_m_rad);
+    if (ov.ground_torsional_stiffness_n_m_per_rad)
+      AddTrainGroundSpring(a, m.name + "_ground", i, *ov.ground_torsional_stiffness_n_m_per_rad);
   }
 }
 

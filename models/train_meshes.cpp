@@ -65,7 +65,7 @@ StageMeshes ResolveStageMeshes(const TrainAssembly& a, int si) {
     const TrainMeshOverride& ov = MeshOverrideOf(a.o, m.name);
     // Loaded flank: the mesh torque on spec gear a is Z_a lambda (external) or -Z_p lambda
     // (internal: a is the planet); drive when it is negative.
-    const double lambda = a.tm.power_flow.mesh_loads_Nm(mi);
+    const double lambda = a.tm.power_flow.mesh_loads_n_m(mi);
     const double t_a = (m.kind == MeshKind::kInternal ? -1.0 : 1.0) * train.gears[ga].teeth * lambda;
     bool d = !(t_a > 0);
     if (ov.contact) d = *ov.contact != GearMeshSpec::Contact::kLinearCoast;
@@ -154,12 +154,12 @@ LumpedMesh ResolveLumpedMesh(const TrainAssembly& a, const StageMeshes& sm, int 
   LumpedMesh lm;
   // Mean stiffness: override, else one value for all, else c_gamma b; or from geometry.
   const double face = std::min(a.GearParams(ga).face_width_m, a.GearParams(gb).face_width_m);
-  const bool given = ov.stiffness_N_m || ov.stiffness_table_N_m;
+  const bool given = ov.stiffness_n_per_m || ov.stiffness_table_n_per_m;
   lm.source = given ? MeshStiffnessSource::kGiven : ov.stiffness_source.value_or(o.mesh_stiffness_source);
-  lm.k_mean = ov.stiffness_N_m ? *ov.stiffness_N_m
+  lm.k_mean = ov.stiffness_n_per_m ? *ov.stiffness_n_per_m
               : o.mesh_stiffness_n_per_m ? *o.mesh_stiffness_n_per_m
-                                         : o.mesh_stiffness_per_face_width_N_m2 * face;
-  lm.table = ov.stiffness_table_N_m.value_or(std::vector<double>{});
+                                         : o.mesh_stiffness_per_face_width_n_per_m2 * face;
+  lm.table = ov.stiffness_table_n_per_m.value_or(std::vector<double>{});
   const std::vector<MeshFault> faults = MeshFaults(a, m, ga, gb);
   const bool tvms = lm.source == MeshStiffnessSource::kTvms;
   if (!faults.empty() && !tvms) FailTrain("mesh '" + m.name + "': tooth faults need the kTvms stiffness source");
@@ -254,15 +254,15 @@ void AddLumpedMesh(TrainAssembly& a, const StageMeshes& sm, int k, const LumpedM
   e.branch = i;
   e.stage = sm.stage;
   e.model_mesh = static_cast<int>(a.tm.meshes.size());
-  e.stiffness_N_m = lm.k_mean;
+  e.stiffness_n_per_m = lm.k_mean;
   e.working_pressure_angle_rad = sm.alpha[k];
   e.contact = sm.drive[k] ? GearMeshSpec::Contact::kLinearDrive : GearMeshSpec::Contact::kLinearCoast;
   e.phase_cycles = spec.phase;
   e.loaded = lm.loaded;
   e.phase_gear_speed = train.gears[ga].speed_index;
   e.stiffness_source = lm.source;
-  e.stiffness_min_N_m = tab.empty() ? lm.k_mean : *std::min_element(tab.begin(), tab.end());
-  e.stiffness_max_N_m = tab.empty() ? lm.k_mean : *std::max_element(tab.begin(), tab.end());
+  e.stiffness_min_n_per_m = tab.empty() ? lm.k_mean : *std::min_element(tab.begin(), tab.end());
+  e.stiffness_max_n_per_m = tab.empty() ? lm.k_mean : *std::max_element(tab.begin(), tab.end());
   e.table_cycles = lm.table_cycles;
   e.faulted_gear = lm.fault_gear;
   a.tm.branches.push_back({.train_mesh = mi, .branch = i, .model = MeshModel::kLumped,

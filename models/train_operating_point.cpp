@@ -25,7 +25,7 @@ void ResolveOperatingPoint(TrainAssembly& a) {
   a.tm.unit_kinematics = SolvePlanetaryKinematics(train, a.range, unit);
   // The input torque: given, or the one that puts the output port torque on the output at the
   // operating speeds (zero speeds count as 1 rad/s: only the ratios matter).
-  double input_torque = o.input_torque_Nm;
+  double input_torque = o.input_torque_n_m;
   if (o.output_port_torque_n_m) {
     Eigen::VectorXd w = Eigen::VectorXd::Ones(num_inputs);
     for (int i = 0; i < num_inputs; ++i) {
@@ -34,9 +34,9 @@ void ResolveOperatingPoint(TrainAssembly& a) {
     }
     const PlanetaryKinematics k = SolvePlanetaryKinematics(train, a.range, w);
     const PlanetaryPowerFlow p = CalcPlanetaryPowerFlow(train, k, train.output, *o.output_port_torque_n_m);
-    input_torque = p.port_torques_Nm(train.inputs[0]);
+    input_torque = p.port_torques_n_m(train.inputs[0]);
   }
-  a.tm.input_torque_Nm = input_torque;
+  a.tm.input_torque_n_m = input_torque;
   // Power flow: the loaded flanks (from 1 N m if no torque is given) and the port torques.
   const double t_flow = input_torque != 0 ? input_torque : 1.0;
   a.tm.power_flow = CalcPlanetaryPowerFlow(train, a.tm.unit_kinematics, train.inputs[0], t_flow);

@@ -64,7 +64,7 @@ int main() {
     return sum / n;
   };
   std::printf("power flow: %.0f N along the line of action per branch\n",
-              flow.mesh_line_of_action_forces_N(sun_mesh));
+              flow.mesh_line_of_action_forces_n(sun_mesh));
   for (const TrainContactMesh& m : stage.model.contacts)
     std::printf("%-16s force %8.0f N  TE %6.2f um  mesh stiffness %6.0f N/um\n", m.name.c_str(),
                 std::abs(mean(m.name, "line_of_action_force")),

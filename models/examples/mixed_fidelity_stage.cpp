@@ -100,7 +100,7 @@ int main() {
   };
   const int sun_mesh = stage.train->MeshIndex("S.sun-planet");
   std::printf("power flow: %.0f N along the line of action per sun-planet branch\n",
-              stage.model.power_flow.mesh_line_of_action_forces_N(sun_mesh));
+              stage.model.power_flow.mesh_line_of_action_forces_n(sun_mesh));
   for (const TrainContactMesh& m : stage.model.contacts)
     std::printf("%-16s contact  %8.0f N\n", m.name.c_str(), mean("/external/" + m.name + "/line_of_action_force"));
   for (const GearMesh& m : stage.model.model->gear_meshes)

@@ -91,7 +91,7 @@ TEST(GearScene, Seed001SceneIsTheFactoryTrain) {
   EXPECT_EQ(t.ranges[s.gear_train->range].name, "1st");
   EXPECT_EQ(t.members[t.inputs[0]].name, "S1.ring");
   EXPECT_EQ(t.members[t.output].name, "S2.carrier");
-  EXPECT_DOUBLE_EQ(s.gear_train->input_torque_Nm, 300.0);
+  EXPECT_DOUBLE_EQ(s.gear_train->input_torque_n_m, 300.0);
 }
 
 TEST(GearScene, Seed002SpeedFollowsTheTrapezoid) {
@@ -109,7 +109,7 @@ TEST(GearScene, Seed002SpeedFollowsTheTrapezoid) {
 TEST(GearScene, Seed003OutputTorqueBecomesTheRingTorque) {
   const Scene s = LoadScene(ScenePath("seed003_stage.yaml"));
   // T_r = 6000 Z_r / (Z_s + Z_r) on the ring for a 6000 N m carrier load.
-  EXPECT_NEAR(s.gear_train->input_torque_Nm, 6000.0 * 50 / 72, 1e-9);
+  EXPECT_NEAR(s.gear_train->input_torque_n_m, 6000.0 * 50 / 72, 1e-9);
 }
 
 constexpr const char* kLumped =

@@ -103,7 +103,7 @@ TEST(MixedFidelity, YamlAndCxxAssembleTheSameModel) {
   }
   const Eigen::VectorXd f_yaml = InitialForces(yaml), f_cxx = InitialForces(m);
   EXPECT_LE((f_yaml - f_cxx).lpNorm<Eigen::Infinity>(), 1e-12 * f_yaml.lpNorm<Eigen::Infinity>());
-  EXPECT_EQ(cxx.model.input_torque_Nm, g.input_torque_Nm);
+  EXPECT_EQ(cxx.model.input_torque_n_m, g.input_torque_n_m);
 }
 
 // The description read from YAML is plain data: swapped to all-lumped (the planet rigid) it
@@ -117,7 +117,7 @@ TEST(MixedFidelity, TheReadDescriptionAssemblesAgainChanged) {
   EXPECT_TRUE(lumped.model.contacts.empty());
   EXPECT_EQ(lumped.model.meshes.size(), 6u);
   EXPECT_TRUE(lumped.model.model->flexible_bodies.empty());
-  EXPECT_EQ(lumped.model.input_torque_Nm, scene.gear_train->input_torque_Nm);
+  EXPECT_EQ(lumped.model.input_torque_n_m, scene.gear_train->input_torque_n_m);
 }
 
 // The mixed model runs (2 ms, the scene's integrator), and every branch carries load by its end.

@@ -74,7 +74,7 @@ StageRun RunStage(const TrainModel& tm, IntegratorKind kind, double t_end) {
   Data d(*tm.model);
   const double rb = tm.member_params[train.MemberIndex("S.sun")].base_radius_m;
   const double beta_b = std::atan(std::tan(7 * M_PI / 180) * std::cos(train.gears[0].transverse_pressure_angle_rad));
-  const double torque = tm.power_flow.mesh_line_of_action_forces_N(sp) * 3 * rb;
+  const double torque = tm.power_flow.mesh_line_of_action_forces_n(sp) * 3 * rb;
   StageRun r;
   for (int i = 1; i * 1e-3 <= t_end + 1e-12; ++i) {
     integ->AdvanceTo(i * 1e-3);

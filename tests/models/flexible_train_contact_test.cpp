@@ -95,10 +95,10 @@ Stage MakeStage(const std::shared_ptr<const FlexibleBodyModes>& planet, double r
   o.input_speeds_rad_s = {80.6, 10};
   const gears::PlanetaryKinematics k =
       gears::SolvePlanetaryKinematics(*s.train, range, Eigen::Vector2d(80.6, 10));
-  o.input_torque_Nm = gears::CalcPlanetaryPowerFlow(*s.train, k, s.train->output, -kCarrierTorque)
-                          .port_torques_Nm(s.train->inputs[0]);
+  o.input_torque_n_m = gears::CalcPlanetaryPowerFlow(*s.train, k, s.train->output, -kCarrierTorque)
+                          .port_torques_n_m(s.train->inputs[0]);
   o.port_loads = false;
-  o.output_torque_Nm = TimeFunction::SmoothStep(0, ramp_s, 0, -kCarrierTorque);
+  o.output_torque_n_m = TimeFunction::SmoothStep(0, ramp_s, 0, -kCarrierTorque);
   if (planet) {
     auto& p = o.flexible_bodies["S.planet1"];
     p.modes = planet;

@@ -28,7 +28,7 @@ TrainModel Seed001FirstGear(const PlanetaryTrain& train) {
   TrainModelOptions o;
   o.face_width_m = 0.030;
   o.input = TrainModelOptions::Input::kNone;
-  o.input_torque_Nm = 300;
+  o.input_torque_n_m = 300;
   const double k[3][2] = {{437, 526}, {451, 546}, {447, 540}};
   const double e[3][2][5] = {{{0.3, 0.022, 0.012, 0.004, 0.002}, {0.036, 0.018, 0.010, 0.008, 0.008}},
                              {{0.5, 0.06, 0.032, 0.021, 0.006}, {0.011, 0.012, 0.014, 0.006, 0.001}},
@@ -40,7 +40,7 @@ TrainModel Seed001FirstGear(const PlanetaryTrain& train) {
     o.members[st + ".planet"].polar_inertia_kg_m2 = ip;
     for (int m = 0; m < 2; ++m) {
       TrainMeshOverride& ov = o.meshes[st + (m == 0 ? ".sun-planet" : ".ring-planet")];
-      ov.stiffness_N_m = k[s][m] * 1e6;
+      ov.stiffness_n_per_m = k[s][m] * 1e6;
       ov.ste_amplitudes_m = std::vector<double>(e[s][m], e[s][m] + 5);
       for (double& a : *ov.ste_amplitudes_m) a *= 1e-6;
       ov.ste_phases_rad = std::vector<double>(5, -kPi / 2);
@@ -102,7 +102,7 @@ TEST(ForcedResponse, Seed001FigureSixPeaksSitOnMeshHarmonicCrossings) {
           }
       }
       std::printf("  %6.0f r/min: J q %8.3g um p2p, force %7.1f N p2p;  %s\n", rpm, f(i) * 1e6,
-                  fr.mesh_force_p2p_N(i, mesh), found ? why.c_str() : "NO CROSSING");
+                  fr.mesh_force_p2p_n(i, mesh), found ? why.c_str() : "NO CROSSING");
       EXPECT_TRUE(found) << "stage " << stage + 1 << " peak at " << rpm << " r/min";
     }
     EXPECT_GT(peaks, 0);

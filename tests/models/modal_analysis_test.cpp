@@ -36,8 +36,8 @@ std::shared_ptr<const PlanetaryTrain> OneStage(int zs, int zp, int zr, int plane
 // Seed 001, Table 2 mean mesh stiffnesses (N/um) of the loaded stages per range.
 void Table2Stiffness(TrainModelOptions& o, const std::string& range) {
   auto set = [&](const std::string& st, double ksp, double krp) {
-    o.meshes[st + ".sun-planet"].stiffness_N_m = ksp * 1e6;
-    o.meshes[st + ".ring-planet"].stiffness_N_m = krp * 1e6;
+    o.meshes[st + ".sun-planet"].stiffness_n_per_m = ksp * 1e6;
+    o.meshes[st + ".ring-planet"].stiffness_n_per_m = krp * 1e6;
   };
   if (range == "1st") { set("S1", 437, 526); set("S2", 451, 546); set("S3", 447, 540); }
   if (range == "2nd") { set("S2", 447, 540); set("S3", 441, 532); }
@@ -68,7 +68,7 @@ TEST(ModalAnalysis, Seed001TableThreeStructureAndPlanetModes) {
     TrainModelOptions o;
     o.face_width_m = 0.030;
     o.input = TrainModelOptions::Input::kNone;
-    o.input_torque_Nm = 300;
+    o.input_torque_n_m = 300;
     Table2Stiffness(o, rg.name);
     for (const char* s : {"S1.planet", "S2.planet", "S3.planet"}) o.members[s].polar_inertia_kg_m2 = ip;
     const TrainModel tm = BuildTrainModel(*train, train->RangeIndex(rg.name), o);
@@ -121,14 +121,14 @@ TEST(ModalAnalysis, ForcedResponseOfASingleDofMeshMatchesTheClosedForm) {
   o.face_width_m = 0.030;
   o.input = TrainModelOptions::Input::kNone;
   o.input_speeds_rad_s = {100.0};
-  o.brake_stiffness_N_m_rad = 1e12;
-  o.members["S.carrier"].ground_torsional_stiffness_N_m_rad = 1e12;
+  o.brake_stiffness_n_m_per_rad = 1e12;
+  o.members["S.carrier"].ground_torsional_stiffness_n_m_per_rad = 1e12;
   const double ksp = 4.4e8, krp = 5.3e8, e = 0.5e-6;
-  o.meshes["S.sun-planet"].stiffness_N_m = ksp;
-  o.meshes["S.ring-planet"].stiffness_N_m = krp;
+  o.meshes["S.sun-planet"].stiffness_n_per_m = ksp;
+  o.meshes["S.ring-planet"].stiffness_n_per_m = krp;
   o.meshes["S.sun-planet"].ste_amplitudes_m = std::vector<double>{e};
   // The sun held by a ground spring (the kinematics still turn it, for the mesh frequency).
-  o.members["S.sun"].ground_torsional_stiffness_N_m_rad = 1e12;
+  o.members["S.sun"].ground_torsional_stiffness_n_m_per_rad = 1e12;
   const TrainModel held = BuildTrainModel(*train, train->RangeIndex("run"), o);
   const TrainModes modes = CalcTrainModes(held);
   const double rp = held.planet_params[0].base_radius_m, ip = held.planet_params[0].polar_inertia_kg_m2;
@@ -159,8 +159,8 @@ TEST(ModalAnalysis, ForcedResponseOfASingleDofMeshMatchesTheClosedForm) {
     EXPECT_NEAR((ksp + krp) * fr.mesh_deflection_p2p_m(i, 0) / 2, ksp * e / std::hypot(1 - r * r, 2 * zeta * r),
                 (ksp + krp) * tol_x) << "r = " << r;
     EXPECT_NEAR(fr.mesh_deflection_p2p_m(i, 0) / 2, x, tol_x) << "r = " << r;
-    EXPECT_NEAR(fr.mesh_force_p2p_N(i, 0) / 2, f, ksp * tol_x + sampling * f) << "r = " << r;
-    std::printf("SDOF r = %.2f: mesh force p2p %.4f N (closed form %.4f N)\n", r, fr.mesh_force_p2p_N(i, 0), 2 * f);
+    EXPECT_NEAR(fr.mesh_force_p2p_n(i, 0) / 2, f, ksp * tol_x + sampling * f) << "r = " << r;
+    std::printf("SDOF r = %.2f: mesh force p2p %.4f N (closed form %.4f N)\n", r, fr.mesh_force_p2p_n(i, 0), 2 * f);
   }
 }
 
@@ -174,8 +174,8 @@ TEST(ModalAnalysis, SequentialPhasingCancelsRotationalExcitation) {
   o.face_width_m = 0.030;
   o.input = TrainModelOptions::Input::kNone;
   o.input_speeds_rad_s = {100.0};
-  o.input_torque_Nm = 100;
-  o.members["S.carrier"].ground_torsional_stiffness_N_m_rad = 1e6;
+  o.input_torque_n_m = 100;
+  o.members["S.carrier"].ground_torsional_stiffness_n_m_per_rad = 1e6;
   const TrainModel tm = BuildTrainModel(*train, 0, o);
   const TrainModes modes = CalcTrainModes(tm);
   double angle[5] = {0, 0, 0, 0, 0}, force[5] = {0, 0, 0, 0, 0};
@@ -187,7 +187,7 @@ TEST(ModalAnalysis, SequentialPhasingCancelsRotationalExcitation) {
     const TrainModel t = BuildTrainModel(*train, 0, ol);
     const ForcedResponse fr = CalcForcedResponse(t, modes, {.input_speeds_rad_s = {300.0, 2000.0}});
     angle[l] = fr.member_angle_p2p_rad.maxCoeff();
-    force[l] = fr.mesh_force_p2p_N.maxCoeff();
+    force[l] = fr.mesh_force_p2p_n.maxCoeff();
   }
   // Rounding floor: the cancellation of N unit phasors leaves ~N eps of the single-mesh response.
   for (int l = 1; l <= 3; ++l) {

@@ -37,15 +37,15 @@ TEST(PlanetaryPowerFlow, DoublePlanetTorquesFollowFromBalanceAndPower) {
   const int s = t->MemberIndex("D.sun"), c = t->MemberIndex("D.carrier"), r = t->MemberIndex("D.ring");
   // Energy: T_c = -T_s w_s / w_c; balance: T_r = -T_s - T_c.
   const double tc = -100.0 * k.speeds_rad_s(s) / k.speeds_rad_s(c);
-  EXPECT_NEAR(p.port_torques_Nm(c), tc, kRel * 300);
-  EXPECT_NEAR(p.brake_torques_Nm(0), -100.0 - tc, kRel * 300);
-  EXPECT_NEAR(p.external_torques_Nm(r), -100.0 - tc, kRel * 300);
-  EXPECT_LT(p.torque_residual_Nm, kRel * 300);
-  EXPECT_LT(p.power_residual_W, kRel * 300 * 50);
-  EXPECT_NEAR(p.input_power_W, p.output_power_W, kRel * 5000);
+  EXPECT_NEAR(p.port_torques_n_m(c), tc, kRel * 300);
+  EXPECT_NEAR(p.brake_torques_n_m(0), -100.0 - tc, kRel * 300);
+  EXPECT_NEAR(p.external_torques_n_m(r), -100.0 - tc, kRel * 300);
+  EXPECT_LT(p.torque_residual_n_m, kRel * 300);
+  EXPECT_LT(p.power_residual_w, kRel * 300 * 50);
+  EXPECT_NEAR(p.input_power_w, p.output_power_w, kRel * 5000);
   // All three meshes carry the same tangential load per tooth (in magnitude).
   for (int m = 1; m < 3; ++m)
-    EXPECT_NEAR(std::abs(p.mesh_loads_Nm(m)), std::abs(p.mesh_loads_Nm(0)), kRel * 10);
+    EXPECT_NEAR(std::abs(p.mesh_loads_n_m(m)), std::abs(p.mesh_loads_n_m(0)), kRel * 10);
   for (bool loaded : p.member_loaded) EXPECT_TRUE(loaded);
 }
 
@@ -70,12 +70,12 @@ TEST(PlanetaryPowerFlow, HelicalMeshForcesMatchTheCarrierMomentBalance) {
   const double ft = tc / (3 * (rs + rr));
   const double at = std::atan(std::tan(an) / std::cos(beta));
   for (int m = 0; m < 2; ++m) {
-    EXPECT_NEAR(p.mesh_tangential_forces_N(m), ft, kRel * ft) << t->meshes[m].name;
-    EXPECT_NEAR(p.mesh_line_of_action_forces_N(m), ft / std::cos(at), kRel * ft);
-    EXPECT_NEAR(p.mesh_normal_forces_N(m), ft / (std::cos(an) * std::cos(beta)), kRel * ft);
+    EXPECT_NEAR(p.mesh_tangential_forces_n(m), ft, kRel * ft) << t->meshes[m].name;
+    EXPECT_NEAR(p.mesh_line_of_action_forces_n(m), ft / std::cos(at), kRel * ft);
+    EXPECT_NEAR(p.mesh_normal_forces_n(m), ft / (std::cos(an) * std::cos(beta)), kRel * ft);
   }
   // Output torque on the sun: -T_c Z_s / (Z_s + Z_r).
-  EXPECT_NEAR(p.port_torques_Nm(t->MemberIndex("S.sun")), -tc * 19 / 108, kRel * tc);
+  EXPECT_NEAR(p.port_torques_n_m(t->MemberIndex("S.sun")), -tc * 19 / 108, kRel * tc);
 }
 
 TEST(PlanetaryPowerFlow, KnownTorqueMustBeOnAPort) {
@@ -97,8 +97,8 @@ TEST(PlanetaryPowerFlow, KnownTorqueMustBeOnAPort) {
   }
   // No tooth form: forces are NaN, torques are there.
   const PlanetaryPowerFlow p = CalcPlanetaryPowerFlow(*t, k, t->MemberIndex("S.sun"), 22.0);
-  EXPECT_TRUE(std::isnan(p.mesh_tangential_forces_N(0)));
-  EXPECT_NEAR(p.mesh_gear_a_torques_Nm(0), -22.0, kRel * 22);
+  EXPECT_TRUE(std::isnan(p.mesh_tangential_forces_n(0)));
+  EXPECT_NEAR(p.mesh_gear_a_torques_n_m(0), -22.0, kRel * 22);
 }
 
 }  // namespace

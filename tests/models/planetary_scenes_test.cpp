@@ -142,8 +142,8 @@ TEST(PlanetaryScenes, Seed001PowerFlowAgainstTableTwo) {
     const char* stages[3] = {"S1", "S2", "S3"};
     for (int s = 0; s < 3; ++s) {
       const std::string st = stages[s];
-      const double fs = p.mesh_tangential_forces_N(t->MeshIndex(st + ".sun-planet"));
-      const double fr = p.mesh_tangential_forces_N(t->MeshIndex(st + ".ring-planet"));
+      const double fs = p.mesh_tangential_forces_n(t->MeshIndex(st + ".sun-planet"));
+      const double fr = p.mesh_tangential_forces_n(t->MeshIndex(st + ".ring-planet"));
       EXPECT_NEAR(fs, hand[s], kRel * 1e4) << st;
       EXPECT_NEAR(fr, hand[s], kRel * 1e4) << st;
       EXPECT_EQ(p.stage_loaded[s], hand[s] > 0) << st;
@@ -155,20 +155,20 @@ TEST(PlanetaryScenes, Seed001PowerFlowAgainstTableTwo) {
                   fs, pub[s]);
     }
     // Balances and the output torque -T_in * ratio.
-    EXPECT_LT(p.torque_residual_Nm, kRel * 1e3);
-    EXPECT_LT(p.power_residual_W, kRel * 1e5);
-    EXPECT_NEAR(p.port_torques_Nm(t->output), -tin * kin.ratio, kRel * 1e3);
-    EXPECT_NEAR(p.input_power_W, p.output_power_W, kRel * 1e5);
+    EXPECT_LT(p.torque_residual_n_m, kRel * 1e3);
+    EXPECT_LT(p.power_residual_w, kRel * 1e5);
+    EXPECT_NEAR(p.port_torques_n_m(t->output), -tin * kin.ratio, kRel * 1e3);
+    EXPECT_NEAR(p.input_power_w, p.output_power_w, kRel * 1e5);
   }
   // 1st range: S1.carrier -> S3.ring carries T_in (1 + k); in 4th the clutch K1 carries T_in.
   const PlanetaryPowerFlow p1 = CalcPlanetaryPowerFlow(
       *t, SolvePlanetaryKinematics(*t, t->RangeIndex("1st"), One(1.0)), in, tin);
-  EXPECT_NEAR(p1.connection_torques_Nm(0), tin * (1 + k), kRel * 1e3);
+  EXPECT_NEAR(p1.connection_torques_n_m(0), tin * (1 + k), kRel * 1e3);
   // B1 on S1.sun: stage-1 balance T_in + T_c1 + T_B1 = 0 with T_c1 = -(1 + k) T_in.
-  EXPECT_NEAR(p1.brake_torques_Nm(0), tin * k, kRel * 1e3);
+  EXPECT_NEAR(p1.brake_torques_n_m(0), tin * k, kRel * 1e3);
   const PlanetaryPowerFlow p4 = CalcPlanetaryPowerFlow(
       *t, SolvePlanetaryKinematics(*t, t->RangeIndex("4th"), One(1.0)), in, tin);
-  EXPECT_NEAR(p4.clutch_torques_Nm(0), tin, kRel * 1e3);
+  EXPECT_NEAR(p4.clutch_torques_n_m(0), tin, kRel * 1e3);
   for (bool loaded : p4.member_loaded) EXPECT_FALSE(loaded);
 }
 
@@ -198,10 +198,10 @@ TEST(PlanetaryScenes, Seed003TwoInputDifferential) {
                 c.pub_fp);
     // 6000 N m load on the carrier: T_s : T_r : T_c = Z_s : Z_r : -(Z_s + Z_r).
     const PlanetaryPowerFlow p = CalcPlanetaryPowerFlow(*t, k, t->output, -6000.0);
-    EXPECT_NEAR(p.port_torques_Nm(t->MemberIndex("S.ring")), 6000.0 * zr / (zs + zr), kRel * 6e3);
-    EXPECT_NEAR(p.port_torques_Nm(t->MemberIndex("S.sun")), 6000.0 * zs / (zs + zr), kRel * 6e3);
-    EXPECT_NEAR(p.input_power_W, 6000.0 * wc, kRel * 6e5);
-    EXPECT_NEAR(p.output_power_W, 6000.0 * wc, kRel * 6e5);
+    EXPECT_NEAR(p.port_torques_n_m(t->MemberIndex("S.ring")), 6000.0 * zr / (zs + zr), kRel * 6e3);
+    EXPECT_NEAR(p.port_torques_n_m(t->MemberIndex("S.sun")), 6000.0 * zs / (zs + zr), kRel * 6e3);
+    EXPECT_NEAR(p.input_power_w, 6000.0 * wc, kRel * 6e5);
+    EXPECT_NEAR(p.output_power_w, 6000.0 * wc, kRel * 6e5);
   }
 }
 

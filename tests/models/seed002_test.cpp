@@ -116,8 +116,8 @@ TEST(Seed002, LoadStepPeaksGrowWithTheStepSize) {
     TrainModelOptions o = Seed002Options();
     o.input_speed_functions = {TimeFunction::Constant(22.2 * kRpm)};
     const TrainModel rated = BuildTrainModel(*train, 0, o);
-    const double t_out = rated.power_flow.port_torques_Nm(train->output);  // at 3e5 N m
-    o.output_torque_Nm = TimeFunction::Ramp(0.005, 0.0051, t_out * t0 / kInputTorque, t_out);
+    const double t_out = rated.power_flow.port_torques_n_m(train->output);  // at 3e5 N m
+    o.output_torque_n_m = TimeFunction::Ramp(0.005, 0.0051, t_out * t0 / kInputTorque, t_out);
     const TrainModel tm = BuildTrainModel(*train, 0, o);
     fine.push_back(RunSeed002(tm, 0.03, 1e-6, 1e-8, [](const State&, const Eigen::VectorXd&, const Data&) {}));
     coarse.push_back(RunSeed002(tm, 0.03, 1e-5, 1e-7, [](const State&, const Eigen::VectorXd&, const Data&) {}));
@@ -141,8 +141,8 @@ TEST(Seed002, SteadyMeshForceIsThePowerFlowForceWithinTheTvmsRipple) {
   const int sp = train->MeshIndex("S.sun-planet"), rp = train->MeshIndex("S.ring-planet");
   double kmin[2] = {0, 0}, kmax[2] = {0, 0};
   for (const TrainMeshElement& e : tm.meshes) {
-    kmin[e.train_mesh == rp] = e.stiffness_min_N_m;
-    kmax[e.train_mesh == rp] = e.stiffness_max_N_m;
+    kmin[e.train_mesh == rp] = e.stiffness_min_n_per_m;
+    kmax[e.train_mesh == rp] = e.stiffness_max_n_per_m;
   }
   const double K_min = 1 / (1 / kmin[0] + 1 / kmin[1]), K_max = 1 / (1 / kmax[0] + 1 / kmax[1]);
   const int n = 3;
@@ -150,8 +150,8 @@ TEST(Seed002, SteadyMeshForceIsThePowerFlowForceWithinTheTvmsRipple) {
   // The power flow gives the transverse line-of-action force; the mesh element acts along the
   // helical contact normal, F_n = F_t / cos(beta_b).
   const double beta_b = std::atan(std::tan(7 * kPi / 180) * std::cos(train->gears[0].transverse_pressure_angle_rad));
-  const double f_static = tm.power_flow.mesh_line_of_action_forces_N(sp) / std::cos(beta_b);
-  EXPECT_NEAR(tm.power_flow.mesh_line_of_action_forces_N(rp) / std::cos(beta_b), f_static, 1e-9 * f_static);
+  const double f_static = tm.power_flow.mesh_line_of_action_forces_n(sp) / std::cos(beta_b);
+  EXPECT_NEAR(tm.power_flow.mesh_line_of_action_forces_n(rp) / std::cos(beta_b), f_static, 1e-9 * f_static);
   const double t_settle = 0.01, t_end = 0.06;
   double sum = 0, max_alpha = 0, fmin = 1e30, fmax = 0;
   long count = 0;

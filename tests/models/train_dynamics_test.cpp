@@ -56,9 +56,9 @@ TrainModelOptions Seed001Options() {
 TEST(TrainDynamics, OnePlanetStageMatchesHandDerivedLagrangian) {
   const auto train = OneStage(34, 18, 70, 1);
   TrainModelOptions o = Seed001Options();
-  o.meshes["S.sun-planet"].stiffness_N_m = 4.37e8;
-  o.meshes["S.ring-planet"].stiffness_N_m = 5.26e8;
-  o.brake_stiffness_N_m_rad = 3e6;
+  o.meshes["S.sun-planet"].stiffness_n_per_m = 4.37e8;
+  o.meshes["S.ring-planet"].stiffness_n_per_m = 5.26e8;
+  o.brake_stiffness_n_m_per_rad = 3e6;
   const TrainModel tm = BuildTrainModel(*train, 0, o);
   ASSERT_EQ(tm.model->nv, 4);
   const TrainModes modes = CalcTrainModes(tm);
@@ -92,14 +92,14 @@ TEST(TrainDynamics, TorsionalModelIsTheRigidBearingLimitOfTheLumpedPlanarStage) 
   const int n = 3;
   const auto train = OneStage(34, 20, 74, n);  // concentric, (34 + 74) / 3 = 36: equally spaced
   TrainModelOptions o = Seed001Options();
-  o.brake_stiffness_N_m_rad = 2e6;
+  o.brake_stiffness_n_m_per_rad = 2e6;
   const TrainModel tm = BuildTrainModel(*train, 0, o);
   const TrainModes tor = CalcTrainModes(tm);
 
   LumpedStageParams lp;
   lp.dofs = LumpedStageParams::Dofs::kPlanar;
   lp.planets = n;
-  const double kb = 1e6 * tm.meshes[0].stiffness_N_m;
+  const double kb = 1e6 * tm.meshes[0].stiffness_n_per_m;
   auto member = [&](const TrainBodyParams& p, double radius) {
     LumpedMember m;
     m.mass = p.mass_kg;
@@ -115,8 +115,8 @@ TEST(TrainDynamics, TorsionalModelIsTheRigidBearingLimitOfTheLumpedPlanarStage) 
   lp.ring.torsional_stiffness = 2e6;
   lp.carrier = member(mp[train->MemberIndex("S.carrier")], train->planet_sets[0].center_radius_m);
   lp.planet = member(tm.planet_params[0], tm.planet_params[0].base_radius_m);
-  lp.mesh_stiffness_sun = tm.meshes[0].stiffness_N_m;
-  lp.mesh_stiffness_ring = tm.meshes[1].stiffness_N_m;
+  lp.mesh_stiffness_sun = tm.meshes[0].stiffness_n_per_m;
+  lp.mesh_stiffness_ring = tm.meshes[1].stiffness_n_per_m;
   lp.pressure_angle_sun = tm.meshes[0].working_pressure_angle_rad;
   lp.pressure_angle_ring = tm.meshes[1].working_pressure_angle_rad;
   lp.check_centre_distance = true;
@@ -124,7 +124,7 @@ TEST(TrainDynamics, TorsionalModelIsTheRigidBearingLimitOfTheLumpedPlanarStage) 
   const ModalResult planar = CalcModes(Linearize(*stage.model, State::Initial(*stage.model)));
 
   ASSERT_EQ(tor.modes.size(), size_t(n + 3));
-  const double tol = 10 * tm.meshes[1].stiffness_N_m / kb;
+  const double tol = 10 * tm.meshes[1].stiffness_n_per_m / kb;
   EXPECT_LT(std::abs(planar.frequencies_hz[0]), 1.0);
   for (int i = 1; i < n + 3; ++i)
     EXPECT_NEAR(planar.frequencies_hz[i], tor.modes[i].frequency_hz, tol * tor.modes[i].frequency_hz) << i;
@@ -143,7 +143,7 @@ TEST(TrainDynamics, MeshPhasesFollowParkerLin) {
   for (const Case& k : {Case{24, 24, 72, 4}, Case{25, 23, 71, 4}, Case{34, 20, 74, 3}, Case{30, 21, 72, 6}}) {
     const auto train = OneStage(k.zs, k.zp, k.zr, k.n);
     TrainModelOptions o = Seed001Options();
-    o.input_torque_Nm = 100;  // sun drives: sun-planet drive flank, ring-planet coast flank
+    o.input_torque_n_m = 100;  // sun drives: sun-planet drive flank, ring-planet coast flank
     const TrainModel tm = BuildTrainModel(*train, 0, o);
     std::vector<double> sun, ring;
     for (const TrainMeshElement& e : tm.meshes) (e.train_mesh == 0 ? sun : ring).push_back(e.phase_cycles);
@@ -198,7 +198,7 @@ TEST(TrainDynamics, InitialSpeedsAreKinematicallyConsistent) {
       o.dofs = dofs;
       o.input = TrainModelOptions::Input::kSpeed;
       o.input_speeds_rad_s = {300.0};
-      o.input_torque_Nm = 300;
+      o.input_torque_n_m = 300;
       const TrainModel tm = BuildTrainModel(*train, 0, o);
       const Model& m = *tm.model;
       Data d(m);
@@ -226,7 +226,7 @@ TEST(TrainDynamics, StaticMeshForcesMatchThePowerFlow) {
   const auto train = MakeSeed001AutomaticTransmission();
   TrainModelOptions o = Seed001Options();
   o.input = TrainModelOptions::Input::kTorque;
-  o.input_torque_Nm = 300;
+  o.input_torque_n_m = 300;
   const TrainModel tm = BuildTrainModel(*train, train->RangeIndex("1st"), o);
   const TrainModes modes = CalcTrainModes(tm);
   Eigen::VectorXd f = Eigen::VectorXd::Zero(tm.model->nv);
@@ -236,12 +236,12 @@ TEST(TrainDynamics, StaticMeshForcesMatchThePowerFlow) {
   const Eigen::VectorXd q = modes.linear.K.completeOrthogonalDecomposition().solve(f);
   const Eigen::VectorXd force = modes.mesh_stiffness.cwiseProduct(modes.mesh_directions * q);
   for (const TrainMeshElement& e : tm.meshes) {
-    const double expected = tm.power_flow.mesh_line_of_action_forces_N(e.train_mesh);
+    const double expected = tm.power_flow.mesh_line_of_action_forces_n(e.train_mesh);
     // Conditioning: brakes 1e10 N m/rad against meshes ~1e5 N m/rad: cond(K) eps ~ 1e-10.
     EXPECT_NEAR(force(e.model_mesh), expected, 1e-6 * expected) << train->meshes[e.train_mesh].name;
   }
   // Table 2 (rounded to 1 N; the paper's tooth forces follow from 300 N m the same way).
-  EXPECT_NEAR(tm.power_flow.mesh_tangential_forces_N(train->MeshIndex("S1.sun-planet")), 1429, 1.0);
+  EXPECT_NEAR(tm.power_flow.mesh_tangential_forces_n(train->MeshIndex("S1.sun-planet")), 1429, 1.0);
 }
 
 }  // namespace

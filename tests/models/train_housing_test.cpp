@@ -33,7 +33,7 @@ TEST(TrainHousing, TranslationalMountModeCarriesTheWholeTrain) {
   o.dofs = TrainDofs::kPlanar;
   o.face_width_m = 0.04;
   o.input = TrainModelOptions::Input::kNone;
-  o.radial_bearing_stiffness_N_m = 1e10;
+  o.radial_bearing_stiffness_n_per_m = 1e10;
   const double k_mount = 1e5;
   o.housing = TrainHousing{.mass_kg = 40, .polar_inertia_kg_m2 = 1.5,
                            .mount_radial_stiffness_n_per_m = k_mount,

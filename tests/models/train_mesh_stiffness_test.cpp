@@ -48,7 +48,7 @@ TrainModelOptions Options(MeshStiffnessSource source) {
   o.face_width_m = 0.030;
   o.input = TrainModelOptions::Input::kSpeed;
   o.input_speeds_rad_s = {100.0};
-  o.input_torque_Nm = 300;
+  o.input_torque_n_m = 300;
   o.mesh_stiffness_source = source;
   return o;
 }
@@ -79,18 +79,18 @@ TEST(TrainMeshStiffness, IsoAndTvmsMeansMatchHandBuiltPairs) {
                                    .samples_per_period = 64});
     for (const TrainMeshElement& e : iso.meshes)
       if (e.train_mesh == mesh) {
-        EXPECT_NEAR(e.stiffness_N_m, k_iso, 1e-12 * k_iso);
+        EXPECT_NEAR(e.stiffness_n_per_m, k_iso, 1e-12 * k_iso);
       }
     for (const TrainMeshElement& e : tv.meshes) {
       if (e.train_mesh != mesh) continue;
       const GearMesh& gm = tv.model->gear_meshes[e.model_mesh];
       ASSERT_EQ(gm.spec.stiffness_table.size(), 64u);
       // Summation rounding of 64 terms.
-      EXPECT_NEAR(e.stiffness_N_m, t.mean_n_per_m, 64 * 1e-16 * t.mean_n_per_m);
+      EXPECT_NEAR(e.stiffness_n_per_m, t.mean_n_per_m, 64 * 1e-16 * t.mean_n_per_m);
       EXPECT_NEAR(gm.k_mean, t.mean_n_per_m, 64 * 1e-16 * t.mean_n_per_m);
       // Linear interpolation between TVMS samples stays within their range.
-      EXPECT_GE(e.stiffness_min_N_m, t.min_n_per_m * (1 - 1e-15));
-      EXPECT_LE(e.stiffness_max_N_m, t.max_n_per_m * (1 + 1e-15));
+      EXPECT_GE(e.stiffness_min_n_per_m, t.min_n_per_m * (1 - 1e-15));
+      EXPECT_LE(e.stiffness_max_n_per_m, t.max_n_per_m * (1 + 1e-15));
       // Phase 0: a pair at the pitch point. The TVMS sample nearest to a pair at the pitch point
       // and its neighbours bracket the table's first entry.
       int best = 0;
@@ -123,7 +123,7 @@ TEST(TrainMeshStiffness, BrokenSunToothDipsOncePerSunTurnPerPlanet) {
   o.mesh_damping_ratio = 0.05;
   // Ring held by 1e8 N m/rad (18 times the four meshes' r_r^2 k): seed 001's 1e10 makes the ring a
   // ~0.4 MHz mode that IDA resolves at every TVMS kink (6e5 steps instead of 1e5 here).
-  o.brake_stiffness_N_m_rad = 1e8;
+  o.brake_stiffness_n_m_per_rad = 1e8;
   o.tooth_faults = {{.gear = "S.sun", .fault = {.kind = ToothFault::Kind::kBrokenWidth, .tooth = 0, .fraction = 0.5}}};
   const TrainModel tm = BuildTrainModel(*train, 0, o);
   const TrainModel healthy = BuildTrainModel(*train, 0, Options(MeshStiffnessSource::kTvms));

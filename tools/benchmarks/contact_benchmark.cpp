@@ -147,7 +147,7 @@ void BM_Forces(benchmark::State& state) {
     c.element->CalcForces(c.V1, c.V2, *c.ws, &fa, &fb, &e, &p);
     benchmark::DoNotOptimize(fa);
   }
-  state.counters["normal_force_N"] = c.ws->normal_force;
+  state.counters["normal_force_n"] = c.ws->normal_force;
   Report(state, c);
 }
 BENCHMARK(BM_Forces)->Unit(benchmark::kMicrosecond);
@@ -249,7 +249,7 @@ void BM_Seed001EvaluationWithinSlack(benchmark::State& state) {
     c.element->CalcForces(zero, zero, *c.ws, &fa, &fb, &e, &p);
     benchmark::DoNotOptimize(fa);
   }
-  state.counters["normal_force_N"] = c.ws->normal_force;
+  state.counters["normal_force_n"] = c.ws->normal_force;
   state.counters["pairs"] = c.ws->search.stats().candidate_pairs;
   state.counters["node_faces"] = static_cast<double>(c.ws->node_faces_a.size() + c.ws->node_faces_b.size());
   state.counters["contact_nodes"] = c.ws->contact_points;
@@ -301,7 +301,7 @@ void RollingSeed001(benchmark::State& state, ContactGapMethod method) {
     force += ws.normal_force;
     ++evaluations;
   }
-  state.counters["mean_normal_force_N"] = force / std::max(1L, evaluations);
+  state.counters["mean_normal_force_n"] = force / std::max(1L, evaluations);
   state.counters["mesh_periods"] = theta / (2 * pi / 18);
   if (method == ContactGapMethod::kTracked) {
     const TrackedGapStats& t = ws.tracked.stats();

@@ -82,7 +82,7 @@ void BM_Seed001Modes(benchmark::State& st) {
   TrainModelOptions o;
   o.face_width_m = 0.030;
   o.input = TrainModelOptions::Input::kNone;
-  o.input_torque_Nm = 300;
+  o.input_torque_n_m = 300;
   int n = 0;
   for (auto _ : st) {
     const TrainModel tm = BuildTrainModel(*train, train->RangeIndex("1st"), o);

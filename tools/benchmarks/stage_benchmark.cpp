@@ -115,7 +115,7 @@ void KinematicsThenSunMesh(benchmark::State& state, bool apply) {
   if (!apply) return;
   std::vector<double> out(OutputValueCount(m.external_forces[e]->outputs()));
   m.external_forces[e]->GetOutputs(*data.external[e], out.data());
-  state.counters["normal_force_N"] = out[0];
+  state.counters["normal_force_n"] = out[0];
   state.counters["contact_points"] = out[2];
 }
 void BM_StageKinematics(benchmark::State& state) { KinematicsThenSunMesh(state, false); }

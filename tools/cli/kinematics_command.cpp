@@ -67,8 +67,8 @@ int GearTrainReport(const Scene& scene, const KinematicsArgs& args, std::ostream
   if (w.cwiseAbs().maxCoeff() > 0) w_flow = w;
   const gears::PlanetaryKinematics k = gears::SolvePlanetaryKinematics(t, range, w);
   const gears::PlanetaryPowerFlow p = gears::CalcPlanetaryPowerFlow(
-      t, gears::SolvePlanetaryKinematics(t, range, w_flow), t.inputs[0], g.input_torque_Nm);
-  const bool torque_given = g.input_torque_Nm != 0;
+      t, gears::SolvePlanetaryKinematics(t, range, w_flow), t.inputs[0], g.input_torque_n_m);
+  const bool torque_given = g.input_torque_n_m != 0;
 
   // Per mesh: kinematics, forces, geometry and stiffness.
   std::vector<MeshReport> meshes;
@@ -78,9 +78,9 @@ int GearTrainReport(const Scene& scene, const KinematicsArgs& args, std::ostream
     r.name = m.name;
     r.stage = t.stages[m.stage].name;
     r.mesh_frequency_hz = k.mesh_frequencies_hz(mi);
-    r.static_force_n = torque_given ? p.mesh_tangential_forces_N(mi) : 0.0;
-    r.line_of_action_force_n = torque_given ? p.mesh_line_of_action_forces_N(mi) : 0.0;
-    r.normal_force_n = torque_given ? p.mesh_normal_forces_N(mi) : 0.0;
+    r.static_force_n = torque_given ? p.mesh_tangential_forces_n(mi) : 0.0;
+    r.line_of_action_force_n = torque_given ? p.mesh_line_of_action_forces_n(mi) : 0.0;
+    r.normal_force_n = torque_given ? p.mesh_normal_forces_n(mi) : 0.0;
     r.loaded = torque_given && p.mesh_loaded[mi];
     const bool internal = m.kind == gears::MeshKind::kInternal;
     r.gear_1 = t.gears[internal ? m.gear_b : m.gear_a].name;
@@ -107,7 +107,7 @@ int GearTrainReport(const Scene& scene, const KinematicsArgs& args, std::ostream
     }
     if (range == g.range)
       for (const gears::TrainMeshElement& e : g.model->meshes)
-        if (e.train_mesh == mi && e.branch == 0) r.model_stiffness = e.stiffness_N_m;
+        if (e.train_mesh == mi && e.branch == 0) r.model_stiffness = e.stiffness_n_per_m;
     meshes.push_back(r);
   }
 
@@ -118,12 +118,12 @@ int GearTrainReport(const Scene& scene, const KinematicsArgs& args, std::ostream
     j.Key("inputs").BeginArray();
     for (int i = 0; i < ni; ++i)
       j.BeginObject().Key("member").String(t.members[t.inputs[i]].name).Key("speed_rad_s").Number(w(i)).EndObject();
-    j.EndArray().Key("input_torque_n_m").Number(g.input_torque_Nm);
+    j.EndArray().Key("input_torque_n_m").Number(g.input_torque_n_m);
     j.Key("members").BeginObject();
     for (int i = 0; i < t.num_members(); ++i) {
       j.Key(t.members[i].name).BeginObject();
       j.Key("speed_rad_s").Number(k.speeds_rad_s(i)).Key("speed_rpm").Number(k.speeds_rad_s(i) * kRadPerSToRpm);
-      j.Key("torque_n_m").Number(p.mesh_torques_Nm(i)).Key("external_torque_n_m").Number(p.external_torques_Nm(i));
+      j.Key("torque_n_m").Number(p.mesh_torques_n_m(i)).Key("external_torque_n_m").Number(p.external_torques_n_m(i));
       j.Key("loaded").Bool(torque_given && p.member_loaded[i]).EndObject();
     }
     j.EndObject().Key("planet_sets").BeginObject();
@@ -160,7 +160,7 @@ int GearTrainReport(const Scene& scene, const KinematicsArgs& args, std::ostream
 
   // Text.
   out << "scene " << scene.name << " (gear_train), range " << t.ranges[range].name << ", ratio "
-      << Fmt("%.5g", k.ratio) << ", input torque " << Fmt("%g", g.input_torque_Nm) << " N m\n";
+      << Fmt("%.5g", k.ratio) << ", input torque " << Fmt("%g", g.input_torque_n_m) << " N m\n";
   for (int i = 0; i < ni; ++i)
     out << "input " << t.members[t.inputs[i]].name << "  " << Fmt("%.6g", w(i)) << " rad/s ("
         << Fmt("%.6g", w(i) * kRadPerSToRpm) << " rpm)\n";
@@ -168,8 +168,8 @@ int GearTrainReport(const Scene& scene, const KinematicsArgs& args, std::ostream
       << Pad("torque N m", 14) << Pad("external N m", 14) << '\n';
   for (int i = 0; i < t.num_members(); ++i)
     out << "  " << Pad(t.members[i].name, 15, true) << Pad(Fmt("%.6g", k.speeds_rad_s(i)), 14)
-        << Pad(Fmt("%.6g", k.speeds_rad_s(i) * kRadPerSToRpm), 12) << Pad(Fmt("%.6g", p.mesh_torques_Nm(i)), 14)
-        << Pad(Fmt("%.6g", p.external_torques_Nm(i)), 14) << '\n';
+        << Pad(Fmt("%.6g", k.speeds_rad_s(i) * kRadPerSToRpm), 12) << Pad(Fmt("%.6g", p.mesh_torques_n_m(i)), 14)
+        << Pad(Fmt("%.6g", p.external_torques_n_m(i)), 14) << '\n';
   out << "\nplanet sets" << std::string(6, ' ') << Pad("speed rad/s", 14) << Pad("rel. rad/s", 14)
       << Pad("rel. Hz", 12) << '\n';
   for (size_t s = 0; s < t.planet_sets.size(); ++s) {
