@@ -36,20 +36,6 @@ bool IsFrameKind(SensorKind kind) {
          kind == SensorKind::kAngularAccelerometer;
 }
 
-// An element's outputs as (name, unit, columns), in the order of its GetOutputs() values.
-struct ElementOutput {
-  std::string name, unit;
-  int columns = 1;
-};
-std::vector<ElementOutput> ElementOutputs(const ExternalForceElement& e) {
-  const std::vector<std::string> names = e.OutputNames(), units = e.OutputUnits();
-  const std::vector<int> columns = e.OutputColumns();
-  std::vector<ElementOutput> outputs;
-  for (size_t k = 0; k < names.size(); ++k)
-    outputs.push_back({names[k], k < units.size() ? units[k] : "1", k < columns.size() ? columns[k] : 1});
-  return outputs;
-}
-
 const char* kAxisNames[3] = {"x", "y", "z"};
 
 }  // namespace
@@ -121,7 +107,7 @@ int ModelBuilder::AddSensor(const SensorSpec& spec) {
     const ExternalForceElement& e = *m.external_forces[spec.element];
     std::string known;
     bool found = false;
-    for (const ElementOutput& o : ElementOutputs(e)) {
+    for (const OutputDescription& o : e.outputs()) {
       found = found || o.name == spec.output;
       known += (known.empty() ? "" : ", ") + o.name;
     }
@@ -172,7 +158,7 @@ void ModelBuilder::FinalizeSensors() {
     } else {
       // The output's place among the element's values.
       int offset = 0;
-      for (const ElementOutput& o : ElementOutputs(*m.external_forces[spec.element])) {
+      for (const OutputDescription& o : m.external_forces[spec.element]->outputs()) {
         if (o.name == spec.output) {
           s.quantity = o.name, s.unit = o.unit, s.output_offset = offset;
           for (int c = 0; c < o.columns; ++c)

@@ -52,6 +52,8 @@ void FinishSensors(SensorSampler* sensors, double last_row_t) {
     sensors->Finish(last_row_t);
   } catch (const std::exception&) {
   }
+}
+
 // One output row: room in the file, the recorder's row, then the row's health from the
 // recorder's evaluation (or from an evaluation of its own without a file).
 void RecordRow(const Model& model, const Integrator& integrator, ResultFile* out, ResultRecorder* recorder,

@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "import/scene.h"
+#include "mbd/hdf5_reader.h"
 #include "mbd/data.h"
 #include "mbd/evaluate.h"
 #include "mbd/result_file.h"
@@ -129,7 +130,7 @@ TEST(MixedFidelity, Runs) {
     ResultFile out = ResultFile::Create(file.string());
     ASSERT_NO_THROW(Simulate(*scene.model, scene.simulation, &out));
   }
-  const ResultReader in(file.string());
+  const Hdf5Reader in(file.string());
   for (const char* name : {"S.sun-planet#1", "S.ring-planet#1"})
     EXPECT_GT(in.ReadMatrix(std::string("/external/") + name + "/normal_force").bottomRows(1)(0, 0), 1000) << name;
   for (const char* name : {"S.sun-planet#2", "S.ring-planet#3"})

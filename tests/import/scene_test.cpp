@@ -10,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include "mbd/hdf5_reader.h"
 #include "mbd/result_file.h"
 #include "mbd/simulation.h"
 
@@ -527,13 +528,13 @@ TEST(SceneSensorTest, SliderCrankSensorsMatchTheClosedForm) {
     ResultFile out = ResultFile::Create(path);
     Simulate(*scene.model, scene.simulation, &out);
   }
-  ResultReader in(path);
+  Hdf5Reader in(path);
   const Eigen::MatrixXd t = in.ReadMatrix("/time");
   const Eigen::MatrixXd slider = in.ReadMatrix("/sensors/slider_acc/acceleration");
   const Eigen::MatrixXd pin = in.ReadMatrix("/sensors/pin_acc/acceleration");
-  const double delay = std::stod(in.ReadAttribute("/sensors", "group_delay_s"));
+  const double delay = std::stod(in.ReadAttributeText("/sensors", "group_delay_s"));
   const double ripple =
-      std::pow(10.0, std::stod(in.ReadAttribute("/sensors", "passband_ripple_db")) / 20) - 1;
+      std::pow(10.0, std::stod(in.ReadAttributeText("/sensors", "passband_ripple_db")) / 20) - 1;
   const double w = 4 * kPi, r = 0.1, L = 0.3, h = 1e-4;
   auto s = [&](double th) {
     return r * std::cos(th) + std::sqrt(L * L - r * r * std::sin(th) * std::sin(th));

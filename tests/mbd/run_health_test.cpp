@@ -152,6 +152,11 @@ class SilentTorque final : public ExternalForceElement {
  public:
   explicit SilentTorque(BodyIndex body, double torque) : body_(body), torque_(torque) {}
   const std::string& name() const override { return name_; }
+  bool HasTangents() const override { return false; }
+  void AddTangents(const Model&, const Data&, ExternalForceWorkspace&, Eigen::Ref<Eigen::MatrixXd>,
+                   Eigen::Ref<Eigen::MatrixXd>) const override {}
+  const std::vector<OutputDescription>& outputs() const override { return outputs_; }
+  void GetOutputs(const ExternalForceWorkspace&, double*) const override {}
   std::unique_ptr<ExternalForceWorkspace> MakeWorkspace(const Model&) const override {
     return std::make_unique<ExternalForceWorkspace>();
   }
@@ -160,6 +165,7 @@ class SilentTorque final : public ExternalForceElement {
   }
 
  private:
+  std::vector<OutputDescription> outputs_;
   std::string name_ = "silent";
   BodyIndex body_;
   double torque_;
@@ -231,6 +237,11 @@ class ReportingElement final : public ExternalForceElement, public ElementHealth
  public:
   ReportingElement(double value, bool stops) : value_(value), stops_(stops) {}
   const std::string& name() const override { return name_; }
+  bool HasTangents() const override { return false; }
+  void AddTangents(const Model&, const Data&, ExternalForceWorkspace&, Eigen::Ref<Eigen::MatrixXd>,
+                   Eigen::Ref<Eigen::MatrixXd>) const override {}
+  const std::vector<OutputDescription>& outputs() const override { return outputs_; }
+  void GetOutputs(const ExternalForceWorkspace&, double*) const override {}
   std::unique_ptr<ExternalForceWorkspace> MakeWorkspace(const Model&) const override {
     return std::make_unique<ExternalForceWorkspace>();
   }
@@ -242,6 +253,7 @@ class ReportingElement final : public ExternalForceElement, public ElementHealth
   void GetHealthValues(const ExternalForceWorkspace&, double* values) const override { values[0] = value_; }
 
  private:
+  std::vector<OutputDescription> outputs_;
   std::string name_ = "teeth";
   double value_;
   bool stops_;

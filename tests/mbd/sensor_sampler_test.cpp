@@ -24,6 +24,7 @@
 
 #include <Eigen/Dense>
 
+#include "mbd/hdf5_reader.h"
 #include "mbd/data.h"
 #include "mbd/model.h"
 #include "mbd/result_file.h"
@@ -52,11 +53,11 @@ IntegratorOptions Ida(double rtol = 1e-10) {
 // Runs the model into a temporary file and keeps it open for reading.
 struct Record {
   std::string path;
-  std::unique_ptr<ResultReader> file;
+  std::unique_ptr<Hdf5Reader> file;
   Eigen::VectorXd time;
   Eigen::MatrixXd Read(const std::string& p) const { return file->ReadMatrix(p); }
   double Attribute(const std::string& p, const std::string& key) const {
-    return std::stod(file->ReadAttribute(p, key));
+    return std::stod(file->ReadAttributeText(p, key));
   }
   ~Record() {
     file.reset();
@@ -70,7 +71,7 @@ std::unique_ptr<Record> RunModel(const Model& model, SimulationOptions o, const 
     ResultFile out = ResultFile::Create(r->path);
     Simulate(model, o, &out);
   }
-  r->file = std::make_unique<ResultReader>(r->path);
+  r->file = std::make_unique<Hdf5Reader>(r->path);
   r->time = r->file->ReadMatrix("/time").col(0);
   return r;
 }
@@ -290,7 +291,7 @@ TEST(SensorSampler, NodeSensorOfAFlexibleBodyInOneMode) {
   EXPECT_LE(WorstError(*r, "/sensors/deflection/displacement", rows,
                        [&](double t) { return Eigen::VectorXd(V / w * std::sin(w * t) * phi); }),
             amp_d * (1e-7 + Ripple(*r)));
-  EXPECT_EQ(r->file->ReadAttribute("/sensors/acc", "node"), "7");
+  EXPECT_EQ(r->file->ReadAttributeText("/sensors/acc", "node"), "7");
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -350,16 +351,16 @@ TEST(SensorSampler, ResultFileLayoutAndAttributes) {
                         "/sensors/gyro/angular_velocity"})
     EXPECT_EQ(r->Read(s).rows(), 125) << s;
   EXPECT_EQ(r->Read("/sensors/acc_world/acceleration").cols(), 2);
-  const ResultReader& f = *r->file;
-  EXPECT_EQ(f.ReadAttribute("/sensors/acc_world/acceleration", "unit"), "m/s^2");
-  EXPECT_EQ(f.ReadAttribute("/sensors/acc_world/acceleration", "columns"), "x,y");
-  EXPECT_EQ(f.ReadAttribute("/sensors/acc_world", "kind"), "accelerometer");
-  EXPECT_EQ(f.ReadAttribute("/sensors/acc_world", "body"), "disk");
-  EXPECT_EQ(f.ReadAttribute("/sensors/acc_world", "frame"), "tip");
-  EXPECT_EQ(f.ReadAttribute("/sensors/acc_world", "measured_in"), "world");
-  EXPECT_EQ(f.ReadAttribute("/sensors/acc_body", "measured_in"), "sensor (the frame's own axes)");
-  EXPECT_EQ(f.ReadAttribute("/sensors/acc_world", "axes"), "x,y");
-  EXPECT_NE(f.ReadAttribute("/sensors", "filter_type").find("FIR"), std::string::npos);
+  const Hdf5Reader& f = *r->file;
+  EXPECT_EQ(f.ReadAttributeText("/sensors/acc_world/acceleration", "unit"), "m/s^2");
+  EXPECT_EQ(f.ReadAttributeText("/sensors/acc_world/acceleration", "columns"), "x,y");
+  EXPECT_EQ(f.ReadAttributeText("/sensors/acc_world", "kind"), "accelerometer");
+  EXPECT_EQ(f.ReadAttributeText("/sensors/acc_world", "body"), "disk");
+  EXPECT_EQ(f.ReadAttributeText("/sensors/acc_world", "frame"), "tip");
+  EXPECT_EQ(f.ReadAttributeText("/sensors/acc_world", "measured_in"), "world");
+  EXPECT_EQ(f.ReadAttributeText("/sensors/acc_body", "measured_in"), "sensor (the frame's own axes)");
+  EXPECT_EQ(f.ReadAttributeText("/sensors/acc_world", "axes"), "x,y");
+  EXPECT_NE(f.ReadAttributeText("/sensors", "filter_type").find("FIR"), std::string::npos);
   EXPECT_EQ(r->Attribute("/sensors", "internal_rate_hz"), 10000);
   EXPECT_EQ(r->Attribute("/sensors", "nyquist_hz"), 500);
   EXPECT_EQ(r->Attribute("/sensors", "passband_edge_vs_nyquist"), 0.8);
@@ -384,6 +385,11 @@ class FailingElement final : public ExternalForceElement {
  public:
   explicit FailingElement(double t_fail) : t_fail_(t_fail) {}
   const std::string& name() const override { return name_; }
+  bool HasTangents() const override { return false; }
+  void AddTangents(const Model&, const Data&, ExternalForceWorkspace&, Eigen::Ref<Eigen::MatrixXd>,
+                   Eigen::Ref<Eigen::MatrixXd>) const override {}
+  const std::vector<OutputDescription>& outputs() const override { return outputs_; }
+  void GetOutputs(const ExternalForceWorkspace&, double*) const override {}
   std::unique_ptr<ExternalForceWorkspace> MakeWorkspace(const Model&) const override {
     return std::make_unique<ExternalForceWorkspace>();
   }
@@ -392,6 +398,7 @@ class FailingElement final : public ExternalForceElement {
   }
 
  private:
+  std::vector<OutputDescription> outputs_;
   std::string name_ = "failing";
   double t_fail_;
 };
@@ -416,7 +423,7 @@ TEST(SensorSampler, ARunThatStopsEndsItsSensorsWithTime) {
       ResultFile out = ResultFile::Create(path);
       EXPECT_THROW(Simulate(*model, o, &out), std::runtime_error);
     }
-    ResultReader in(path);
+    Hdf5Reader in(path);
     const Eigen::MatrixXd t = in.ReadMatrix("/time"), a = in.ReadMatrix("/sensors/acc/acceleration");
     // The last row before the failure (IDA may have stepped past an output time and failed there).
     EXPECT_LE(t(t.rows() - 1, 0), 0.0735);

@@ -270,15 +270,17 @@ class TetherElement final : public ExternalForceElement {
     w.values[0] = p.norm();
     for (int i = 0; i < 3; ++i) w.values[1 + i] = f(i);
   }
-  std::vector<std::string> OutputNames() const override { return {"stretch", "force"}; }
-  std::vector<std::string> OutputUnits() const override { return {"m", "N"}; }
-  std::vector<int> OutputColumns() const override { return {1, 3}; }
+  bool HasTangents() const override { return false; }
+  void AddTangents(const Model&, const Data&, ExternalForceWorkspace&, Eigen::Ref<Eigen::MatrixXd>,
+                   Eigen::Ref<Eigen::MatrixXd>) const override {}
+  const std::vector<OutputDescription>& outputs() const override { return outputs_; }
   void GetOutputs(const ExternalForceWorkspace& ws, double* values) const override {
     for (int i = 0; i < 4; ++i) values[i] = static_cast<const Workspace&>(ws).values[i];
   }
 
  private:
   std::string name_ = "tether";
+  std::vector<OutputDescription> outputs_{{"stretch", "m", 1}, {"force", "N", 3}};
   FrameIndex frame_;
   double k_;
 };
