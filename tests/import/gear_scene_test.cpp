@@ -107,7 +107,7 @@ TEST(GearScene, Seed002SpeedFollowsTheTrapezoid) {
 }
 
 TEST(GearScene, Seed003OutputTorqueBecomesTheRingTorque) {
-  const Scene s = LoadScene(ScenePath("seed003_stage.yaml"));
+  const Scene s = LoadScene(ScenePath("seed003_lumped_healthy.yaml"));
   // T_r = 6000 Z_r / (Z_s + Z_r) on the ring for a 6000 N m carrier load.
   EXPECT_NEAR(s.gear_train->input_torque_n_m, 6000.0 * 50 / 72, 1e-9);
 }
@@ -209,14 +209,14 @@ TEST(GearScene, GearTrainErrorsNameFileLineKey) {
 // a facet's roll angle, r_a dphi / 2 of moment arm against r_b (planetary_contact_test.cpp), plus
 // the mean of the ringing left over the window, bounded by its amplitude over the cycles seen.
 TEST(GearScene, ContactMeshModelRunsSeed003WithTorqueBalanceInTheMean) {
-  const Scene scene = LoadScene(ScenePath("seed003_contact_stage.yaml"));
+  const Scene scene = LoadScene(ScenePath("seed003_contact_healthy.yaml"), {"solver.end_time=0.005"});
   ASSERT_EQ(scene.kind, SceneKind::kGearTrain);
   EXPECT_EQ(scene.gear_train->options.mesh_model, gears::MeshModel::kContact);
   const std::vector<std::string> expected{"S.sun-planet#1", "S.sun-planet#2", "S.sun-planet#3",
                                           "S.ring-planet#1", "S.ring-planet#2", "S.ring-planet#3"};
   ASSERT_EQ(scene.gear_train->contact_meshes, expected);
   EXPECT_TRUE(scene.gear_train->model->meshes.empty());  // no lumped mesh left
-  const fs::path file = fs::path(::testing::TempDir()) / "seed003_contact_stage.h5";
+  const fs::path file = fs::path(::testing::TempDir()) / "seed003_contact_healthy.h5";
   {
     ResultFile out = ResultFile::Create(file.string());
     const SimulationReport r = Simulate(*scene.model, scene.simulation, &out);
