@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -34,24 +35,57 @@ bool Mentions(const std::string& what, const std::string& name) {
          what.find("'" + name + "#") != std::string::npos;
 }
 
+// The scene's tooth faults on one flexible body ("S.planet1": set S.planet, branch 0; "S.sun").
+std::vector<gears::ToothFaultSpec> BodyFaults(const gears::GearTrainDescription& d, const std::string& body) {
+  std::vector<gears::ToothFaultSpec> faults;
+  for (const gears::TrainToothFault& f : d.options.tooth_faults)
+    if (f.gear == body || f.gear + std::to_string(f.branch + 1) == body) faults.push_back(f.spec);
+  return faults;
+}
+
+// The faulty twin's file of a reduced body: "<stem>.fault-<16 hex digits of the faults' text>.h5"
+// beside it (the healthy file keeps its name).
+std::string FaultyBodyPath(const std::string& reduced_body, const std::string& faults_text) {
+  const std::filesystem::path p(reduced_body);
+  const std::string hash = flex::Fnv1a64Hex(faults_text);
+  return (p.parent_path() / (p.stem().string() + ".fault-" + hash.substr(hash.size() - 16) + ".h5")).string();
+}
+
 // A reduced-body file: read and checked against its reduce input (a stale file is refused with
-// the reasons); made from the reduce input when missing.
-std::shared_ptr<const FlexibleBodyModes> LoadReducedBody(const Context& ctx, const FlexibleBodyFile& f) {
+// the reasons); made from the reduce input when missing. With scene faults on the body, the
+// reduce input's mesh takes them too and the file is its faulty twin (FaultyBodyPath); without a
+// reduce input the file's provenance must record exactly those faults.
+std::shared_ptr<const FlexibleBodyModes> LoadReducedBody(const Context& ctx, FlexibleBodyFile f,
+                                                         const std::vector<gears::ToothFaultSpec>& faults) {
   std::optional<flex::ReducedBodyProvenance> expected;
   std::optional<GearReduction> job;
+  const std::string given_path = f.reduced_body;
   if (f.reduce_input_item) {
     try {
-      job = PrepareGearReduction(LoadReduceInput(f.reduce_input));
+      ReduceInput input = LoadReduceInput(f.reduce_input);
+      if (!faults.empty()) {
+        const gears::Gear gear(input.gear);
+        for (const gears::ToothFaultSpec& fault : faults) input.mesh.faults.push_back(fault);
+        try {
+          gears::ValidateToothFaults(gear, input.mesh.faults);
+        } catch (const std::invalid_argument& e) {
+          throw std::invalid_argument(std::string("the scene's faults on ") + f.body + " with the reduce input's: " +
+                                      e.what());
+        }
+        f.reduced_body = FaultyBodyPath(f.reduced_body, DescribeGearFaults(input.mesh.faults));
+      }
+      job = PrepareGearReduction(input);
       expected = flex::MakeReducedBodyProvenance(job->mesh, job->cb_options, job->interfaces, job->outputs, "",
                                                  job->faults);
-      expected->source = "the reduce input " + f.reduce_input;
+      expected->source = "the reduce input " + f.reduce_input + (faults.empty() ? "" : " with the scene's faults");
     } catch (const std::exception& e) {
       ctx.Fail(*f.reduce_input_item, e.what());
     }
   }
   const std::string remake = f.reduce_input.empty()
                                  ? "make it with `orrery reduce INPUT -o " + f.reduced_body + "`"
-                                 : "make it with `orrery reduce " + f.reduce_input + " -o " + f.reduced_body + "`";
+                                 : faults.empty() ? "make it with `orrery reduce " + f.reduce_input + " -o " + f.reduced_body + "`"
+                                                  : "delete it: `orrery run` makes it from " + f.reduce_input + " and the scene's faults";
   ctx.NoteInput(f.reduced_body);
   if (!f.reduce_input.empty()) ctx.NoteInput(f.reduce_input);
   // A missing file is made from the reduce input (once; later runs reuse it), by `orrery run` only.
@@ -68,9 +102,19 @@ std::shared_ptr<const FlexibleBodyModes> LoadReducedBody(const Context& ctx, con
     }
   }
   try {
-    return std::make_shared<FlexibleBodyModes>(flex::ReadReducedBody(f.reduced_body, expected ? &*expected : nullptr).modes);
+    flex::ReducedBody body = flex::ReadReducedBody(f.reduced_body, expected ? &*expected : nullptr);
+    // Without a reduce input: the file must carry the scene's faults (and nothing else).
+    const std::string want = DescribeGearFaults(faults);
+    if (!job && body.provenance.faults != want)
+      ctx.Fail(*f.reduced_body_item, given_path + " was reduced with faults '" +
+                                         (body.provenance.faults.empty() ? "unknown" : body.provenance.faults) +
+                                         "' but the scene gives " + f.body + " '" + want +
+                                         "'; name its reduce_input so that the scene makes the body with its faults");
+    return std::make_shared<FlexibleBodyModes>(std::move(body.modes));
   } catch (const flex::StaleReducedBodyError& e) {
-    ctx.Fail(*f.reduced_body_item, std::string(e.what()) + "; re" + remake.substr(1));
+    ctx.Fail(*f.reduced_body_item, std::string(e.what()) + "; " + (faults.empty() ? "re" + remake.substr(1) : remake));
+  } catch (const SceneError&) {
+    throw;
   } catch (const std::exception& e) {
     ctx.Fail(*f.reduced_body_item, e.what());
   }
@@ -80,7 +124,7 @@ std::shared_ptr<const FlexibleBodyModes> LoadReducedBody(const Context& ctx, con
 void LoadFlexibleBodies(const Context& ctx, GearTrainRead& r) {
   for (const FlexibleBodyFile& f : r.flexible_files) {
     gears::TrainFlexibleBody& b = r.description.options.flexible_bodies.at(f.body);
-    b.modes = LoadReducedBody(ctx, f);
+    b.modes = LoadReducedBody(ctx, f, BodyFaults(r.description, f.body));
     if (!b.mesh_interface.empty()) {
       const auto set = b.modes->node_sets.find(b.mesh_interface);
       if (set == b.modes->node_sets.end() || set->second.size() != 1)

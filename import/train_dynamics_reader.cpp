@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "import/gear_train_reader.h"
+#include "import/tooth_fault_reader.h"
 #include "import/unit_keys.h"
 
 namespace orrery::scene_reader {
@@ -226,6 +227,41 @@ void ReadToothContact(const Context& ctx, const std::optional<Item>& item, const
   }
 }
 
+// `faults:` tooth faults of the train's gears (models/train_dynamics.h, "Tooth faults"): a map or a
+// list of maps {gear, branch (planets, 1-based), the fault's keys (import/tooth_fault_reader.h)},
+// tooth indices in the gear frame. Checked here: the gear, the branch, the tooth index; against
+// the gear's geometry by the assembler (errors at the entry, gear_scene.cpp).
+void ReadTrainFaults(const Context& ctx, const std::optional<Item>& item, const TrainNames& names,
+                     GearTrainRead& r) {
+  for (const Item& it : OneOrMany(ctx, item)) {
+    const gears::ToothFaultSpec spec = ReadToothFault(ctx, it, {"gear", "branch"});
+    // The keys were checked by ReadToothFault; read gear and branch from the same map.
+    std::vector<std::string> keys;
+    for (auto k = it.node.begin(); k != it.node.end(); ++k) keys.push_back(k->first.Scalar());
+    const MapReader t(ctx, it, keys);
+    gears::TrainToothFault f{.gear = t.String("gear"), .branch = 0, .spec = spec};
+    if (std::find(names.gears.begin(), names.gears.end(), f.gear) == names.gears.end())
+      ctx.Fail(t.Need("gear"), "no gear named '" + f.gear + "'" + SuggestOrList(f.gear, names.gears, "gears"));
+    const bool planet = std::find(names.planet_sets.begin(), names.planet_sets.end(), f.gear) != names.planet_sets.end();
+    if (planet) {
+      const int n = names.set_planets.at(f.gear);
+      if (!t.Has("branch"))
+        ctx.Fail(it, "a planet's fault needs 'branch' (1.." + std::to_string(n) + ": which planet of the set)");
+      const int branch = t.Int("branch", 1);
+      if (branch < 1 || branch > n) ctx.Fail(t.Need("branch"), "must be in 1.." + std::to_string(n) + " (the planet of the set)");
+      f.branch = branch - 1;
+    } else if (t.Has("branch")) {
+      ctx.Fail(t.Need("branch"), "a branch is for planets; '" + f.gear + "' is a central gear");
+    }
+    const int z = names.gear_teeth.at(f.gear);
+    if (spec.tooth < 0 || spec.tooth >= z)
+      ctx.Fail(t.Need("tooth"), "tooth index " + std::to_string(spec.tooth) + " is not in 0.." + std::to_string(z - 1) +
+                                    " ('" + f.gear + "' has " + std::to_string(z) + " teeth)");
+    r.description.options.tooth_faults.push_back(f);
+    r.sources.dynamics_entries.emplace_back(f.gear, it);
+  }
+}
+
 // `housing:` {mass, polar_inertia, transverse_inertia, mount_radial_stiffness,
 // mount_axial_stiffness, mount_torsional_stiffness, mount_tilt_stiffness, mount_damping_ratio}.
 gears::TrainHousing ReadHousing(const MapReader& dynamics, const Item& item) {
@@ -332,7 +368,7 @@ void ReadTrainDynamics(const Context& ctx, const std::optional<Item>& item, Gear
                                    "brake_stiffness", "bearing_stiffness", "axial_bearing_stiffness",
                                    "tilt_bearing_stiffness", "bearing_damping", "port_loads",
                                    "stage_phase_cycles", "members", "meshes", "backlash", "backlash_um",
-                                   "flexible_bodies", "mesh_model", "tooth_contact", "housing"};
+                                   "flexible_bodies", "mesh_model", "tooth_contact", "housing", "faults"};
   Append(allowed, Names(LengthMm("stage_spacing")));
   const MapReader m(ctx, *item, allowed,
                     {{"damping_ratio", "write 'mesh_damping_ratio'"},
@@ -371,6 +407,7 @@ void ReadTrainDynamics(const Context& ctx, const std::optional<Item>& item, Gear
   if (const auto h = m.Find("housing")) o.housing = ReadHousing(m, *h);
   ReadMeshModel(m, o);
   ReadToothContact(ctx, m.Find("tooth_contact"), names, o.contact);
+  ReadTrainFaults(ctx, m.Find("faults"), names, r);
   ReadDynamicsScalars(m, o);
   ReadMeshStiffness(m, r);
 }

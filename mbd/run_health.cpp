@@ -138,7 +138,7 @@ void RunHealth::OnStep(double t, const Eigen::Ref<const Eigen::VectorXd>& q,
            std::numeric_limits<double>::quiet_NaN(), 0, true, "a position or velocity is not finite (the solution diverged)");
   }
   // Meshes after every fixed step (generalized-alpha); IDA's error control resolves the
-  // deflections, so its rows suffice (a kinematics pass per step cost 14 % of seed003_stage)
+  // deflections, so its rows suffice (a kinematics pass per step cost 14 % of seed003_lumped_healthy)
   if (model_.gear_meshes.empty() || integrator_.kind != IntegratorKind::kGeneralizedAlpha) return;
   CalcPositionKinematics(model_, q, data_);
   CheckMeshes(t, data_);

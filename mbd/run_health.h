@@ -22,7 +22,7 @@
 //       the deflections, every row), or (every row) the gears roll against each other by
 //       more than p/4 per step (|e-dot| h > p/4, e-dot the relative speed along the line of
 //       action, h the last step): a step that skips whole teeth leaves e small at every step
-//       while the train spins at a speed its gears do not allow (seed003_stage at a 0.05 s step
+//       while the train spins at a speed its gears do not allow (seed003_lumped_healthy at a 0.05 s step
 //       ended with the carrier at -75000 rad/s instead of 59 rad/s, every sampled deflection
 //       below 0.1 um).
 //   energy_balance         (output rows) residual r = E(t) - E(0) - integral (P_applied +

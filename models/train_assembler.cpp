@@ -2,6 +2,7 @@
 // stages share (train_assembly.h).
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <stdexcept>
 
 #include "models/train_assembly.h"
@@ -62,7 +63,8 @@ void CheckOptionValues(const PlanetaryTrain& train, const TrainModelOptions& o) 
     FailTrain("mesh_stiffness_n_per_m must be > 0");
 }
 
-// Train gear index of every tooth fault, checked.
+// Train gear index of every tooth fault, checked (the fault against its gear's geometry when
+// the mesh stage builds it).
 std::vector<int> FaultGears(const PlanetaryTrain& train, const TrainModelOptions& o) {
   std::vector<int> gears;
   for (const TrainToothFault& f : o.tooth_faults) {
@@ -73,8 +75,11 @@ std::vector<int> FaultGears(const PlanetaryTrain& train, const TrainModelOptions
     const TrainGear& tg = train.gears[g];
     if (tg.planet_set >= 0 && (f.branch < 0 || f.branch >= static_cast<int>(train.planet_sets[tg.planet_set].angles_rad.size())))
       FailTrain("tooth fault on '" + f.gear + "': branch " + std::to_string(f.branch) + " out of range");
-    if (f.fault.tooth < 0 || f.fault.tooth >= tg.teeth)
-      FailTrain("tooth fault on '" + f.gear + "': tooth " + std::to_string(f.fault.tooth) + " out of range");
+    if (tg.planet_set < 0 && f.branch != 0)
+      FailTrain("tooth fault on '" + f.gear + "': a branch is for planets ('" + f.gear + "' is a central gear)");
+    if (f.spec.tooth < 0 || f.spec.tooth >= tg.teeth)
+      FailTrain("tooth fault on '" + f.gear + "': tooth " + std::to_string(f.spec.tooth) + " out of range 0.." +
+                std::to_string(tg.teeth - 1));
     gears.push_back(g);
   }
   return gears;
@@ -176,6 +181,40 @@ Vec3 TrainGearCentre(const PlanetaryTrain& train, int g, int branch) {
   const PlanetSet& ps = train.planet_sets[gear.planet_set];
   const double psi = ps.angles_rad[branch];
   return ps.center_radius_m * Vec3(std::cos(psi), std::sin(psi), 0);
+}
+
+double GearFrameRotation(const PlanetaryTrain& train, int g, int branch) {
+  const TrainGear& gear = train.gears[g];
+  if (gear.planet_set < 0 && !gear.internal) return 0;
+  // A planet: a space faces each tooth of the stage's external central gear on the line of
+  // centres; a ring: from the planet of its mesh (train_contact.h).
+  auto planet_rotation = [&](int planet_gear) {
+    const PlanetSet& ps = train.planet_sets[train.gears[planet_gear].planet_set];
+    const double zp = train.gears[planet_gear].teeth;
+    double z_sun = 0;
+    for (const TrainMesh& m : train.meshes)
+      if (m.stage == ps.stage && m.kind == MeshKind::kExternal && m.gear_b == planet_gear &&
+          train.gears[m.gear_a].planet_set < 0)
+        z_sun = train.gears[m.gear_a].teeth;
+    return std::numbers::pi + std::numbers::pi / zp + z_sun / zp * ps.angles_rad[branch];
+  };
+  if (gear.planet_set >= 0) return planet_rotation(g);
+  for (const TrainMesh& m : train.meshes) {
+    if (m.kind != MeshKind::kInternal || m.gear_a != g) continue;
+    const PlanetSet& ps = train.planet_sets[train.gears[m.gear_b].planet_set];
+    return ps.angles_rad[branch] + std::numbers::pi / gear.teeth +
+           double(train.gears[m.gear_b].teeth) / gear.teeth * planet_rotation(m.gear_b);
+  }
+  return 0;
+}
+
+std::vector<ToothFaultSpec> GearFaults(const TrainAssembly& a, int g, int branch) {
+  std::vector<ToothFaultSpec> faults;
+  const bool planet = a.train.gears[g].planet_set >= 0;
+  for (size_t f = 0; f < a.o.tooth_faults.size(); ++f)
+    if (a.fault_gear[f] == g && (!planet || a.o.tooth_faults[f].branch == branch))
+      faults.push_back(a.o.tooth_faults[f].spec);
+  return faults;
 }
 
 std::pair<int, int> TrainSpecGears(const TrainMesh& m) {

@@ -67,6 +67,16 @@ struct TrainAssembly {
 // Centre of gear `g` on branch `branch` in the carrier frame (central gears on the axis).
 Vec3 TrainGearCentre(const PlanetaryTrain& train, int g, int branch);
 
+// Rotation (rad, about z) of train gear g's gear frame in its body at q = 0 on branch `branch`
+// (train_dynamics.h, "Tooth faults"; train_contact.h, "Gear frames"): 0 for an external central
+// gear, pi + pi / z_p + (z_s / z_p) psi for a planet (z_s: the stage's external central gear
+// meshing it, 0 if none), psi + pi / z_r + (z_p / z_r) (the planet's) for a ring.
+double GearFrameRotation(const PlanetaryTrain& train, int g, int branch);
+
+// The faults of train gear g on branch `branch` (every branch for a central gear), gear-frame
+// indices (tooth_faults).
+std::vector<ToothFaultSpec> GearFaults(const TrainAssembly& a, int g, int branch);
+
 // Spec gears of a train mesh (a, b): a ring is always b (internal), a planet is b of an external
 // mesh with a central gear.
 std::pair<int, int> TrainSpecGears(const TrainMesh& m);

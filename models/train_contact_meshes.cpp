@@ -13,6 +13,7 @@
 #include "contact/triangle_geometry.h"
 #include "models/flexible_gear_mesh.h"
 #include "models/gear_fe_mesh.h"
+#include "models/tooth_fault_geometry.h"
 #include "models/train_assembly.h"
 
 namespace orrery::gears {
@@ -83,8 +84,16 @@ ToothFaces ReducedToothFaces(const std::string& what, const FlexibleBodyModes& m
 // Tooth t's analytic outline placed by X_BG, keeping the triangles whose vertices lie on the FE
 // faces; an involute or tip vertex off them is an error.
 TriangleMesh EmbeddedTooth(const std::string& what, const Gear& gear, int t, const ToothFaces& faces,
-                           const Transform& X_BG, const TrainContactOptions& c) {
-  const double tol = c.flexible.embed_tolerance_m;
+                           const Transform& X_BG, const TrainContactOptions& c,
+                           const std::vector<ToothFaultSpec>& faults) {
+  // A spall's floor lies its depth below the FE flank it is embedded in.
+  double tol = c.flexible.embed_tolerance_m;
+  bool reshaped = false;
+  for (const ToothFaultSpec& f : faults) {
+    if (f.tooth != t || f.kind == ToothFaultSpec::Kind::kRootCrack) continue;
+    reshaped = true;
+    if (f.kind == ToothFaultSpec::Kind::kSpall) tol += f.depth_m;
+  }
   auto distance = [&](const Vec3& v) {
     double best = 1e300;
     for (const ToothFaces::Tri& tr : faces.tris) {
@@ -95,7 +104,8 @@ TriangleMesh EmbeddedTooth(const std::string& what, const Gear& gear, int t, con
   };
   const ProfileResolution res{.root = c.gear.root_intervals, .fillet = c.gear.fillet_intervals,
                               .involute = c.gear.involute_intervals, .tip = c.gear.tip_intervals};
-  const TriangleMesh full = MakeToothSurfaceMesh(gear, t, res, c.flexible.face_intervals);
+  const TriangleMesh full = reshaped ? MakeFaultyToothSurfaceMesh(gear, t, res, c.flexible.face_intervals, faults)
+                                     : MakeToothSurfaceMesh(gear, t, res, c.flexible.face_intervals);
   const int nv = static_cast<int>(full.vertices.size());
   std::vector<char> on(nv);
   for (int v = 0; v < nv; ++v) {
@@ -128,14 +138,15 @@ TriangleMesh EmbeddedTooth(const std::string& what, const Gear& gear, int t, con
 // tooth node sets; *z0 receives that z.
 std::shared_ptr<const FlexibleContactSurface> FlexibleGearSurface(
     const std::string& what, const Gear& gear, const std::shared_ptr<const FlexibleBodyModes>& modes,
-    double rot_B, const std::vector<int>& missing, const TrainContactOptions& c, double* z0) {
+    double rot_B, const std::vector<int>& missing, const std::vector<ToothFaultSpec>& faults,
+    const TrainContactOptions& c, double* z0) {
   const ToothFaces faces = ReducedToothFaces(what, *modes, gear.teeth());
   *z0 = faces.z0;
   const Transform X_BG(AxisAngle(Vec3::UnitZ(), rot_B), Vec3(0, 0, faces.z0));
   std::vector<TriangleMesh> parts;
   for (int t = 0; t < gear.teeth(); ++t) {
     if (std::find(missing.begin(), missing.end(), t) != missing.end()) continue;
-    TriangleMesh part = EmbeddedTooth(what, gear, t, faces, X_BG, c);
+    TriangleMesh part = EmbeddedTooth(what, gear, t, faces, X_BG, c, faults);
     if (!part.triangles.empty()) parts.push_back(std::move(part));
   }
   if (parts.empty()) FailTrain(what + "no tooth left");
@@ -159,28 +170,26 @@ std::vector<int> MissingTeeth(const TrainAssembly& a, int g, int branch) {
 }
 
 // Gear frames in the body frames (train_contact.h, "Gear frames and tooth phasing").
-void PlaceGearFrames(const TrainAssembly& a, const TrainMesh& m, int g1, int g2, int branch, TrainContactMesh* e) {
-  const PlanetaryTrain& train = a.train;
-  const bool internal = m.kind == MeshKind::kInternal;
-  const int planet_gear = internal ? g1 : g2;
-  const PlanetSet& ps = train.planet_sets[train.gears[planet_gear].planet_set];
-  const double zp = train.gears[planet_gear].teeth;
-  // The sun of the stage for the planet phasing of a ring mesh.
-  double z_sun = internal ? 0 : train.gears[g1].teeth;
-  if (internal)
-    for (const TrainMesh& other : train.meshes)
-      if (other.stage == m.stage && other.kind == MeshKind::kExternal && other.gear_b == planet_gear &&
-          train.gears[other.gear_a].planet_set < 0)
-        z_sun = train.gears[other.gear_a].teeth;
-  const double psi = ps.angles_rad[branch];
-  const double planet_rot = kPi + kPi / zp + z_sun / zp * psi;
-  if (internal) {
-    e->rotation1_rad = planet_rot;
-    e->rotation2_rad = psi + kPi / train.gears[g2].teeth + zp / train.gears[g2].teeth * planet_rot;
-  } else {
-    e->rotation1_rad = 0;
-    e->rotation2_rad = planet_rot;
-  }
+void PlaceGearFrames(const TrainAssembly& a, int g1, int g2, int branch, TrainContactMesh* e) {
+  e->rotation1_rad = GearFrameRotation(a.train, g1, branch);
+  e->rotation2_rad = GearFrameRotation(a.train, g2, branch);
+}
+
+// The faults of gear g on a branch in the gear frame that branch's surface uses: a ring's frame
+// turns by whole pitches m_i from branch to branch (equal spacing), so physical tooth k (branch
+// 0's frame, train_dynamics.h "Tooth faults") is tooth k - m_i there.
+std::vector<ToothFaultSpec> BranchFaults(const TrainAssembly& a, int g, int branch) {
+  std::vector<ToothFaultSpec> faults = GearFaults(a, g, branch);
+  const TrainGear& gear = a.train.gears[g];
+  if (faults.empty() || !gear.internal || branch == 0) return faults;
+  const double pitch = 2 * kPi / gear.teeth;
+  const double turns = (GearFrameRotation(a.train, g, branch) - GearFrameRotation(a.train, g, 0)) / pitch;
+  if (std::abs(turns - std::round(turns)) > 1e-6)
+    FailTrain("tooth fault on '" + gear.name + "': a ring fault with unequally spaced planets (each ring-planet "
+              "contact carries its own ring surface) is not supported");
+  const int m = static_cast<int>(std::lround(turns));
+  for (ToothFaultSpec& f : faults) f.tooth = ((f.tooth - m) % gear.teeth + gear.teeth) % gear.teeth;
+  return faults;
 }
 
 // The surface of a flexible gear, made once per body (its branches share it); its joint starts at
@@ -194,8 +203,14 @@ std::pair<std::shared_ptr<const FlexibleContactSurface>, double> FlexibleSurface
   auto [it, made] = a.flexible_surfaces.try_emplace(body);
   if (!made) return it->second;
   double z0 = 0;
+  const std::vector<ToothFaultSpec> faults = BranchFaults(a, gear, branch);
+  try {
+    ValidateToothFaults(geometry, faults);
+  } catch (const std::invalid_argument& e) {
+    FailTrain("tooth fault on '" + a.train.gears[gear].name + "': " + e.what());
+  }
   it->second.first = FlexibleGearSurface(FlexibleWhat(a, gear, body), geometry, a.Flexible(body)->modes, whole,
-                                         MissingTeeth(a, gear, branch), a.o.contact, &z0);
+                                         MissingTeeth(a, gear, branch), faults, a.o.contact, &z0);
   it->second.second = z0;
   if (*delta == 0) return it->second;
   const JointIndex j = a.GearJoint(gear, branch);
@@ -253,7 +268,9 @@ void AddFlexibleContact(TrainAssembly& a, const TrainMesh& m, int g1, int g2, in
     const Gear& geometry = s == 0 ? pair.gear1() : pair.gear2();
     X_BG[s] = Transform(AxisAngle(Vec3::UnitZ(), rotation[s]), Vec3(0, 0, z0));
     sides[s] = ContactSide{.body = s == 0 ? e.body1 : e.body2,
-                           .rigid = MakeGearContactSurface(geometry, go, MissingTeeth(a, gear[s], branch), X_BG[s])};
+                           .rigid = MakeGearContactSurface(geometry, go, MissingTeeth(a, gear[s], branch), X_BG[s],
+                                                           s == 0 ? go.faults1 : go.faults2,
+                                                           CrackStiffnessScales(pair, s + 1, go))};
     (s == 0 ? penalty.rigid1 : penalty.rigid2) = true;
     (s == 0 ? penalty.rim_radius1_m : penalty.rim_radius2_m) = PartnerRim(a, gear[s], geometry);
   }
@@ -288,12 +305,19 @@ void AddContactMesh(TrainAssembly& a, int mesh, int branch, const GearPair& unth
   e.branch = branch;
   e.body1 = a.GearBody(g1, branch);
   e.body2 = a.GearBody(g2, branch);
-  PlaceGearFrames(a, m, g1, g2, branch, &e);
+  PlaceGearFrames(a, g1, g2, branch, &e);
   GearContactOptions go = a.o.contact.gear;
   go.X_B1G1 = Transform(AxisAngle(Vec3::UnitZ(), e.rotation1_rad), Vec3::Zero());
   go.X_B2G2 = Transform(AxisAngle(Vec3::UnitZ(), e.rotation2_rad), Vec3::Zero());
   go.missing_teeth1 = MissingTeeth(a, g1, branch);
   go.missing_teeth2 = MissingTeeth(a, g2, branch);
+  // Tooth faults (train_dynamics.h, "Tooth faults"): geometry, and a crack's stiffness ratio from
+  // the gears' blanks and material.
+  go.faults1 = BranchFaults(a, g1, branch);
+  go.faults2 = BranchFaults(a, g2, branch);
+  go.rim_radius1_m = PartnerRim(a, g1, unthinned.gear1());
+  go.rim_radius2_m = PartnerRim(a, g2, unthinned.gear2());
+  go.material = a.o.gear_material;
   go.normal_backlash_m = a.o.contact.normal_backlash_m;
   go.backlash_share1 = internal ? 0.0 : 1.0;  // the central gear takes the thinning
   const GearPair pair = WithNormalBacklash(unthinned, go.normal_backlash_m, go.backlash_share1);
@@ -302,12 +326,18 @@ void AddContactMesh(TrainAssembly& a, int mesh, int branch, const GearPair& unth
   e.base_helix_angle_rad = pair.gear1().base_helix_angle_rad();
   e.transverse_pressure_angle_rad = pair.working_pressure_angle_rad();
   e.external_force = static_cast<int>(a.b.draft().external_forces.size());
-  if (a.Flexible(a.GearBodyName(g1, branch)) || a.Flexible(a.GearBodyName(g2, branch))) {
-    AddFlexibleContact(a, m, g1, g2, branch, pair, go, e);
-  } else {
-    e.calibration = CalibrateGearContact(pair, go);
-    go.normal_backlash_m = 0;  // already in `pair`
-    a.b.AddExternalForce(std::make_shared<ContactElement>(MakeGearContactSpec(e.name, pair, e.body1, e.body2, go)));
+  try {
+    if (a.Flexible(a.GearBodyName(g1, branch)) || a.Flexible(a.GearBodyName(g2, branch))) {
+      AddFlexibleContact(a, m, g1, g2, branch, pair, go, e);
+    } else {
+      e.calibration = CalibrateGearContact(pair, go);
+      go.normal_backlash_m = 0;  // already in `pair`
+      a.b.AddExternalForce(std::make_shared<ContactElement>(MakeGearContactSpec(e.name, pair, e.body1, e.body2, go)));
+    }
+  } catch (const std::invalid_argument& err) {
+    const std::string what = err.what();
+    if (what.rfind("train model:", 0) == 0) throw;
+    FailTrain("mesh '" + e.name + "': " + what);
   }
   a.tm.branches.push_back({.train_mesh = mesh, .branch = branch, .model = MeshModel::kContact,
                            .index = static_cast<int>(a.tm.contacts.size())});

@@ -125,13 +125,36 @@
 //   drive flank, -1 coast flank (gear a turning +z drives on its drive flank: the contact runs
 //   from T1 towards the tip of gear 1; on the coast flank it runs back), i.e. phase 0 puts a
 //   pair at P in the mid-face transverse section.
-//   Faulty teeth: tooth e of a faulted gear G is the e-th tooth of G to reach the pitch point of
-//   the mesh as the mesh phase grows, tooth 0 the one at the pitch point at phase 0 (for a central
-//   gear: at phase 0 of branch 0, so one physical tooth meets every branch; the branch-n phase
-//   over Z_G cycles is phase_0 - Z_G psi_n / 2 pi mod Z_G, psi_n - psi_0 the planet angle). A
-//   faulted planet (TrainToothFault::branch) numbers its teeth per mesh: the sun-side and
-//   ring-side flanks are not tied to one physical tooth (not modelled).
+//   With a tooth fault on gear G of the mesh (below, "Tooth faults") the table spans Z_G cycles
+//   (one turn of G relative to the carrier) with GearMeshSpec::phase_gear = G; a faulted planet
+//   has its own table per branch, a faulted central gear one table whose branch-n phase is
+//   phase_0 - Z_G psi_n / 2 pi mod Z_G (psi_n - psi_0 the planet angle: one physical tooth meets
+//   every branch in turn).
 //
+// Tooth faults (`tooth_faults`, TrainToothFault: gear, branch, ToothFaultSpec of tooth_fault.h).
+// One numbering for every level: the gear-frame index, tooth k centred on the polar angle
+// 2 pi k / z of the gear frame, which the assembler places in the body at q = 0 as the contact
+// level does (models/train_contact.h: the sun's tooth 0 on its body's +x, a planet's frame turned
+// by pi + pi / z_p + (z_s / z_p) psi, the ring's from the planet's); a flexible gear's FE teeth
+// have the same indices. The default phase of each stage's first mesh (no stage_phase_cycles) is
+// the one these frames give (a lumped model's teeth stand where the contact model's do), so
+// every level of one scene meets a fault at the same instant. Per mesh branch at its level:
+//   lumped (kTvms only; another source with a fault on the mesh is an error): CalcTvms over a
+//     turn of G with the fault at the mesh-order tooth of gear-frame tooth k: tooth k reaches the
+//     pitch point on the loaded flank at the mesh phase n_k = round(psi_c(k) - f_G) mod Z_G,
+//     psi_c(k) = phase_0 + (dpsi/dtheta_G) (phi_G - chi_k) the phase at which it is centred on
+//     the line of centres (phi_G: direction from G's centre to the pitch point; chi_k: the
+//     tooth's angle at q = 0), f_G = sigma Z_a (theta_ba - inv alpha_w) / 2 pi for gear a and
+//     f_a - sigma / 2 for gear b (the mating tooth, half a pitch ahead); cracks and spalls act
+//     on their own flank when it is loaded (drive: gear a's plus flank, an external gear b's
+//     plus, a ring's minus; coast: the other);
+//   contact: the faulty tooth surfaces and crack scales of gear_contact.h (faults1/faults2);
+//   flexible: the FE mesh of the reduced body carries the fault (its reduce input's `fault:`,
+//     made by the scene loader, import/gear_scene.cpp); the embedded contact surface is the
+//     faulty one (a broken part has no FE face to embed in; a spall floor lies below the flank).
+// A flexible planet's or gear's faults must be in its reduced body (the scene loader refuses a
+// body whose provenance lacks them).
+
 // Flexible bodies (`flexible_bodies`, by body name: planets "S.planet1", central members "S.sun",
 // "S.ring"): the body is the reduced body (mbd/flexible_body.h; mass and inertia from its FE
 // model instead of the lumped parameters), its frame B the reduction's reference interface (a
@@ -194,11 +217,12 @@ const char* MeshModelName(MeshModel model);  // "kinematic", "lumped", "contact"
 // Where a lumped mesh's stiffness comes from (header, "Mesh stiffness").
 enum class MeshStiffnessSource { kGiven, kIso6336, kTvms, kTvmsMean };
 
-// A tooth fault on one gear of the train (kTvms meshes only).
+// A tooth fault on one gear of the train (header, "Tooth faults"), applied at the level of every
+// mesh branch the gear meets: lumped (kTvms), contact, or the FE teeth of a flexible body.
 struct TrainToothFault {
-  std::string gear;   // train gear name: "S1.sun", "S1.planet", "S1.ring", ...
-  int branch = 0;     // planets: the branch (0-based) whose planet is faulted; central gears: unused
-  ToothFault fault;   // kind, tooth (numbered as above), crack or missing fraction; `gear` ignored
+  std::string gear;       // train gear name: "S1.sun", "S1.planet", "S1.ring", ...
+  int branch = 0;         // planets: the branch (0-based) whose planet is faulted; central gears: 0
+  ToothFaultSpec spec;    // kind, gear-frame tooth (tooth k centred on 2 pi k / z), extent
 };
 
 // Per member ("S1.sun", "S1.carrier") or per planet set ("S1.planet"): every field replaces the
@@ -306,7 +330,7 @@ struct TrainModelOptions {
   double ring_root_fillet_coefficient = 0.25;     // rho_fP* of ring gears
   GearMaterial gear_material;                     // TVMS, flexible contact penalty (both gears)
   Iso6336Options iso6336;                         // kIso6336
-  std::vector<TrainToothFault> tooth_faults;      // kTvms meshes of the faulted gear
+  std::vector<TrainToothFault> tooth_faults;      // header, "Tooth faults"; empty: a healthy train
   double mesh_damping_ratio = 0;                  // time-domain runs (GearMeshSpec::damping_ratio)
 
   // Lumped contact: linear on the loaded flank (the operating point), or two-sided with backlash.

@@ -54,6 +54,40 @@ struct StageMeshes {
   std::vector<std::vector<double>> phases;
 };
 
+// Direction (rad, carrier frame) from gear g's centre to the pitch point of mesh m on branch i.
+double PitchPointDirection(const PlanetaryTrain& train, const TrainMesh& m, int g, int i) {
+  if (m.kind == MeshKind::kInternal) {
+    const Vec3 c = TrainGearCentre(train, m.gear_b, i);  // the planet: P lies beyond it
+    return std::atan2(c.y(), c.x());
+  }
+  const Vec3 d = TrainGearCentre(train, g == m.gear_a ? m.gear_b : m.gear_a, i) - TrainGearCentre(train, g, i);
+  return std::atan2(d.y(), d.x());
+}
+
+// Polar angle (rad, carrier frame) of gear-frame tooth 0 of gear g on branch i at q = 0.
+double ToothZeroAngle(const PlanetaryTrain& train, int g, int i) {
+  const TrainGear& gear = train.gears[g];
+  const double body = gear.planet_set >= 0 ? train.planet_sets[gear.planet_set].angles_rad[i] : 0.0;
+  // A ring's frame is its branch-0 frame (one physical tooth numbering for every branch).
+  return body + GearFrameRotation(train, g, gear.planet_set >= 0 ? i : 0);
+}
+
+// Phase (mod 1) of the centred-tooth configuration of spec gear a (train_dynamics.h, "Tooth
+// faults": f_a = sigma Z_a (theta_ba - inv alpha_w) / 2 pi).
+double CentredToothPhase(const TrainGear& ga, bool drive, double alpha_w) {
+  return (drive ? 1.0 : -1.0) * ga.teeth * (HalfBaseToothAngle(ga, alpha_w) - Involute(alpha_w)) / (2 * kPi);
+}
+
+// The stage's reference phase (its first mesh, branch 0) with the gears' teeth where the
+// assembler places their frames (train_dynamics.h, "Tooth faults").
+double BodyFrameReferencePhase(const TrainAssembly& a, const StageMeshes& sm) {
+  const PlanetaryTrain& train = a.train;
+  const TrainMesh& m = train.meshes[train.stages[sm.stage].meshes[0]];
+  const int ga = TrainSpecGears(m).first;
+  const double chi = ToothZeroAngle(train, ga, 0), phi = PitchPointDirection(train, m, ga, 0);
+  return Frac(train.gears[ga].teeth * (chi - phi) / (2 * kPi) + CentredToothPhase(train.gears[ga], sm.drive[0], sm.alpha[0]));
+}
+
 StageMeshes ResolveStageMeshes(const TrainAssembly& a, int si) {
   const PlanetaryTrain& train = a.train;
   const Stage& st = train.stages[si];
@@ -81,7 +115,8 @@ StageMeshes ResolveStageMeshes(const TrainAssembly& a, int si) {
     sm.geometric.push_back(!ov.working_pressure_angle_rad);
   }
   sm.phases.assign(st.meshes.size(), std::vector<double>(st.num_planets, 0.0));
-  const double gamma = si < static_cast<int>(a.o.stage_phase_cycles.size()) ? a.o.stage_phase_cycles[si] : 0.0;
+  const bool given = si < static_cast<int>(a.o.stage_phase_cycles.size());
+  const double gamma = given ? a.o.stage_phase_cycles[si] : BodyFrameReferencePhase(a, sm);
   if (a.o.mesh_phasing) sm.phases = CalcStageMeshPhases(train, si, sm.drive, sm.alpha, gamma);
   else for (auto& row : sm.phases) std::fill(row.begin(), row.end(), Frac(gamma));
   return sm;
@@ -101,7 +136,7 @@ struct LumpedMesh {
 // Faults on a gear of mesh (a, b): (train gear, branch or -1 for every branch, fault).
 struct MeshFault {
   int gear, branch;
-  ToothFault fault;
+  ToothFaultSpec spec;  // gear-frame tooth
 };
 
 std::vector<MeshFault> MeshFaults(const TrainAssembly& a, const TrainMesh& m, int ga, int gb) {
@@ -109,30 +144,54 @@ std::vector<MeshFault> MeshFaults(const TrainAssembly& a, const TrainMesh& m, in
   for (size_t f = 0; f < a.o.tooth_faults.size(); ++f) {
     const int g = a.fault_gear[f];
     if (g != ga && g != gb) continue;
-    faults.push_back({g, a.train.gears[g].planet_set >= 0 ? a.o.tooth_faults[f].branch : -1, a.o.tooth_faults[f].fault});
+    faults.push_back({g, a.train.gears[g].planet_set >= 0 ? a.o.tooth_faults[f].branch : -1, a.o.tooth_faults[f].spec});
   }
   for (const MeshFault& f : faults)
     if (f.gear != faults[0].gear) FailTrain("mesh '" + m.name + "': faults on both of its gears are not supported");
   return faults;
 }
 
+// The mesh phase n_k (mod Z_G) at which gear-frame tooth k of gear g (a spec gear of stage mesh k
+// of `sm`) reaches the pitch point on the loaded flank, on branch i whose phase at q = 0 is
+// phase0 (train_dynamics.h, "Tooth faults").
+int ToothArrivalPhase(const TrainAssembly& a, const StageMeshes& sm, int k, int g, int tooth, int i, double phase0) {
+  const PlanetaryTrain& train = a.train;
+  const TrainMesh& m = train.meshes[train.stages[sm.stage].meshes[k]];
+  const auto [ga, gb] = TrainSpecGears(m);
+  const int z = train.gears[g].teeth;
+  // Phase per radian of g's turn relative to the carrier (MeshPhase in mbd/gear_mesh.cpp).
+  const double rate = (g == ga ? 1.0 : m.kind == MeshKind::kInternal ? 1.0 : -1.0) * z / (2 * kPi);
+  const double chi = ToothZeroAngle(train, g, i) + 2 * kPi * tooth / z;
+  const double psi_c = phase0 + rate * (PitchPointDirection(train, m, g, i) - chi);
+  const double f_a = CentredToothPhase(train.gears[ga], sm.drive[k], sm.alpha[k]);
+  const double f = g == ga ? f_a : f_a - (sm.drive[k] ? 0.5 : -0.5);
+  const long n = std::lround(psi_c - f);
+  return static_cast<int>(((n % z) + z) % z);
+}
+
 // The TVMS table of one branch (-1: every branch) over `cycles` mesh cycles, samples at
-// psi_j = j / samples_per_cycle read at u = u_P + sigma psi (train_dynamics.h).
-std::vector<double> TvmsTable(const TrainAssembly& a, int mi, const GearPair& pair, bool drive,
-                              int cycles, const std::vector<MeshFault>& faults, int branch) {
+// psi_j = j / samples_per_cycle read at u = u_P + sigma psi (train_dynamics.h), with the faults
+// at their mesh-order teeth (the coast flank read backwards: the mirror image of a drive mesh,
+// whose plus and minus flanks swap).
+std::vector<double> TvmsTable(const TrainAssembly& a, const StageMeshes& sm, int k, const GearPair& pair,
+                              int cycles, const std::vector<MeshFault>& faults, int branch, double phase0) {
+  const int mi = a.train.stages[sm.stage].meshes[k];
   const auto [ga, gb] = TrainSpecGears(a.train.meshes[mi]);
   const int spc = a.o.tvms_samples_per_cycle;
+  const bool drive = sm.drive[k];
   const double sigma = drive ? 1.0 : -1.0;
   TvmsOptions to = MakeTrainTvmsOptions(a.train, mi, a.o);
   to.samples_per_period = spc;
   to.periods = cycles;
   for (const MeshFault& f : faults) {
     if (f.branch >= 0 && f.branch != branch) continue;
-    ToothFault tf = f.fault;
-    tf.gear = f.gear == ga ? 1 : 2;
-    // Physical order (tooth e reaches P e-th as the phase grows) to CalcTvms' mesh order.
-    if (sigma < 0) tf.tooth = (cycles - tf.tooth) % cycles;
-    to.faults.push_back(tf);
+    ToothFaultSpec spec = f.spec;
+    // Physical order (tooth e reaches P at phase e) to CalcTvms' mesh order.
+    const int e = ToothArrivalPhase(a, sm, k, f.gear, f.spec.tooth, std::max(branch, 0), phase0);
+    spec.tooth = drive ? e : (cycles - e) % cycles;
+    if (!drive) spec.flank = spec.flank == ToothFaultSpec::Flank::kPlus ? ToothFaultSpec::Flank::kMinus
+                                                                        : ToothFaultSpec::Flank::kPlus;
+    to.faults.emplace_back(f.gear == ga ? 1 : 2, spec);
   }
   const Tvms t = CalcTvms(pair, to);
   const double pb = pair.transverse_base_pitch_m();
@@ -162,9 +221,18 @@ LumpedMesh ResolveLumpedMesh(const TrainAssembly& a, const StageMeshes& sm, int 
   lm.table = ov.stiffness_table_n_per_m.value_or(std::vector<double>{});
   const std::vector<MeshFault> faults = MeshFaults(a, m, ga, gb);
   const bool tvms = lm.source == MeshStiffnessSource::kTvms;
-  if (!faults.empty() && !tvms) FailTrain("mesh '" + m.name + "': tooth faults need the kTvms stiffness source");
+  if (!faults.empty() && !tvms)
+    FailTrain("mesh '" + m.name + "': tooth faults on its lumped branches need 'mesh_stiffness: tvms' (the " +
+              "time-varying stiffness over a turn of the faulty gear)");
   std::optional<GearPair> pair;
   if (lm.source != MeshStiffnessSource::kGiven) pair.emplace(MakeTrainGearPair(train, mi, o));
+  for (const MeshFault& f : faults) {
+    try {
+      ValidateToothFault(f.gear == ga ? pair->gear1() : pair->gear2(), f.spec);
+    } catch (const std::invalid_argument& e) {
+      FailTrain("tooth fault on '" + train.gears[f.gear].name + "': " + e.what());
+    }
+  }
   if (lm.source == MeshStiffnessSource::kIso6336) lm.k_mean = CalcIso6336Stiffness(*pair, o.iso6336).c_gamma_alpha_n_per_m;
   if (lm.source == MeshStiffnessSource::kTvmsMean) lm.k_mean = CalcTvms(*pair, MakeTrainTvmsOptions(train, mi, o)).mean_n_per_m;
   lm.fault_gear = faults.empty() ? -1 : faults[0].gear;
@@ -172,10 +240,10 @@ LumpedMesh ResolveLumpedMesh(const TrainAssembly& a, const StageMeshes& sm, int 
   if (tvms) {
     if (lm.fault_gear >= 0 && train.gears[lm.fault_gear].planet_set >= 0) {
       for (int i = 0; i < st.num_planets; ++i)
-        lm.branch_tables.push_back(TvmsTable(a, mi, *pair, sm.drive[k], cycles, faults, i));
+        lm.branch_tables.push_back(TvmsTable(a, sm, k, *pair, cycles, faults, i, sm.phases[k][i]));
       lm.table = lm.branch_tables[0];
     } else {
-      lm.table = TvmsTable(a, mi, *pair, sm.drive[k], cycles, faults, -1);
+      lm.table = TvmsTable(a, sm, k, *pair, cycles, faults, -1, sm.phases[k][0]);
     }
   }
   lm.loaded = a.tm.power_flow.mesh_loaded[mi];

@@ -1,6 +1,6 @@
 // Seed 003's planetary stage with tooth contact on every mesh, as a C++ scene: the model of
-// models/scenes/seed003_contact_stage.yaml (sun 22, planet 14, ring 50, three planets, module
-// 4 mm, 22.5 deg, 40 mm face width; the ring driven at 80.6 rad/s and the sun at 10 rad/s, 6000
+// models/scenes/seed003_contact_healthy.yaml (sun 22, planet 14, ring 50, three planets, module
+// 4 mm, 22.5 deg, 40 mm face width; the ring driven at 80.6 rad/s and the sun at -10 rad/s, 6000
 // N m on the carrier), each sun-planet and ring-planet branch a ContactElement on the gears' own
 // tooth surfaces (models/train_contact.h). The scene is a GearTrainDescription, the plain data
 // the YAML reader fills too (models/train_description.h). Runs 20 ms, then prints each branch's mean
@@ -21,9 +21,9 @@ using namespace orrery;
 using namespace orrery::gears;
 
 int main() {
-  // Seed 003's stage (models/planetary_scenes.h), with the sun at +10 rad/s as
-  // seed003_contact_stage.yaml has it.
-  GearTrainDescription d = MakeSeed003StageDescription(10);
+  // Seed 003's stage (models/planetary_scenes.h), with the sun at -10 rad/s (case 1) as
+  // seed003_contact_healthy.yaml has it.
+  GearTrainDescription d = MakeSeed003StageDescription(-10);
   TrainModelOptions& o = d.options;
   // Tooth contact on every mesh: 40 involute intervals per flank, 20 um backlash, the penalty
   // calibrated to ISO 6336 c' b at the branches' static force along the line of action.

@@ -1,10 +1,12 @@
 // The gear model sections of scene files (import/gear_scene.cpp): every scene shipped in
 // models/scenes loads, the two gear sections build the models they describe (checked against the
 // C++ factories they spell out), and errors in them name file:line: key.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <numbers>
 #include <string>
 
@@ -107,7 +109,7 @@ TEST(GearScene, Seed002SpeedFollowsTheTrapezoid) {
 }
 
 TEST(GearScene, Seed003OutputTorqueBecomesTheRingTorque) {
-  const Scene s = LoadScene(ScenePath("seed003_stage.yaml"));
+  const Scene s = LoadScene(ScenePath("seed003_lumped_healthy.yaml"));
   // T_r = 6000 Z_r / (Z_s + Z_r) on the ring for a 6000 N m carrier load.
   EXPECT_NEAR(s.gear_train->input_torque_n_m, 6000.0 * 50 / 72, 1e-9);
 }
@@ -209,14 +211,14 @@ TEST(GearScene, GearTrainErrorsNameFileLineKey) {
 // a facet's roll angle, r_a dphi / 2 of moment arm against r_b (planetary_contact_test.cpp), plus
 // the mean of the ringing left over the window, bounded by its amplitude over the cycles seen.
 TEST(GearScene, ContactMeshModelRunsSeed003WithTorqueBalanceInTheMean) {
-  const Scene scene = LoadScene(ScenePath("seed003_contact_stage.yaml"));
+  const Scene scene = LoadScene(ScenePath("seed003_contact_healthy.yaml"), {"solver.end_time=0.005"});
   ASSERT_EQ(scene.kind, SceneKind::kGearTrain);
   EXPECT_EQ(scene.gear_train->options.mesh_model, gears::MeshModel::kContact);
   const std::vector<std::string> expected{"S.sun-planet#1", "S.sun-planet#2", "S.sun-planet#3",
                                           "S.ring-planet#1", "S.ring-planet#2", "S.ring-planet#3"};
   ASSERT_EQ(scene.gear_train->contact_meshes, expected);
   EXPECT_TRUE(scene.gear_train->model->meshes.empty());  // no lumped mesh left
-  const fs::path file = fs::path(::testing::TempDir()) / "seed003_contact_stage.h5";
+  const fs::path file = fs::path(::testing::TempDir()) / "seed003_contact_healthy.h5";
   {
     ResultFile out = ResultFile::Create(file.string());
     const SimulationReport r = Simulate(*scene.model, scene.simulation, &out);
@@ -315,6 +317,73 @@ output: {interval: 0.001}
   ASSERT_EQ(outputs.back().name, "point_normal_forces");
   EXPECT_EQ(outputs.back().columns, 4);
   EXPECT_EQ(outputs[outputs.size() - 2].columns, 12);
+}
+
+// dynamics.faults: errors at the entry (gear, branch, tooth, the kind's keys, the gear's geometry,
+// a lumped mesh without TVMS); a broken planet tooth at the lumped (TVMS over the planet's 14
+// teeth on its two meshes, branch 2 only) and contact levels.
+TEST(GearScene, TrainFaultsFromYaml) {
+  const std::string head = R"(
+gear_train:
+  stages:
+    - {name: S, type: single_planet, planets: 3, sun: 22, planet: 14, ring: 50, module_mm: 4,
+       pressure_angle_deg: 22.5, face_width_mm: 40}
+  ranges: {steer: []}
+  inputs: [S.ring, S.sun]
+  output: S.carrier
+  input_speeds: [80.6, -10]
+  output_torque: -6000
+solver: {end_time: 0.001}
+output: {interval: 0.001}
+)";
+  auto with = [&](const std::string& dynamics) { return head.substr(0, head.find("solver")) + "  dynamics: " + dynamics + "\n" + head.substr(head.find("solver")); };
+  const std::string broken = "kind: broken_tooth, tooth: 3, height_fraction: 0.5, face_fraction: 1";
+  EXPECT_NE(ErrorOf(with("{mesh_stiffness: tvms, faults: [{gear: S.planit, branch: 1, " + broken + "}]}"))
+                .find("no gear named 'S.planit'"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(with("{mesh_stiffness: tvms, faults: [{gear: S.planet, " + broken + "}]}")).find("needs 'branch'"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(with("{mesh_stiffness: tvms, faults: [{gear: S.planet, branch: 4, " + broken + "}]}"))
+                .find("must be in 1..3"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(with("{mesh_stiffness: tvms, faults: [{gear: S.sun, branch: 1, " + broken + "}]}"))
+                .find("a branch is for planets"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(with("{mesh_stiffness: tvms, faults: [{gear: S.planet, branch: 1, kind: broken_tooth, tooth: 14}]}"))
+                .find("0..13"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(with("{mesh_stiffness: tvms, faults: [{gear: S.planet, branch: 1, " + broken + ", depth_um: 20}]}"))
+                .find("does not apply to a broken_tooth"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(with("{faults: [{gear: S.planet, branch: 1, " + broken + "}]}")).find("mesh_stiffness: tvms"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(with("{mesh_stiffness: tvms, faults: [{gear: S.planet, branch: 1, kind: broken_tooth, tooth: 3, "
+                         "height_fraction: 1.5}]}"))
+                .find("height_fraction"),
+            std::string::npos);
+  // Lumped: the planet's two meshes on branch 2 span its 14 teeth, the others one mesh cycle.
+  const Scene lumped =
+      LoadSceneFromString(with("{mesh_stiffness: tvms, faults: [{gear: S.planet, branch: 2, " + broken + "}]}"), "t.yaml");
+  ASSERT_EQ(lumped.gear_train->options.tooth_faults.size(), 1u);
+  EXPECT_EQ(lumped.gear_train->options.tooth_faults[0].branch, 1);
+  std::map<std::pair<int, int>, double> lowest;  // (train mesh, branch): the table's minimum
+  auto low = [&](int mesh, int branch) { return lowest[std::pair{mesh, branch}]; };
+  for (const gears::TrainMeshElement& e : lumped.gear_train->model->meshes) {
+    EXPECT_EQ(e.table_cycles, 14) << e.train_mesh << "#" << e.branch;
+    const auto& table = lumped.model->gear_meshes[e.model_mesh].spec.stiffness_table;
+    ASSERT_EQ(table.size(), 14u * 64);
+    lowest[std::pair{e.train_mesh, e.branch}] = *std::min_element(table.begin(), table.end());
+  }
+  // Where the lost tip would carry the load alone, branch 2's stiffness falls below the healthy
+  // branches' single-pair minimum.
+  for (int mesh : {0, 1}) {
+    EXPECT_LT(low(mesh, 1), 0.9 * low(mesh, 0)) << "mesh " << mesh;
+    EXPECT_NEAR(low(mesh, 2), low(mesh, 0), 1e-9 * low(mesh, 0)) << "mesh " << mesh;
+  }
+  // Contact: the same entry loads with faulty surfaces.
+  const Scene contact = LoadSceneFromString(
+      with("{mesh_model: contact, faults: [{gear: S.planet, branch: 2, " + broken + "}]}"), "t.yaml");
+  EXPECT_EQ(contact.gear_train->contact_meshes.size(), 6u);
 }
 
 // A flexible planet in tooth contact whose reduced body is not the train's planet (15 teeth for

@@ -153,14 +153,19 @@ TEST(TrainDynamics, MeshPhasesFollowParkerLin) {
     const bool in_phase = k.zs % k.n == 0;
     for (int i = 0; i < k.n; ++i) {
       const double psi = 2 * kPi * i / k.n;
-      EXPECT_LT(near(sun[i], mod1(-k.zs * psi / (2 * kPi))), 1e-12) << k.zs << " planet " << i;
+      EXPECT_LT(near(mod1(sun[i] - sun[0]), mod1(-k.zs * psi / (2 * kPi))), 1e-12) << k.zs << " planet " << i;
       EXPECT_LT(near(mod1(ring[i] - ring[0]), mod1(-k.zr * psi / (2 * kPi))), 1e-12) << k.zr << " planet " << i;
       if (in_phase) {
-        EXPECT_LT(near(sun[i], 0.0), 1e-12);
+        EXPECT_LT(near(sun[i], sun[0]), 1e-12);
       }
     }
+    // Sun-planet 1's phase: the sun's gear-frame tooth 0 on its body's +x at q = 0 (train_dynamics.h,
+    // "Tooth faults"), planet 1 on +x; standard gears at the reference centre distance: a tooth
+    // centred on the line of centres has its drive flank a quarter pitch past the pitch point.
+    EXPECT_LT(near(sun[0], 0.25), 1e-9) << k.zs;
     if (!in_phase) {  // sequential: the phases are a permutation of k / N (gcd(Z_s, N) = 1 here)
       std::vector<double> sorted = sun;
+      for (double& x : sorted) x = mod1(x - sun[0]);
       std::sort(sorted.begin(), sorted.end());
       for (int i = 0; i < k.n; ++i) EXPECT_LT(near(sorted[i], double(i) / k.n), 1e-12);
     }

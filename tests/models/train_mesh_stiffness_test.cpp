@@ -113,10 +113,13 @@ TEST(TrainMeshStiffness, IsoAndTvmsMeansMatchHandBuiltPairs) {
 // A sun tooth broken over half its face width (spur: its stiffness halves over its whole pass,
 // from the start to the end of the contact path). With the sun driven at 100 rad/s, the sun-planet
 // stiffness of branch n dips while that tooth passes planet n: centred at
-//   t = (psi_n / 2 pi + j) / f_rel + ((s_start + s_end) / 2 - s_P) / (p_b f_m),
-// f_rel = (w_s - w_c) / 2 pi from SolvePlanetaryKinematics, f_m = Z_s f_rel; tooth 0 is at branch
-// 0's pitch point at t = 0. Over all planets the dips come at the sun's fault frequency
-// N f_m / Z_s (gear_fault_frequencies_hz).
+//   t = (psi_n / 2 pi - 1 / (4 Z_s) + j) / f_rel + ((s_start + s_end) / 2 - s_P) / (p_b f_m),
+// f_rel = (w_s - w_c) / 2 pi from SolvePlanetaryKinematics, f_m = Z_s f_rel. Tooth 0 is the
+// gear-frame tooth centred on the sun body's +x at t = 0 (train_dynamics.h, "Tooth faults"): its
+// drive flank reaches planet n's pitch point when its centre is half a tooth thickness at the
+// pitch circle (a quarter pitch, standard gears at the reference centre distance) short of the
+// line of centres psi_n. Over all planets the dips come at the sun's fault frequency N f_m / Z_s
+// (gear_fault_frequencies_hz).
 TEST(TrainMeshStiffness, BrokenSunToothDipsOncePerSunTurnPerPlanet) {
   const auto train = Stage001();
   TrainModelOptions o = Options(MeshStiffnessSource::kTvms);
@@ -124,7 +127,9 @@ TEST(TrainMeshStiffness, BrokenSunToothDipsOncePerSunTurnPerPlanet) {
   // Ring held by 1e8 N m/rad (18 times the four meshes' r_r^2 k): seed 001's 1e10 makes the ring a
   // ~0.4 MHz mode that IDA resolves at every TVMS kink (6e5 steps instead of 1e5 here).
   o.brake_stiffness_n_m_per_rad = 1e8;
-  o.tooth_faults = {{.gear = "S.sun", .fault = {.kind = ToothFault::Kind::kBrokenWidth, .tooth = 0, .fraction = 0.5}}};
+  o.tooth_faults = {{.gear = "S.sun",
+                     .spec = {.kind = ToothFaultSpec::Kind::kBrokenTooth, .tooth = 0, .height_fraction = 1,
+                              .face_fraction = 0.5}}};
   const TrainModel tm = BuildTrainModel(*train, 0, o);
   const TrainModel healthy = BuildTrainModel(*train, 0, Options(MeshStiffnessSource::kTvms));
   const Model& m = *tm.model;
@@ -181,17 +186,18 @@ TEST(TrainMeshStiffness, BrokenSunToothDipsOncePerSunTurnPerPlanet) {
   std::printf("broken sun tooth: f_rel %.3f Hz, fault frequency %.3f Hz, tolerance %.3g s (IDA steps %ld)\n",
               f_rel, f_fault, tol, integ->stats().steps);
   int total = 0;
+  const double quarter = 1.0 / (4 * 34);  // the tooth centre's lag behind its flank, in turns
   for (int b = 0; b < 4; ++b) {
-    const double psi = train->planet_sets[0].angles_rad[b] - train->planet_sets[0].angles_rad[0];
+    const double psi = train->planet_sets[0].angles_rad[b];
     for (double c : centres[b]) {
-      const double j = std::round((c - offset) * f_rel - psi / (2 * kPi));
-      const double predicted = (psi / (2 * kPi) + j) / f_rel + offset;
+      const double j = std::round((c - offset) * f_rel - psi / (2 * kPi) + quarter);
+      const double predicted = (psi / (2 * kPi) - quarter + j) / f_rel + offset;
       std::printf("  branch %d dip at %.6f s, predicted %.6f s\n", b, c, predicted);
       EXPECT_NEAR(c, predicted, tol) << "branch " << b;
     }
     // Once per relative sun turn, one turn apart: in 1.3 turns one complete dip, two for the
     // branches met within the first 0.3 turn (branch 0 is inside its dip at t = 0: not counted).
-    const size_t expected = psi > 0 && psi / (2 * kPi) + offset * f_rel < 0.3 ? 2u : 1u;
+    const size_t expected = psi > 0 && psi / (2 * kPi) - quarter + offset * f_rel < 0.3 ? 2u : 1u;
     EXPECT_EQ(centres[b].size(), expected) << "branch " << b;
     for (size_t k = 1; k < centres[b].size(); ++k) EXPECT_NEAR(centres[b][k] - centres[b][k - 1], 1 / f_rel, 2 * tol);
     total += static_cast<int>(centres[b].size());

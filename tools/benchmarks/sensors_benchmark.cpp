@@ -1,6 +1,6 @@
 // What the virtual sensors cost (docs/sensors.md): per internal sample and per run.
 //   SensorSignals/*: one internal sample's readings (CalcSensorSignals) on seed 003's lumped
-//     stage (models/scenes/seed003_stage.yaml) with a diagnostics set of sensors: a 3-axis
+//     stage (models/scenes/seed003_lumped_healthy.yaml) with a diagnostics set of sensors: a 3-axis
 //     accelerometer on each member and planet, an angular accelerometer on planet 1, an encoder
 //     and a tachometer on each member, the force of every lumped mesh (35 channels);
 //   FilterSample/channels: one sample through the anti-alias filter (M = 10, 100 dB: 643 taps)
@@ -39,7 +39,7 @@ const Stage& LoadStage() {
   static std::unique_ptr<Stage> s;
   if (s) return *s;
   s = std::make_unique<Stage>();
-  s->scene = LoadScene(std::string(ORRERY_SOURCE_DIR) + "/models/scenes/seed003_stage.yaml");
+  s->scene = LoadScene(std::string(ORRERY_SOURCE_DIR) + "/models/scenes/seed003_lumped_healthy.yaml");
   const GearTrainScene& g = *s->scene.gear_train;
   gears::TrainModelOptions o = g.options;
   o.before_finalize = [](ModelBuilder& b, const gears::TrainModel& tm) {

@@ -1,5 +1,5 @@
 // Seed 003's planetary stage with tooth contact on every mesh (models/scenes/
-// seed003_contact_stage.yaml) and with planet 1 flexible (seed003_flexible_contact_stage.yaml,
+// seed003_contact_healthy.yaml) and with planet 1 flexible (seed003_flexible_healthy.yaml,
 // 24 modes; its reduced body is made on the first run): what one step of the integrators pays.
 //   *Residual: one evaluation of the dynamics (kinematics, the six contacts, inverse dynamics)
 //     at the states of the scene's own run from 2 to 3 ms (every 5 us step, cycled);
@@ -77,13 +77,13 @@ void Tangents(benchmark::State& state, const std::string& file) {
   state.counters["nv"] = m.nv;
 }
 
-void BM_RigidStageResidual(benchmark::State& state) { Residual(state, "seed003_contact_stage.yaml"); }
-void BM_RigidStageTangents(benchmark::State& state) { Tangents(state, "seed003_contact_stage.yaml"); }
+void BM_RigidStageResidual(benchmark::State& state) { Residual(state, "seed003_contact_healthy.yaml"); }
+void BM_RigidStageTangents(benchmark::State& state) { Tangents(state, "seed003_contact_healthy.yaml"); }
 void BM_FlexibleStageResidual(benchmark::State& state) {
-  Residual(state, "seed003_flexible_contact_stage.yaml");
+  Residual(state, "seed003_flexible_healthy.yaml");
 }
 void BM_FlexibleStageTangents(benchmark::State& state) {
-  Tangents(state, "seed003_flexible_contact_stage.yaml");
+  Tangents(state, "seed003_flexible_healthy.yaml");
 }
 BENCHMARK(BM_RigidStageResidual)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_RigidStageTangents)->Unit(benchmark::kMicrosecond);
@@ -100,7 +100,7 @@ int ElementIndex(const Model& m, const std::string& name) {
 
 // The kinematics at the run's states, then (apply) the flexible sun mesh's Apply.
 void KinematicsThenSunMesh(benchmark::State& state, bool apply) {
-  const Stage& s = LoadStage("seed003_flexible_contact_stage.yaml");
+  const Stage& s = LoadStage("seed003_flexible_healthy.yaml");
   const Model& m = *s.scene.model;
   const int e = ElementIndex(m, "S.sun-planet#1");
   Data data(m);
@@ -124,7 +124,7 @@ BENCHMARK(BM_StageKinematics)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_FlexibleSunMeshApply)->Unit(benchmark::kMicrosecond);
 
 void BM_FlexibleSunMeshTangents(benchmark::State& state) {
-  const Stage& s = LoadStage("seed003_flexible_contact_stage.yaml");
+  const Stage& s = LoadStage("seed003_flexible_healthy.yaml");
   const Model& m = *s.scene.model;
   const int e = ElementIndex(m, "S.sun-planet#1");
   Data data(m);

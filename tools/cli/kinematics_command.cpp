@@ -13,6 +13,8 @@
 #include "models/mesh_stiffness.h"
 #include "models/planetary_kinematics.h"
 #include "models/planetary_power_flow.h"
+#include "models/tooth_fault.h"
+#include "models/train_dynamics.h"
 #include "tools/cli/error_message.h"
 #include "tools/cli/json_writer.h"
 
@@ -45,6 +47,13 @@ std::string Pad(const std::string& s, std::size_t width, bool left = false) {
   if (s.size() >= width) return left ? s + " " : " " + s;
   const std::string fill(width - s.size(), ' ');
   return left ? s + fill : fill + s;
+}
+
+// Train gear index of a scene fault (the reader checked the name).
+int SceneFaultGear(const gears::PlanetaryTrain& t, const gears::TrainToothFault& f) {
+  for (size_t i = 0; i < t.gears.size(); ++i)
+    if (t.gears[i].name == f.gear) return static_cast<int>(i);
+  throw std::invalid_argument("tooth fault on '" + f.gear + "': no such gear");
 }
 
 int GearTrainReport(const Scene& scene, const KinematicsArgs& args, std::ostream& out) {
@@ -154,7 +163,14 @@ int GearTrainReport(const Scene& scene, const KinematicsArgs& args, std::ostream
     }
     j.EndArray().Key("fault_frequencies_hz").BeginObject();
     for (size_t i = 0; i < t.gears.size(); ++i) j.Key(t.gears[i].name).Number(k.gear_fault_frequencies_hz(i));
-    j.EndObject().EndObject();
+    // The scene's own faults (dynamics.faults) with the rate at which each meets its partners.
+    j.EndObject().Key("scene_faults").BeginArray();
+    for (const gears::TrainToothFault& f : g.options.tooth_faults) {
+      j.BeginObject().Key("gear").String(f.gear).Key("branch").Number(f.branch + 1);
+      j.Key("kind").String(gears::KindName(f.spec.kind)).Key("tooth").Number(f.spec.tooth);
+      j.Key("fault_frequency_hz").Number(k.gear_fault_frequencies_hz(SceneFaultGear(t, f))).EndObject();
+    }
+    j.EndArray().EndObject();
     return kExitSuccess;
   }
 
@@ -195,6 +211,12 @@ int GearTrainReport(const Scene& scene, const KinematicsArgs& args, std::ostream
   out << "\nfault frequencies (Hz)\n";
   for (size_t i = 0; i < t.gears.size(); ++i)
     out << "  " << Pad(t.gears[i].name, 15, true) << Pad(Fmt("%.5g", k.gear_fault_frequencies_hz(i)), 12) << '\n';
+  if (!g.options.tooth_faults.empty()) out << "\nscene faults (Hz: the rate at which the tooth meets its partners)\n";
+  for (const gears::TrainToothFault& f : g.options.tooth_faults) {
+    const std::string where = t.gears[SceneFaultGear(t, f)].planet_set >= 0 ? f.gear + " #" + std::to_string(f.branch + 1) : f.gear;
+    out << "  " << Pad(where, 15, true) << Pad(std::string(gears::KindName(f.spec.kind)) + " tooth " + std::to_string(f.spec.tooth), 22, true)
+        << Pad(Fmt("%.5g", k.gear_fault_frequencies_hz(SceneFaultGear(t, f))), 12) << '\n';
+  }
   out << std::flush;
   return kExitSuccess;
 }

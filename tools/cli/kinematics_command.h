@@ -31,7 +31,9 @@
 //                "face_width_m", "c_prime_th", "c_prime", "c_gamma_alpha", "c_gamma_beta",
 //                "tvms_mean_n_per_m", "tvms_min_n_per_m", "tvms_max_n_per_m",
 //                "tvms_range_n_per_m", "model_stiffness_n_per_m", ["geometry_error"]}],
-//    "fault_frequencies_hz": {GEAR NAME: Hz}}      (an object keyed by train gear name)
+//    "fault_frequencies_hz": {GEAR NAME: Hz},      (an object keyed by train gear name)
+//    "scene_faults": [{"gear", "branch" (1-based), "kind", "tooth", "fault_frequency_hz"}]}
+//                                                  (the scene's dynamics.faults)
 // lumped_stage: {"scene", "kind": "lumped_stage", "dofs", "planets",
 //    "members": {NAME: {"mass_kg", "inertia_kg_m2", "radius_m", "bearing_stiffness_n_per_m",
 //                       "torsional_stiffness_n_m_per_rad", "teeth"}},
