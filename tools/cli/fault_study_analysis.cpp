@@ -20,15 +20,15 @@ using namespace orrery::signal;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// The modulation of a damaged tooth's sidebands: f_p^H for a faulty planet, else the fault line
-KinematicLine ModulationLine(const std::vector<KinematicLine>& lines, const std::string& file) {
-  std::optional<KinematicLine> fault = FindLine(lines, LineKind::kFault);
-  if (!fault) throw std::runtime_error(file + ": /kinematics/lines: no fault line (the faulty run's scene declares no fault)");
-  if (fault->name.find("planet") != std::string::npos || fault->name.find("inner") != std::string::npos ||
-      fault->name.find("outer") != std::string::npos)
-    for (const KinematicLine& line : lines)
-      if (line.name == "f_p^H" || line.name.rfind("f_p^H ", 0) == 0) return line;
-  return *fault;
+// The modulation of a damaged tooth's sidebands: f_p^H for a faulty planet, else the gear's fault line
+KinematicLine ModulationLine(const std::vector<KinematicLine>& lines, const FaultStudyAnalysisOptions& o,
+                             const std::string& file) {
+  for (const KinematicLine& line : lines) {
+    if (o.fault_on_planet && (line.name == "f_p^H" || line.name.rfind("f_p^H ", 0) == 0)) return line;
+    if (!o.fault_on_planet && line.name == "f_fault " + o.fault_gear) return line;
+  }
+  throw std::runtime_error(file + ": /kinematics/lines: no " +
+                           (o.fault_on_planet ? std::string("f_p^H line") : "line f_fault " + o.fault_gear));
 }
 
 // The interpolated peak nearest f in the spectrum, within 2 bins + 1 % of f
@@ -139,7 +139,7 @@ FaultStudyAnalysis AnalyseFaultStudy(const std::string& healthy_h5, const std::s
   const std::optional<KinematicLine> mesh = FindLine(a.lines, LineKind::kMesh);
   if (!mesh) throw std::runtime_error(faulty_h5 + ": /kinematics/lines: no mesh line");
   a.mesh = *mesh;
-  a.modulation = ModulationLine(a.lines, faulty_h5);
+  a.modulation = ModulationLine(a.lines, o, faulty_h5);
 
   // Spectra of equal length (Hann), the mesh line found, SER of each
   const int n = FastFftLength(static_cast<int>(std::min(a.healthy.signal.values.size(), a.faulty.signal.values.size())));

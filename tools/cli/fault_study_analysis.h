@@ -9,8 +9,9 @@
 //   mesh line  the first line of kind mesh (f_m), and the spectrum's largest peak within
 //              2 bins + 1 % of it in the healthy run (mesh_frequency_found_hz, interpolated);
 //   modulation the planet's rotation relative to the carrier (the line "f_p^H", or the first
-//              "f_p^H ..." of a multi-stage train) when a planet is faulty, else the first fault
-//              line: the sidebands of a damaged tooth sit at k f_m +- n f_mod (DESIGN.md);
+//              "f_p^H ..." of a multi-stage train) when a planet is faulty, else the fault line of
+//              the faulty gear ("f_fault S.sun"): a damaged tooth's sidebands sit at k f_m +- n f_mod
+//              (DESIGN.md);
 //   sidebands  for k = 1..3 and n = 1..3 on both sides: level of the line at k f_m + n f_mod in
 //              each run, L = 20 log10(A / A_ref) dB with A = sqrt(2 P), P the line's power
 //              (LinePower: the bins of the window's main lobe, so scalloping does not bias it),
@@ -45,6 +46,8 @@ struct FaultStudyAnalysisOptions {
   int harmonics = 3;   // mesh harmonics k whose sidebands are listed
   int sidebands = 3;   // n = 1..sidebands on each side
   std::map<std::string, int> gear_teeth;  // tooth count of each gear body ("S.planet1": 14)
+  std::string fault_gear;  // train gear of the (first) fault: "S.planet", "S.sun"
+  bool fault_on_planet = false;
 };
 
 struct SidebandLevel {

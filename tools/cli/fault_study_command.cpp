@@ -55,15 +55,19 @@ struct StudyScenes {
   Scene faulty, healthy;
 };
 
+void CheckFaultyScene(const Scene& faulty, const std::string& path) {
+  if (faulty.kind != SceneKind::kGearTrain || faulty.gear_train->options.tooth_faults.empty())
+    throw std::invalid_argument(path + ": declares no tooth faults; a fault study runs a gear-train scene "
+                                "with its faults against the same scene without them");
+}
+
 StudyScenes LoadScenes(const FaultStudyArgs& args) {
   RunArgs run{.scene_path = args.scene_path, .end_time = args.end_time.value_or(kFaultStudyEndTime),
               .overrides = args.overrides};
   const std::vector<std::string> overrides = SceneOverrides(run);
   if (!fs::exists(args.scene_path)) throw std::invalid_argument("scene file " + args.scene_path + ": no such file");
   Scene faulty = LoadScene(args.scene_path, overrides, {.make_reduced_bodies = true});
-  if (faulty.kind != SceneKind::kGearTrain || faulty.gear_train->options.tooth_faults.empty())
-    throw std::invalid_argument(args.scene_path + ": declares no tooth faults; a fault study runs a gear-train scene "
-                                "with its faults against the same scene without them");
+  CheckFaultyScene(faulty, args.scene_path);
   Scene healthy = LoadScene(args.scene_path, overrides, {.make_reduced_bodies = true, .without_faults = true});
   return {std::move(faulty), std::move(healthy)};
 }
@@ -267,29 +271,34 @@ void DrawPlots(const FaultStudyArgs& args, const FaultStudyAnalysis& a) {
 
 }  // namespace
 
-int FaultStudyCommand(const FaultStudyArgs& args, std::ostream& out, std::ostream& err) {
+int RunFaultStudy(const Scene& faulty, const Scene& healthy, const FaultStudyArgs& args, std::ostream& out,
+                  std::ostream& err) {
   const ProgressBar::Style style = args.quiet ? ProgressBar::Style::kNone
                                    : args.err_is_terminal ? ProgressBar::Style::kBar
                                                           : ProgressBar::Style::kLines;
   StudyProgress progress{.bar = ProgressBar(err, style)};
   const auto start = std::chrono::steady_clock::now();
   try {
-    // Both scenes, the folder, the signal
-    StudyScenes scenes = LoadScenes(args);
+    // The folder, the signal, the fault
+    CheckFaultyScene(faulty, args.scene_path);
     PrepareFolder(args);
     const fs::path dir(args.output_dir);
-    FaultStudyAnalysisOptions options{.signal = StudySignal(args, scenes.faulty), .t0_s = args.t0.value_or(kFaultStudyT0),
-                                      .gear_teeth = GearTeeth(scenes.faulty)};
-    StudyTimes times{.end_time_s = scenes.faulty.simulation.end_time, .t0_s = options.t0_s};
+    FaultStudyAnalysisOptions options{.signal = StudySignal(args, faulty), .t0_s = args.t0.value_or(kFaultStudyT0),
+                                      .gear_teeth = GearTeeth(faulty)};
+    const gears::TrainToothFault& fault = faulty.gear_train->options.tooth_faults.front();
+    options.fault_gear = fault.gear;
+    for (const gears::TrainGear& g : faulty.gear_train->train->gears)
+      if (g.name == fault.gear) options.fault_on_planet = g.planet_set >= 0;
+    StudyTimes times{.end_time_s = faulty.simulation.end_time, .t0_s = options.t0_s};
     if (!(options.t0_s < times.end_time_s))
       throw std::invalid_argument("--t0 " + Fmt("%g", options.t0_s) + " s: must lie before the end time " +
                                   Fmt("%g", times.end_time_s) + " s");
 
     // The two runs under one progress bar
-    progress.total_s = scenes.healthy.simulation.end_time + scenes.faulty.simulation.end_time;
+    progress.total_s = healthy.simulation.end_time + faulty.simulation.end_time;
     InterruptGuard guard;
-    times.healthy_wall_s = RunOne(scenes.healthy, (dir / "healthy.h5").string(), "healthy", progress).wall_s;
-    times.faulty_wall_s = RunOne(scenes.faulty, (dir / "faulty.h5").string(), "faulty", progress).wall_s;
+    times.healthy_wall_s = RunOne(healthy, (dir / "healthy.h5").string(), "healthy", progress).wall_s;
+    times.faulty_wall_s = RunOne(faulty, (dir / "faulty.h5").string(), "faulty", progress).wall_s;
     progress.bar.Finish();
 
     // Analysis, plots, summaries
@@ -313,6 +322,17 @@ int FaultStudyCommand(const FaultStudyArgs& args, std::ostream& out, std::ostrea
     ReportError(err, e.what());
     return kExitFailure;
   }
+}
+
+int FaultStudyCommand(const FaultStudyArgs& args, std::ostream& out, std::ostream& err) {
+  std::optional<StudyScenes> scenes;
+  try {
+    scenes = LoadScenes(args);
+  } catch (const std::exception& e) {
+    ReportError(err, e.what());
+    return kExitFailure;
+  }
+  return RunFaultStudy(scenes->faulty, scenes->healthy, args, out, err);
 }
 
 }  // namespace orrery::cli

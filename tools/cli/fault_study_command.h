@@ -31,6 +31,8 @@
 #include <string>
 #include <vector>
 
+#include "import/scene.h"
+
 namespace orrery::cli {
 
 inline constexpr double kFaultStudyEndTime = 0.35;  // s
@@ -50,5 +52,11 @@ struct FaultStudyArgs {
 };
 
 int FaultStudyCommand(const FaultStudyArgs& args, std::ostream& out, std::ostream& err);
+
+// The study on scenes already loaded (what FaultStudyCommand does after loading SCENE twice; a C++
+// user or a test can hand in scenes built in code): `faulty` a gear-train scene with tooth faults,
+// `healthy` its twin. args.scene_path names the scene in the summary only.
+int RunFaultStudy(const Scene& faulty, const Scene& healthy, const FaultStudyArgs& args, std::ostream& out,
+                  std::ostream& err);
 
 }  // namespace orrery::cli
