@@ -13,6 +13,7 @@
 #include "flex/reduced_body_file.h"
 #include "import/gear_train_reader.h"
 #include "import/reduce_input.h"
+#include "import/sensor_reader.h"
 
 namespace orrery::scene_reader {
 namespace {
@@ -144,6 +145,9 @@ void LoadFlexibleBodies(const Context& ctx, GearTrainRead& r) {
 
 void FailAtSource(const Context& ctx, const GearTrainSources& s, const std::string& what, bool kinematics_error) {
   const std::string reason = StripElementPrefix(what);
+  // The sensors stage's: at the sensor it names.
+  for (const auto& [name, item] : s.sensors)
+    if (what.find("sensor '" + name + "'") != std::string::npos) ctx.Fail(item, what);
   // The train builder's: a stage (by name or one of its gears), a coupling, a range, a port.
   for (const auto& [name, stage] : s.stages)
     if (Mentions(what, name) && what.find("train model:") == std::string::npos) FailInStage(stage, reason);
@@ -162,8 +166,11 @@ void FailAtSource(const Context& ctx, const GearTrainSources& s, const std::stri
   ctx.Fail(s.dynamics.value_or(s.section), what);
 }
 
-void ReadGearTrain(const Context& ctx, const Item& section, Scene& scene) {
+void ReadGearTrain(const Context& ctx, const Item& section, const std::optional<Item>& sensors, Scene& scene) {
   GearTrainRead r = ReadGearTrainDescription(ctx, section, scene.simulation.end_time);
+  r.description.options.sensors = ReadTrainSensors(ctx, sensors, r.sources.sensors);
+  // The healthy twin (SceneLoadOptions::without_faults): before any body is loaded or assembled
+  if (ctx.without_faults()) r.description.options.tooth_faults.clear();
   LoadFlexibleBodies(ctx, r);
   gears::GearTrainAssembly a;
   try {

@@ -17,8 +17,10 @@ namespace orrery::scene_reader {
 // `section` is the lumped_stage map.
 void ReadLumpedStage(const Context& ctx, const Item& section, Scene& scene);
 
-// `section` is the gear_train map; scene.simulation.end_time must be read already (the
-// operating point of a time-varying input speed is taken over [0, end_time]).
-void ReadGearTrain(const Context& ctx, const Item& section, Scene& scene);
+// `section` is the gear_train map, `sensors` the scene's `sensors:` list (sensor_reader.h,
+// ReadTrainSensors); scene.simulation.end_time must be read already (the operating point of a
+// time-varying input speed is taken over [0, end_time]). With ctx.without_faults() the train's
+// tooth faults are cleared before its flexible bodies are loaded and its model assembled.
+void ReadGearTrain(const Context& ctx, const Item& section, const std::optional<Item>& sensors, Scene& scene);
 
 }  // namespace orrery::scene_reader

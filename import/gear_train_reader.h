@@ -24,6 +24,7 @@ struct GearTrainSources {
   std::optional<Item> inputs, output, range, dynamics, mesh_stiffness;
   std::vector<std::pair<std::string, Item>> dynamics_entries;  // overrides, mesh models and
                                                                // flexible bodies, by name
+  std::vector<std::pair<std::string, Item>> sensors;           // the scene's sensors, by name
 };
 
 // A flexible body's reduced-body file as the scene names it (paths resolved against the scene's

@@ -707,13 +707,13 @@ Scene Loader::Load(const YAML::Node& root_node) {
         ctx_.Fail(*it, std::string("key not allowed with ") + section + ": a scene has exactly one " +
                            "model section (bodies + joints, lumped_stage or gear_train); " + section +
                            " values are SI or carry their unit in the key (_mm, _deg, _rpm)");
-    if (const auto it = root.Find("sensors"))
-      ctx_.Fail(*it, "sensors are read for bodies + joints scenes; for " + section +
-                         " scenes add them in C++ (ModelBuilder::AddSensor) for now");
+    if (const auto it = root.Find("sensors"); it && lumped)
+      ctx_.Fail(*it, "sensors are read for bodies + joints and gear_train scenes; for lumped_stage "
+                     "scenes add them in C++ (ModelBuilder::AddSensor)");
     ReadSolver(root, scene);
     ReadOutput(root, scene);
     if (lumped) ReadLumpedStage(ctx_, *lumped, scene);
-    else ReadGearTrain(ctx_, *train, scene);
+    else ReadGearTrain(ctx_, *train, root.Find("sensors"), scene);
     scene.simulation.scene_name = scene.name;
     return scene;
   }
@@ -927,6 +927,7 @@ Scene Load(const std::string& text, const std::string& file, const std::string& 
            const std::vector<std::string>& overrides, const SceneLoadOptions& options) {
   Context ctx(file);
   ctx.set_make_reduced_bodies(options.make_reduced_bodies);
+  ctx.set_without_faults(options.without_faults);
   // Parse.
   YAML::Node root;
   try {

@@ -94,6 +94,10 @@ struct SceneLoadOptions {
   // file written where the scene names it (what `orrery run` does). Off: the missing file is an
   // error naming the command that makes it, and loading writes nothing (the analysis commands).
   bool make_reduced_bodies = false;
+  // The healthy twin of a faulty scene (what `orrery fault-study` runs beside it): a gear train's
+  // tooth faults (TrainModelOptions::tooth_faults) are cleared before its bodies are loaded and
+  // its model assembled; everything else is as written.
+  bool without_faults = false;
 };
 
 // Loads and validates a scene file. `overrides` are "key.path=value" settings applied to the

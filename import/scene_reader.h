@@ -135,6 +135,9 @@ class Context {
   // Whether a missing reduced-body file may be made from its reduce input (SceneLoadOptions).
   bool make_reduced_bodies() const { return make_reduced_bodies_; }
   void set_make_reduced_bodies(bool on) { make_reduced_bodies_ = on; }
+  // Whether the scene's faults are left out (SceneLoadOptions::without_faults).
+  bool without_faults() const { return without_faults_; }
+  void set_without_faults(bool on) { without_faults_ = on; }
   // Other files the scene reads (Scene::input_files), noted by the readers as they go.
   void NoteInput(const std::string& path) const { inputs_.push_back(path); }
   const std::vector<std::string>& inputs() const { return inputs_; }
@@ -143,6 +146,7 @@ class Context {
   std::string file_;
   std::vector<OverrideSetting> overrides_;
   bool make_reduced_bodies_ = false;
+  bool without_faults_ = false;
   mutable std::vector<std::string> inputs_;
 };
 

@@ -159,11 +159,73 @@ void ReadSensor(const Context& ctx, const Item& item, double length_unit, ModelB
         [&] { b.AddSensor(spec); });
 }
 
+// One sensor of a gear-train scene (ReadTrainSensors).
+gears::TrainSensor ReadTrainSensor(const Context& ctx, const Item& item) {
+  std::vector<std::string> type_names;
+  for (const auto& [n, k] : SensorTypes())
+    if (k != SensorKind::kElementOutput) type_names.push_back(n);
+  const std::string type = ItemType(ctx, item, type_names);
+  gears::TrainSensor s;
+  for (const auto& [n, k] : SensorTypes())
+    if (n == type) s.kind = k;
+  const bool point = s.kind != SensorKind::kEncoder && s.kind != SensorKind::kTachometer &&
+                     s.kind != SensorKind::kGearMesh;
+  const bool joint = s.kind == SensorKind::kEncoder || s.kind == SensorKind::kTachometer;
+  std::vector<std::string> allowed{"name", "type"};
+  std::map<std::string, std::string> notes;
+  auto keys = [&](bool here, std::initializer_list<const char*> list, const std::string& note) {
+    for (const char* k : list) {
+      if (here) allowed.push_back(k);
+      else notes[k] = note;
+    }
+  };
+  const std::string a = "a " + type + " sensor ";
+  keys(point, {"body", "node", "position", "rotation", "measured_in", "axes"}, a + "sits on no body point");
+  keys(joint, {"joint", "coordinate"}, a + "reads no joint");
+  keys(s.kind == SensorKind::kAccelerometer, {"include_gravity"}, "only accelerometers sense gravity");
+  keys(s.kind == SensorKind::kGearMesh, {"mesh", "quantity"}, a + "reads no gear mesh");
+  const MapReader m(ctx, item, allowed, notes);
+  s.name = m.String("name");
+  if (point) {
+    s.body = m.String("body");
+    if (const auto node = m.Find("node")) s.node = ToInt(ctx, *node);
+    if (m.Has("position")) s.position_m = m.Vector("position", Vec3::Zero());
+    if (const auto r = m.Find("rotation")) s.rotation = ToRotation(ctx, *r);
+    if (m.Has("measured_in")) s.measured_in = m.String("measured_in");
+    else if (s.kind == SensorKind::kDisplacement) s.measured_in = "world";
+    if (const auto axes = m.Find("axes")) s.axes = ReadAxes(ctx, *axes);
+    s.include_gravity = m.Bool("include_gravity", false);
+  } else if (joint) {
+    s.joint = m.String("joint");
+    s.coordinate = m.Int("coordinate", -1);
+    if (m.Has("coordinate") && s.coordinate < 0) ctx.Fail(m.Need("coordinate"), "must be >= 0");
+  } else {
+    s.mesh = m.String("mesh");
+    const std::string q = m.Choice("quantity", {"force", "deflection", "transmission_error"}, "force");
+    s.quantity = q == "force" ? MeshQuantity::kForce
+                 : q == "deflection" ? MeshQuantity::kDeflection
+                                     : MeshQuantity::kTransmissionError;
+  }
+  return s;
+}
+
 }  // namespace
 
 void ReadSensors(const Context& ctx, const std::optional<Item>& list, double length_unit,
                  ModelBuilder& builder) {
   for (const Item& item : ListItems(ctx, list)) ReadSensor(ctx, item, length_unit, builder);
+}
+
+std::vector<gears::TrainSensor> ReadTrainSensors(const Context& ctx, const std::optional<Item>& list,
+                                                 std::vector<std::pair<std::string, Item>>& items) {
+  std::vector<gears::TrainSensor> sensors;
+  for (const Item& item : ListItems(ctx, list)) {
+    sensors.push_back(ReadTrainSensor(ctx, item));
+    for (const auto& [name, earlier] : items)
+      if (name == sensors.back().name) ctx.Fail(item, "sensor name '" + name + "' already used");
+    items.emplace_back(sensors.back().name, item);
+  }
+  return sensors;
 }
 
 SensorSamplingOptions ReadSensorSampling(const Context& ctx, const Item& item) {

@@ -10,6 +10,7 @@
 #include "import/scene_reader.h"
 #include "mbd/model.h"
 #include "mbd/sensor_sampler.h"
+#include "models/train_dynamics.h"
 
 namespace orrery::scene_reader {
 
@@ -19,6 +20,16 @@ namespace orrery::scene_reader {
 // flexible body's `node` gets a node frame of its own named "sensor:<name>".
 void ReadSensors(const Context& ctx, const std::optional<Item>& list, double length_unit,
                  ModelBuilder& builder);
+
+// The `sensors:` list of a gear-train scene as plain TrainSensors (models/train_dynamics.h,
+// "Sensors"): names of bodies, joints and mesh branches are resolved later by the train
+// assembler's sensors stage; `items` receives each sensor's item by name, so that the stage's
+// errors ("sensor 'NAME': ...") are placed at it. Positions are in metres (gear-train scenes are
+// SI). Keys per type as in ReadSensors, with `body`/`node`/`position`/`rotation` for point
+// sensors, `joint` (a member, planet or "housing") for encoders and tachometers, and `mesh` (a
+// branch "S.ring-planet#1") with `quantity` for gear_mesh sensors.
+std::vector<gears::TrainSensor> ReadTrainSensors(const Context& ctx, const std::optional<Item>& list,
+                                                 std::vector<std::pair<std::string, Item>>& items);
 
 // The `output.sensors:` map: how the sensors are sampled (SensorSamplingOptions).
 SensorSamplingOptions ReadSensorSampling(const Context& ctx, const Item& item);

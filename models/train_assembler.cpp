@@ -237,6 +237,7 @@ TrainModel BuildTrainModel(const PlanetaryTrain& train, int range, const TrainMo
   AddMeshes(a);
   AddCouplings(a);
   AddDrives(a);
+  AddSensors(a);
   a.tm.model = std::move(a.b).Finalize();
   CheckKinematicMeshes(a.tm);
   return std::move(a.tm);

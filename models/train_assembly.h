@@ -95,6 +95,7 @@ void AddTrainGroundSpring(TrainAssembly& a, const std::string& name, int member,
 void AddMeshes(TrainAssembly& a);               // train_meshes.cpp
 void AddCouplings(TrainAssembly& a);            // train_couplings.cpp
 void AddDrives(TrainAssembly& a);               // train_couplings.cpp
+void AddSensors(TrainAssembly& a);              // train_sensors.cpp
 // After Finalize(): refuses redundant kinematic meshes (train_meshes.cpp).
 void CheckKinematicMeshes(const TrainModel& tm);
 

@@ -21,7 +21,9 @@
 //                    per mesh branch its element (train_meshes.cpp: lumped and kinematic;
 //                    train_contact_meshes.cpp: contact);
 //   couplings        connections, engaged clutches and brakes (train_couplings.cpp);
-//   drives           speed drivers, input torque and port loads (train_drives.cpp).
+//   drives           speed drivers, input torque and port loads (train_drives.cpp);
+//   sensors          virtual sensors by the names of bodies, joints and mesh branches
+//                    (train_sensors.cpp).
 //
 // DOF sets (TrainDofs):
 //   torsional: every member on a revolute joint to the world, every planet on a revolute joint on
@@ -174,6 +176,16 @@
 // mesh seen through a path that changes as the planet passes). Speed drivers then drive a member
 // relative to the housing (the motor sits in it).
 //
+// Sensors (`sensors`, TrainSensor): what a data-acquisition system records on the stage, sampled
+// through the anti-alias chain of mbd/sensor_sampler.h. Names resolve against the assembled model:
+// point sensors on a body ("S.sun", "S.carrier", "S.ring", "S.planet1", "housing"; on an FE node
+// of a flexible body the elastic motion is included), encoders and tachometers on the joint of
+// that body (default coordinate: the spin), mesh sensors on a branch ("S.ring-planet#1"): a lumped
+// branch gives its tooth force, deflection or transmission error (SensorKind::kGearMesh), a
+// contact branch its line-of-action force (or the contact's normal force) or transmission error
+// (SensorKind::kElementOutput of the contact element); a kinematic branch has no mesh signal (its
+// force is /gear_constraints/<branch>/force). Errors name the sensor: "sensor 'NAME': ...".
+//
 // Usage:
 //   auto train = MakeSeed001AutomaticTransmission();
 //   TrainModelOptions o;
@@ -198,6 +210,7 @@
 
 #include "mbd/data.h"
 #include "mbd/model.h"
+#include "mbd/sensor.h"
 #include "mbd/state.h"
 #include "mbd/time_function.h"
 #include "models/mesh_stiffness.h"
@@ -273,6 +286,31 @@ struct TrainHousing {
   double mount_tilt_stiffness_n_m_per_rad = 0;       // about x and y (spatial)
   double mount_damping_ratio = 0;   // per mount direction: c = 2 zeta sqrt(k m), m the housing's
                                     // mass or inertia in that direction
+};
+
+// A virtual sensor of the train (header, "Sensors"), by the names of what it reads; the sensors
+// stage resolves the names against the assembled model and adds a SensorSpec (mbd/sensor.h).
+struct TrainSensor {
+  std::string name;   // unique among sensors: the result group /sensors/<name>
+  SensorKind kind = SensorKind::kAccelerometer;
+  // Point sensors (accelerometer, velocity, displacement, gyroscope, angular accelerometer).
+  std::string body;   // "S.sun", "S.carrier", "S.ring", "S.planet1", "housing"
+  std::optional<int> node;               // flexible body: FE node id; the sensor follows its
+                                         //   elastic motion (a node frame "sensor:<name>")
+  std::optional<Vec3> position_m;        // in the body frame; default: the body's origin, or
+                                         //   the node's position
+  Mat3 rotation = Mat3::Identity();      // the sensor's axes in the body frame
+  std::string measured_in = "sensor";    // "sensor" (its own axes), "world", or a body name
+                                         //   (that body's frame, e.g. "housing")
+  std::vector<int> axes{0, 1, 2};        // components recorded (0 x, 1 y, 2 z)
+  bool include_gravity = false;          // accelerometer: a - g
+  // Joint sensors (encoder, tachometer): a member's, planet's or the housing's joint, by body
+  // name; the coordinate within the joint's velocities (-1: the spin about the gear axis).
+  std::string joint;
+  int coordinate = -1;
+  // Mesh sensors (kGearMesh): a mesh branch "S.sun-planet#1", lumped or contact.
+  std::string mesh;
+  MeshQuantity quantity = MeshQuantity::kForce;
 };
 
 // A flexible body of the train (header, "Flexible bodies").
@@ -364,6 +402,9 @@ struct TrainModelOptions {
 
   // A housing the central members seat in (none: they seat in the ground).
   std::optional<TrainHousing> housing;
+
+  // Virtual sensors (header, "Sensors"), added last (every body and mesh exists by then).
+  std::vector<TrainSensor> sensors;
 };
 
 // Resolved lumped parameters of a member or planet set (filled by BuildTrainModel).

@@ -23,6 +23,7 @@
 //   orrery plot OUT.h5 (--signal PATH [--column C] [--t0 T] | --stress PATH) --png FILE
 //   orrery study STUDY.yaml [-o DIR] [-j N] [--retry-failed] [--mpi] [--dry-run] [--quiet]
 //   mpirun -n N orrery study STUDY.yaml ...
+//   orrery fault-study SCENE -o DIR [--end-time T] [--t0 T0] [--signal PATH] [--set k=v] [--force] [--no-plots] [--quiet]
 //   orrery --version
 //
 // Exit codes: 0 success, 1 runtime failure, 2 bad usage, 128 + signal when interrupted.
@@ -39,6 +40,7 @@
 #include <CLI/CLI.hpp>
 
 #include "tools/cli/compare_command.h"
+#include "tools/cli/fault_study_command.h"
 #include "tools/cli/error_message.h"
 #include "tools/cli/fe_modes_command.h"
 #include "tools/cli/inspect_command.h"
@@ -326,6 +328,24 @@ int Main(int argc, char** argv) {
   StudyCli study;
   study.Add(app);
 
+  // orrery fault-study
+  FaultStudyArgs fs_args;
+  double fs_end_time = 0, fs_t0 = 0;
+  CLI::App* fault_study = app.add_subcommand(
+      "fault-study", "Run a faulty gear scene and its healthy twin; spectra, sidebands, indicators, plots, summary");
+  fault_study->add_option("scene", fs_args.scene_path, "Scene file (YAML, gear_train with tooth faults)")->required();
+  fault_study->add_option("-o,--output", fs_args.output_dir, "Study folder")->required();
+  CLI::Option* fs_end_option =
+      fault_study->add_option("--end-time", fs_end_time, "Simulated time of each run in s (default 0.35)")
+          ->check(kPositiveSeconds);
+  CLI::Option* fs_t0_option =
+      fault_study->add_option("--t0", fs_t0, "Start of the analysed records in s (default 0.05)")->check(CLI::NonNegativeNumber);
+  fault_study->add_option("--signal", fs_args.signal, "Dataset to analyse (default: the scene's first sensor)");
+  fault_study->add_option("--set", fs_args.overrides, "Scene override key.path=value (repeatable)")->allow_extra_args(false);
+  fault_study->add_flag("--force", fs_args.force, "Replace the folder's earlier results");
+  fault_study->add_flag("--no-plots{false}", fs_args.plots, "Skip the PNG plots");
+  fault_study->add_flag("-q,--quiet", fs_args.quiet, "No progress output");
+
   // Parse: help and version go to stdout, any other problem is one line on stderr
   try {
     app.parse(argc, argv);
@@ -336,7 +356,7 @@ int Main(int argc, char** argv) {
     const std::vector<std::string> stray = app.remaining();
     if (app.get_subcommands().empty() && !stray.empty() && !stray.front().empty())
       reason = stray.front().front() == '-' ? "unknown option '" + stray.front() + "'"
-                                            : "unknown command '" + stray.front() + "' (expected run, inspect, kinematics, modes, fe-modes, reduce, mesh-info, mesh-stiffness, spectrum, compare, octave, plot or study)";
+                                            : "unknown command '" + stray.front() + "' (expected run, inspect, kinematics, modes, fe-modes, reduce, mesh-info, mesh-stiffness, spectrum, compare, octave, plot, study or fault-study)";
     ReportError(std::cerr, reason + "; see orrery --help");
     return kExitUsage;
   }
@@ -356,6 +376,12 @@ int Main(int argc, char** argv) {
   if (const std::optional<int> code = signal_commands.Dispatch()) return *code;
   if (mesh_info->parsed()) return MeshInfoCommand(info_args, std::cout, std::cerr);
   if (const std::optional<int> code = study.Dispatch()) return *code;
+  if (fault_study->parsed()) {
+    if (fs_end_option->count() > 0) fs_args.end_time = fs_end_time;
+    if (fs_t0_option->count() > 0) fs_args.t0 = fs_t0;
+    fs_args.err_is_terminal = isatty(STDERR_FILENO) == 1;
+    return FaultStudyCommand(fs_args, std::cout, std::cerr);
+  }
   return InspectCommand(inspect_args, std::cout, std::cerr);
 }
 
