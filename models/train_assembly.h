@@ -62,7 +62,15 @@ struct TrainAssembly {
   const TrainMemberOverride& Override(const std::string& name) const;
   // The flexible body of that name, or nullptr.
   const TrainFlexibleBody* Flexible(const std::string& body_name) const;
+  // The imported gear of that name, or nullptr.
+  const TrainImportedGear* Imported(const std::string& body_name) const;
+  // AddContactMesh: each imported gear's tooth parts (gear frame), by body name.
+  std::map<std::string, std::shared_ptr<const std::vector<TriangleMesh>>> imported_teeth;
 };
+
+// The gear frame of planet gear `planet_gear` on `branch` in its body frame: the turn about z
+// (train_contact.h, "Gear frames and tooth phasing"; train_contact_meshes.cpp).
+double PlanetGearRotation(const PlanetaryTrain& train, int planet_gear, int branch);
 
 // Centre of gear `g` on branch `branch` in the carrier frame (central gears on the axis).
 Vec3 TrainGearCentre(const PlanetaryTrain& train, int g, int branch);

@@ -13,6 +13,7 @@
 #include "contact/triangle_geometry.h"
 #include "models/flexible_gear_mesh.h"
 #include "models/gear_fe_mesh.h"
+#include "models/imported_gear.h"
 #include "models/train_assembly.h"
 
 namespace orrery::gears {
@@ -40,7 +41,8 @@ std::string FlexibleWhat(const TrainAssembly& a, int gear, const std::string& bo
 }
 
 // The FE triangles of a reduced gear's tooth node sets (all of them: the surface must be whole),
-// the sets, and the lowest z of their nodes in B.
+// the sets, and the lowest z of their nodes in B; for a reduced body without tooth node sets (a
+// part from a mesh file, `orrery reduce planet.stl`) every exported surface triangle, no sets.
 struct ToothFaces {
   struct Tri {
     Vec3 a, b, c, centre;
@@ -53,17 +55,26 @@ struct ToothFaces {
 
 ToothFaces ReducedToothFaces(const std::string& what, const FlexibleBodyModes& m, int z) {
   ToothFaces f;
-  for (int k = 0; k < z; ++k)
-    for (const char* part : {"FLANK_PLUS", "FLANK_MINUS", "FILLET_PLUS", "FILLET_MINUS", "TIP"})
-      f.sets.push_back(ToothSetName(k, part));
-  f.sets.push_back("ROOT");
+  std::vector<char> allowed(m.nodes.size(), 0);
+  if (!m.node_sets.count("ROOT") && !m.node_sets.count(ToothSetName(0, "FLANK_PLUS"))) {
+    // A part from a mesh file (no tooth node sets): its whole exported surface
+    for (const auto& t : m.surface_triangles)
+      for (int i : t) {
+        allowed[i] = 1;
+        f.z0 = std::min(f.z0, m.nodes[i].position.z());
+      }
+  } else {
+    for (int k = 0; k < z; ++k)
+      for (const char* part : {"FLANK_PLUS", "FLANK_MINUS", "FILLET_PLUS", "FILLET_MINUS", "TIP"})
+        f.sets.push_back(ToothSetName(k, part));
+    f.sets.push_back("ROOT");
+  }
   for (const std::string& set : f.sets)
     if (!m.node_sets.count(set))
       FailTrain(what + "its reduced body has no node set '" + set + "' (a gear of " + std::to_string(z) +
                 " teeth from the gear mesher, reduced with its surface nodes exported, has them)");
   if (m.node_sets.count(ToothSetName(z, "TIP")))
     FailTrain(what + "its reduced body has more teeth than the train's gear (" + std::to_string(z) + ")");
-  std::vector<char> allowed(m.nodes.size(), 0);
   for (const std::string& set : f.sets)
     for (int i : m.node_sets.at(set)) {
       allowed[i] = 1;
@@ -160,27 +171,35 @@ std::vector<int> MissingTeeth(const TrainAssembly& a, int g, int branch) {
 
 // Gear frames in the body frames (train_contact.h, "Gear frames and tooth phasing").
 void PlaceGearFrames(const TrainAssembly& a, const TrainMesh& m, int g1, int g2, int branch, TrainContactMesh* e) {
-  const PlanetaryTrain& train = a.train;
   const bool internal = m.kind == MeshKind::kInternal;
-  const int planet_gear = internal ? g1 : g2;
-  const PlanetSet& ps = train.planet_sets[train.gears[planet_gear].planet_set];
-  const double zp = train.gears[planet_gear].teeth;
-  // The sun of the stage for the planet phasing of a ring mesh.
-  double z_sun = internal ? 0 : train.gears[g1].teeth;
-  if (internal)
-    for (const TrainMesh& other : train.meshes)
-      if (other.stage == m.stage && other.kind == MeshKind::kExternal && other.gear_b == planet_gear &&
-          train.gears[other.gear_a].planet_set < 0)
-        z_sun = train.gears[other.gear_a].teeth;
-  const double psi = ps.angles_rad[branch];
-  const double planet_rot = kPi + kPi / zp + z_sun / zp * psi;
+  const double planet_rot = PlanetGearRotation(a.train, internal ? g1 : g2, branch);
   if (internal) {
+    const PlanetSet& ps = a.train.planet_sets[a.train.gears[g1].planet_set];
+    const double zp = a.train.gears[g1].teeth, zr = a.train.gears[g2].teeth;
     e->rotation1_rad = planet_rot;
-    e->rotation2_rad = psi + kPi / train.gears[g2].teeth + zp / train.gears[g2].teeth * planet_rot;
+    e->rotation2_rad = ps.angles_rad[branch] + kPi / zr + zp / zr * planet_rot;
   } else {
     e->rotation1_rad = 0;
     e->rotation2_rad = planet_rot;
   }
+}
+
+// The tooth parts of an imported planet (train_dynamics.h, "Imported gears"), split once per body
+// against the train's planet gear; null for a generated gear.
+std::shared_ptr<const std::vector<TriangleMesh>> ImportedTeeth(TrainAssembly& a, int gear, int branch,
+                                                               const Gear& geometry) {
+  const std::string body = a.GearBodyName(gear, branch);
+  const TrainImportedGear* imported = a.Imported(body);
+  if (!imported) return nullptr;
+  auto [it, made] = a.imported_teeth.try_emplace(body);
+  if (!made) return it->second;
+  try {
+    it->second = std::make_shared<const std::vector<TriangleMesh>>(
+        SplitImportedGearTeeth(imported->surface, geometry, imported->source));
+  } catch (const std::invalid_argument& e) {
+    FailTrain("imported gear '" + body + "': " + e.what());
+  }
+  return it->second;
 }
 
 // The surface of a flexible gear, made once per body (its branches share it); its joint starts at
@@ -252,8 +271,10 @@ void AddFlexibleContact(TrainAssembly& a, const TrainMesh& m, int g1, int g2, in
     // The rigid side: the rigid builder's surface, shifted by the flexible gear's z0.
     const Gear& geometry = s == 0 ? pair.gear1() : pair.gear2();
     X_BG[s] = Transform(AxisAngle(Vec3::UnitZ(), rotation[s]), Vec3(0, 0, z0));
+    const auto imported = ImportedTeeth(a, gear[s], branch, geometry);
     sides[s] = ContactSide{.body = s == 0 ? e.body1 : e.body2,
-                           .rigid = MakeGearContactSurface(geometry, go, MissingTeeth(a, gear[s], branch), X_BG[s])};
+                           .rigid = MakeGearContactSurface(geometry, go, MissingTeeth(a, gear[s], branch), X_BG[s],
+                                                           {}, {}, imported.get())};
     (s == 0 ? penalty.rigid1 : penalty.rigid2) = true;
     (s == 0 ? penalty.rim_radius1_m : penalty.rim_radius2_m) = PartnerRim(a, gear[s], geometry);
   }
@@ -277,6 +298,17 @@ void AddFlexibleContact(TrainAssembly& a, const TrainMesh& m, int g1, int g2, in
 }
 
 }  // namespace
+
+double PlanetGearRotation(const PlanetaryTrain& train, int planet_gear, int branch) {
+  const PlanetSet& ps = train.planet_sets[train.gears[planet_gear].planet_set];
+  const double zp = train.gears[planet_gear].teeth;
+  // The sun of the planet's stage (a planet of a ring-only stage is not turned by one)
+  double z_sun = 0;
+  for (const TrainMesh& m : train.meshes)
+    if (m.kind == MeshKind::kExternal && m.gear_b == planet_gear && train.gears[m.gear_a].planet_set < 0)
+      z_sun = train.gears[m.gear_a].teeth;
+  return kPi + kPi / zp + z_sun / zp * ps.angles_rad[branch];
+}
 
 void AddContactMesh(TrainAssembly& a, int mesh, int branch, const GearPair& unthinned) {
   const TrainMesh& m = a.train.meshes[mesh];
@@ -305,6 +337,8 @@ void AddContactMesh(TrainAssembly& a, int mesh, int branch, const GearPair& unth
   if (a.Flexible(a.GearBodyName(g1, branch)) || a.Flexible(a.GearBodyName(g2, branch))) {
     AddFlexibleContact(a, m, g1, g2, branch, pair, go, e);
   } else {
+    go.imported_teeth1 = ImportedTeeth(a, g1, branch, pair.gear1());
+    go.imported_teeth2 = ImportedTeeth(a, g2, branch, pair.gear2());
     e.calibration = CalibrateGearContact(pair, go);
     go.normal_backlash_m = 0;  // already in `pair`
     a.b.AddExternalForce(std::make_shared<ContactElement>(MakeGearContactSpec(e.name, pair, e.body1, e.body2, go)));
