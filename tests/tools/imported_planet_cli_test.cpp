@@ -123,13 +123,13 @@ TEST(ImportedPlanetCli, StlAndStepPlanetsRunRigidAndFlexibleInAPlanetaryScene) {
     const fs::path body = dir / (part.stem().string() + "_" + part.extension().string().substr(1) + ".h5");
     const std::string unit = part.extension() == ".stl" ? " --unit mm" : "";
     std::tie(code, text) = Orrery("reduce " + part.string() + unit + " --E 210e9 --nu 0.3 --density 7850 --interface bore "
-                                  "--modes 8 --mesh-size 0.008 -o " + body.string());
+                                  "--modes 8 --mesh-size 0.005 --curvature 16 -o " + body.string());
     ASSERT_EQ(code, 0) << text;
     const fs::path out = dir / ("flexible_" + body.filename().string());
     std::tie(code, text) = Orrery("run " + kScene.string() + " --end-time 0.001 --set " +
                                   Quote("gear_train.dynamics.flexible_bodies={S.planet1: {reduced_body: " + body.string() +
                                         ", damping_ratio: 0.02}}") +
-                                  " --set gear_train.dynamics.tooth_contact.flexible.embed_tolerance_um=500 -o " +
+                                  " --set gear_train.dynamics.tooth_contact.flexible.embed_tolerance_um=400 -o " +
                                   out.string());
     ASSERT_EQ(code, 0) << text;
     for (const char* branch : {"S.sun-planet#1", "S.ring-planet#1"}) {
