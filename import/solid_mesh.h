@@ -7,8 +7,8 @@
 //
 // Usage:
 //   SolidMesh s = ReadSolidMesh("planet.stl", {.unit = LengthUnit::kMillimetre}, 7850);
-//   gears::TrainImportedGear g = ReadImportedGear("planet.stl", {.unit = LengthUnit::kMillimetre}, 7850);
-//   options.imported_gears["S.planet1"] = g;
+//   options.imported_gears["S.planet1"] =
+//       ReadImportedGear("planet.stl", {.unit = LengthUnit::kMillimetre}, 7850);
 #include <filesystem>
 
 #include "import/mass_properties.h"
@@ -19,19 +19,20 @@
 namespace orrery {
 
 struct SolidMesh {
-  SurfaceMesh surface;       // oriented (outward), degenerate triangles kept
-  MeshCheckReport report;    // of the surface as read
+  SurfaceMesh surface;     // oriented (outward), degenerate triangles kept
+  MeshCheckReport report;  // of the surface as read
   MassProperties mass;
 };
 
 // Throws std::runtime_error with one line naming the file: the reader's errors, "FILE: not a
 // valid solid for mass properties: <findings>" (re-oriented triangles and degenerate ones are
 // not findings), a density that is not finite and > 0.
-SolidMesh ReadSolidMesh(const std::filesystem::path& file, const SurfaceReadOptions& options, double density_kg_m3);
+SolidMesh ReadSolidMesh(const std::filesystem::path& file, const SurfaceReadOptions& options,
+                        double density_kg_m3);
 
 // ReadSolidMesh as a train's imported gear (surface and mass properties in the file's frame,
 // which must be the gear frame: models/imported_gear.h); source = the file name.
-gears::TrainImportedGear ReadImportedGear(const std::filesystem::path& file, const SurfaceReadOptions& options,
-                                          double density_kg_m3);
+gears::TrainImportedGear ReadImportedGear(const std::filesystem::path& file,
+                                          const SurfaceReadOptions& options, double density_kg_m3);
 
 }  // namespace orrery

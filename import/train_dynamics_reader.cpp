@@ -1,7 +1,8 @@
 // The `dynamics:` map of a gear_train into TrainModelOptions (docs/scene_format.md, "dynamics"):
 // DOF set, mesh models (per mesh and per branch), lumped mesh stiffness, member and mesh
 // overrides, tooth contact, flexible bodies (their reduced-body files by path: gear_scene.cpp
-// loads them), imported planets (their mesh files read here). Names are checked against the names the train's stages give.
+// loads them), imported planets (their mesh files read here). Names are checked against the names
+// the train's stages give.
 #include <algorithm>
 #include <filesystem>
 #include <map>
@@ -162,7 +163,8 @@ void ReadFlexibleBody(const Context& ctx, const Item& item, const std::string& b
 // An imported planet (models/train_dynamics.h, "Imported gears"): its mesh file, read now
 // (mass properties, surface), relative to the scene; unit required but for STEP/IGES; density
 // default the train's.
-void ReadImportedGearEntry(const Context& ctx, const Item& item, const std::string& body, TrainModelOptions& o) {
+void ReadImportedGearEntry(const Context& ctx, const Item& item, const std::string& body,
+                           TrainModelOptions& o) {
   const MapReader m(ctx, item, {"file", "unit", "density"});
   const Item file_item = m.Need("file");
   std::filesystem::path file = ToString(ctx, file_item);
@@ -173,7 +175,8 @@ void ReadImportedGearEntry(const Context& ctx, const Item& item, const std::stri
     if (cad) ctx.Fail(*unit, "a STEP/IGES file states its own length unit: remove 'unit'");
     const std::string u = ToString(ctx, *unit);
     options.unit = ParseLengthUnit(u);
-    if (!options.unit) ctx.Fail(*unit, "unknown length unit '" + u + "' (expected " + kLengthUnitChoices + ")");
+    if (!options.unit)
+      ctx.Fail(*unit, "unknown length unit '" + u + "' (expected " + kLengthUnitChoices + ")");
   } else if (!cad) {
     m.FailMissing("unit", "missing required key 'unit': a mesh file has no unit of its own (" +
                               std::string(kLengthUnitChoices) + ")");
@@ -354,14 +357,34 @@ void ReadTrainDynamics(const Context& ctx, const std::optional<Item>& item, Gear
   if (!item) return;
   TrainModelOptions& o = r.description.options;
   const TrainNames names = NamesOf(r.description.train);
-  std::vector<std::string> allowed{"dofs", "contact", "mesh_damping_ratio", "mesh_stiffness",
-                                   "mesh_stiffness_per_face_width", "mesh_phasing",
-                                   "unloaded_mesh_stiffness_factor", "density", "bore_to_pitch_ratio",
-                                   "ring_rim_modules", "connection_stiffness", "clutch_stiffness",
-                                   "brake_stiffness", "bearing_stiffness", "axial_bearing_stiffness",
-                                   "tilt_bearing_stiffness", "bearing_damping", "port_loads",
-                                   "stage_phase_cycles", "members", "meshes", "backlash", "backlash_um",
-                                   "flexible_bodies", "mesh_model", "tooth_contact", "housing", "imported_gears"};
+  std::vector<std::string> allowed{"dofs",
+                                   "contact",
+                                   "mesh_damping_ratio",
+                                   "mesh_stiffness",
+                                   "mesh_stiffness_per_face_width",
+                                   "mesh_phasing",
+                                   "unloaded_mesh_stiffness_factor",
+                                   "density",
+                                   "bore_to_pitch_ratio",
+                                   "ring_rim_modules",
+                                   "connection_stiffness",
+                                   "clutch_stiffness",
+                                   "brake_stiffness",
+                                   "bearing_stiffness",
+                                   "axial_bearing_stiffness",
+                                   "tilt_bearing_stiffness",
+                                   "bearing_damping",
+                                   "port_loads",
+                                   "stage_phase_cycles",
+                                   "members",
+                                   "meshes",
+                                   "backlash",
+                                   "backlash_um",
+                                   "flexible_bodies",
+                                   "mesh_model",
+                                   "tooth_contact",
+                                   "housing",
+                                   "imported_gears"};
   Append(allowed, Names(LengthMm("stage_spacing")));
   const MapReader m(ctx, *item, allowed,
                     {{"damping_ratio", "write 'mesh_damping_ratio'"},

@@ -122,13 +122,11 @@ GearContactCalibration CalibrateGearContact(const gears::GearPair& pair,
 // from CrackStiffnessScales; imported: the gear's imported tooth surfaces (#teeth, gear frame)
 // instead of generated ones. Throws std::invalid_argument for a missing-tooth index out of range,
 // no tooth left, invalid faults, faults on an imported gear or imported teeth of another count.
-std::shared_ptr<const contact::ContactSurface> MakeGearContactSurface(const gears::Gear& gear,
-                                                             const GearContactOptions& options,
-                                                             const std::vector<int>& missing,
-                                                             const Transform& X_BG,
-                                                             const std::vector<gears::ToothFaultSpec>& faults = {},
-                                                             const std::vector<std::pair<int, double>>& crack_scales = {},
-                                                             const std::vector<TriangleMesh>* imported = nullptr);
+std::shared_ptr<const contact::ContactSurface> MakeGearContactSurface(
+    const gears::Gear& gear, const GearContactOptions& options, const std::vector<int>& missing,
+    const Transform& X_BG, const std::vector<gears::ToothFaultSpec>& faults = {},
+    const std::vector<std::pair<int, double>>& crack_scales = {},
+    const std::vector<TriangleMesh>* imported = nullptr);
 
 // The stiffness scale R^(3/2) of each cracked tooth of gear `gear` (1 or 2) of the pair (header),
 // as (tooth, scale).

@@ -30,19 +30,22 @@ void CheckExtent(const TriangleMesh& mesh, const Gear& gear, const std::string& 
   const double tol = kImportedGearTolerance * gear.spec().normal_module_m;
   const double b = gear.spec().face_width_m;
   if (std::abs(r_max - gear.tip_radius_m()) > tol)
-    throw std::invalid_argument(source + ": imported gear reaches " + Mm(r_max) + " from its axis, the train's gear has " +
-                                "its tip at " + Mm(gear.tip_radius_m()) + " (is the unit right? the part in the gear " +
-                                "frame, axis z?)");
+    throw std::invalid_argument(source + ": imported gear reaches " + Mm(r_max) +
+                                " from its axis, the train's gear has " + "its tip at " +
+                                Mm(gear.tip_radius_m()) +
+                                " (is the unit right? the part in the gear " + "frame, axis z?)");
   if (std::abs(z_min) > tol || std::abs(z_max - b) > tol)
-    throw std::invalid_argument(source + ": imported gear's faces lie at z = " + Mm(z_min) + " and " + Mm(z_max) +
-                                ", the train's gear spans z = 0 to " + Mm(b) + " (its face width)");
+    throw std::invalid_argument(source + ": imported gear's faces lie at z = " + Mm(z_min) +
+                                " and " + Mm(z_max) + ", the train's gear spans z = 0 to " + Mm(b) +
+                                " (its face width)");
 }
 
 }  // namespace
 
 std::vector<TriangleMesh> SplitImportedGearTeeth(const TriangleMesh& mesh, const Gear& gear,
                                                  const std::string& source) {
-  if (gear.internal()) throw std::invalid_argument(source + ": an imported internal gear (ring) is not supported");
+  if (gear.internal())
+    throw std::invalid_argument(source + ": an imported internal gear (ring) is not supported");
   CheckExtent(mesh, gear, source);
   const int z = gear.teeth();
   const double pitch = 2 * kPi / z, twist = gear.twist_per_length();
@@ -54,7 +57,9 @@ std::vector<TriangleMesh> SplitImportedGearTeeth(const TriangleMesh& mesh, const
     // The toothed boundary only: beyond r_select, not an end face
     const Vec3 n = (b - a).cross(c - a);
     if (!(n.norm() > 0) || std::abs(n.z()) >= 0.5 * n.norm()) continue;
-    if (std::min({std::hypot(a.x(), a.y()), std::hypot(b.x(), b.y()), std::hypot(c.x(), c.y())}) < r_select) continue;
+    if (std::min({std::hypot(a.x(), a.y()), std::hypot(b.x(), b.y()), std::hypot(c.x(), c.y())}) <
+        r_select)
+      continue;
     // The tooth sector of the centroid
     const double d = ToothRelativeAngle((a + b + c) / 3, twist, 0);
     const int k = ((static_cast<int>(std::lround(d / pitch)) % z) + z) % z;
@@ -73,17 +78,19 @@ std::vector<TriangleMesh> SplitImportedGearTeeth(const TriangleMesh& mesh, const
   // Every tooth present and centred where the train's teeth are
   for (int k = 0; k < z; ++k) {
     if (teeth[k].triangles.empty())
-      throw std::invalid_argument(source + ": imported gear has no toothed surface about tooth " + std::to_string(k) +
-                                  " (polar angle " + std::to_string(k * 360.0 / z) + " deg): is it a gear of " +
+      throw std::invalid_argument(source + ": imported gear has no toothed surface about tooth " +
+                                  std::to_string(k) + " (polar angle " +
+                                  std::to_string(k * 360.0 / z) + " deg): is it a gear of " +
                                   std::to_string(z) + " teeth?");
     for (const Vec3& v : teeth[k].vertices) {
       if (std::hypot(v.x(), v.y()) <= gear.reference_radius_m()) continue;
       const double d = ToothRelativeAngle(v, twist, k * pitch);
       if (std::abs(d) > 0.4 * pitch)
-        throw std::invalid_argument(source + ": imported gear's tooth " + std::to_string(k) + " is not centred on " +
-                                    std::to_string(k * 360.0 / z) + " deg (a point above the reference circle lies " +
-                                    std::to_string(d * 180 / kPi) +
-                                    " deg from it): turn the part so that a tooth is centred on +x");
+        throw std::invalid_argument(
+            source + ": imported gear's tooth " + std::to_string(k) + " is not centred on " +
+            std::to_string(k * 360.0 / z) + " deg (a point above the reference circle lies " +
+            std::to_string(d * 180 / kPi) +
+            " deg from it): turn the part so that a tooth is centred on +x");
     }
   }
   return teeth;

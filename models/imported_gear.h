@@ -26,9 +26,10 @@
 // centres).
 //
 // Usage:
-//   SolidMesh s = ReadSolidMesh("planet.stl", {.unit = LengthUnit::kMillimetre}, 7850);   // import/
-//   std::vector<TriangleMesh> teeth = SplitImportedGearTeeth(s.surface.mesh, planet, "planet.stl");
-//   GearContactOptions o;  o.imported_teeth2 = std::make_shared<const std::vector<TriangleMesh>>(teeth);
+//   SolidMesh s = ReadSolidMesh("planet.stl", {.unit = LengthUnit::kMillimetre}, 7850);
+//   auto teeth = SplitImportedGearTeeth(s.surface.mesh, planet, "planet.stl");
+//   GearContactOptions o;
+//   o.imported_teeth2 = std::make_shared<const std::vector<TriangleMesh>>(teeth);
 #include <string>
 #include <vector>
 

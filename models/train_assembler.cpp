@@ -44,12 +44,16 @@ void CheckOptionNames(const PlanetaryTrain& train, const TrainModelOptions& o) {
     for (size_t s = 0; s < train.planet_sets.size(); ++s)
       for (size_t i = 0; i < train.planet_sets[s].angles_rad.size(); ++i)
         found = found || train.planet_sets[s].name + std::to_string(i + 1) == name;
-    if (!found) FailTrain("imported gear '" + name + "': no planet of that name in the train (only planets, \"S.planet1\")");
+    if (!found)
+      FailTrain("imported gear '" + name +
+                "': no planet of that name in the train (only planets, \"S.planet1\")");
     if (o.flexible_bodies.count(name))
-      FailTrain("imported gear '" + name + "' is also a flexible body: a flexible planet from a mesh file is the "
+      FailTrain("imported gear '" + name +
+                "' is also a flexible body: a flexible planet from a mesh file is the "
                 "body reduced from it (orrery reduce)");
     if (!(gear.mass_kg > 0) || !(gear.inertia_kg_m2.trace() > 0) || gear.surface.triangles.empty())
-      FailTrain("imported gear '" + name + "' (" + gear.source + "): no surface or mass properties");
+      FailTrain("imported gear '" + name + "' (" + gear.source +
+                "): no surface or mass properties");
   }
 }
 

@@ -56,8 +56,8 @@
 //   flexible gears: Hertz alone.
 //
 // Gear geometry: MakeTrainGearPair's (train_dynamics.h: the same gears the lumped stiffness
-// models describe), at the pin-circle radius. Backlash: the central gear's teeth are thinned (WithNormalBacklash), not the
-// planet's (a small planet is near undercut).
+// models describe), at the pin-circle radius. Backlash: the central gear's teeth are thinned
+// (WithNormalBacklash), not the planet's (a small planet is near undercut).
 //
 #include <string>
 #include <vector>

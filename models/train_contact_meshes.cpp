@@ -74,7 +74,8 @@ ToothFaces ReducedToothFaces(const std::string& what, const FlexibleBodyModes& m
       FailTrain(what + "its reduced body has no node set '" + set + "' (a gear of " + std::to_string(z) +
                 " teeth from the gear mesher, reduced with its surface nodes exported, has them)");
   if (m.node_sets.count(ToothSetName(z, "TIP")))
-    FailTrain(what + "its reduced body has more teeth than the train's gear (" + std::to_string(z) + ")");
+    FailTrain(what + "its reduced body has more teeth than the train's gear (" + std::to_string(z) +
+              ")");
   for (const std::string& set : f.sets)
     for (int i : m.node_sets.at(set)) {
       allowed[i] = 1;
@@ -170,7 +171,8 @@ std::vector<int> MissingTeeth(const TrainAssembly& a, int g, int branch) {
 }
 
 // Gear frames in the body frames (train_contact.h, "Gear frames and tooth phasing").
-void PlaceGearFrames(const TrainAssembly& a, const TrainMesh& m, int g1, int g2, int branch, TrainContactMesh* e) {
+void PlaceGearFrames(const TrainAssembly& a, const TrainMesh& m, int g1, int g2, int branch,
+                     TrainContactMesh* e) {
   const bool internal = m.kind == MeshKind::kInternal;
   const double planet_rot = PlanetGearRotation(a.train, internal ? g1 : g2, branch);
   if (internal) {
@@ -186,8 +188,8 @@ void PlaceGearFrames(const TrainAssembly& a, const TrainMesh& m, int g1, int g2,
 
 // The tooth parts of an imported planet (train_dynamics.h, "Imported gears"), split once per body
 // against the train's planet gear; null for a generated gear.
-std::shared_ptr<const std::vector<TriangleMesh>> ImportedTeeth(TrainAssembly& a, int gear, int branch,
-                                                               const Gear& geometry) {
+std::shared_ptr<const std::vector<TriangleMesh>> ImportedTeeth(TrainAssembly& a, int gear,
+                                                               int branch, const Gear& geometry) {
   const std::string body = a.GearBodyName(gear, branch);
   const TrainImportedGear* imported = a.Imported(body);
   if (!imported) return nullptr;
@@ -272,9 +274,10 @@ void AddFlexibleContact(TrainAssembly& a, const TrainMesh& m, int g1, int g2, in
     const Gear& geometry = s == 0 ? pair.gear1() : pair.gear2();
     X_BG[s] = Transform(AxisAngle(Vec3::UnitZ(), rotation[s]), Vec3(0, 0, z0));
     const auto imported = ImportedTeeth(a, gear[s], branch, geometry);
-    sides[s] = ContactSide{.body = s == 0 ? e.body1 : e.body2,
-                           .rigid = MakeGearContactSurface(geometry, go, MissingTeeth(a, gear[s], branch), X_BG[s],
-                                                           {}, {}, imported.get())};
+    sides[s] =
+        ContactSide{.body = s == 0 ? e.body1 : e.body2,
+                    .rigid = MakeGearContactSurface(geometry, go, MissingTeeth(a, gear[s], branch),
+                                                    X_BG[s], {}, {}, imported.get())};
     (s == 0 ? penalty.rigid1 : penalty.rigid2) = true;
     (s == 0 ? penalty.rim_radius1_m : penalty.rim_radius2_m) = PartnerRim(a, gear[s], geometry);
   }
@@ -305,7 +308,8 @@ double PlanetGearRotation(const PlanetaryTrain& train, int planet_gear, int bran
   // The sun of the planet's stage (a planet of a ring-only stage is not turned by one)
   double z_sun = 0;
   for (const TrainMesh& m : train.meshes)
-    if (m.kind == MeshKind::kExternal && m.gear_b == planet_gear && train.gears[m.gear_a].planet_set < 0)
+    if (m.kind == MeshKind::kExternal && m.gear_b == planet_gear &&
+        train.gears[m.gear_a].planet_set < 0)
       z_sun = train.gears[m.gear_a].teeth;
   return kPi + kPi / zp + z_sun / zp * ps.angles_rad[branch];
 }

@@ -273,11 +273,11 @@ struct TrainFlexibleBody {
 // A gear body from a mesh file (header, "Imported gears"), filled by the scene reader
 // (import/solid_mesh.h ReadImportedGear) or by hand.
 struct TrainImportedGear {
-  TriangleMesh surface;            // the closed surface, gear frame (m; models/imported_gear.h)
+  TriangleMesh surface;  // the closed surface, gear frame (m; models/imported_gear.h)
   double mass_kg = 0;
-  Vec3 center_of_mass_m = Vec3::Zero();       // gear frame
-  Mat3 inertia_kg_m2 = Mat3::Zero();          // about the centre of mass, gear-frame axes
-  std::string source;              // the file, for messages
+  Vec3 center_of_mass_m = Vec3::Zero();  // gear frame
+  Mat3 inertia_kg_m2 = Mat3::Zero();     // about the centre of mass, gear-frame axes
+  std::string source;                    // the file, for messages
 };
 
 struct TrainModelOptions {

@@ -27,8 +27,10 @@ BodyIndex AddTrainBody(TrainAssembly& a, const std::string& name, const TrainBod
 BodyIndex AddPlanetBody(TrainAssembly& a, const std::string& name, int set, int branch) {
   const TrainImportedGear* g = a.Imported(name);
   if (!g) return AddTrainBody(a, name, a.tm.planet_params[set]);
-  const Mat3 R = AxisAngle(Vec3::UnitZ(), PlanetGearRotation(a.train, a.train.planet_sets[set].gear, branch));
-  return a.b.AddBody(name, g->mass_kg, R * g->center_of_mass_m, R * g->inertia_kg_m2 * R.transpose());
+  const Mat3 R =
+      AxisAngle(Vec3::UnitZ(), PlanetGearRotation(a.train, a.train.planet_sets[set].gear, branch));
+  return a.b.AddBody(name, g->mass_kg, R * g->center_of_mass_m,
+                     R * g->inertia_kg_m2 * R.transpose());
 }
 
 // The frame lumped meshes act on: a flexible body's mesh interface master, else the body frame.

@@ -52,7 +52,10 @@ constexpr double kPi = std::numbers::pi;
 constexpr double kLoad = 15000, kBore = 0.4 * 28e-3;
 
 gears::GearSpec Spec(int teeth) {
-  return {.teeth = teeth, .normal_module_m = 4e-3, .normal_pressure_angle_rad = 22.5 * kPi / 180, .face_width_m = 0.040};
+  return {.teeth = teeth,
+          .normal_module_m = 4e-3,
+          .normal_pressure_angle_rad = 22.5 * kPi / 180,
+          .face_width_m = 0.040};
 }
 
 gears::GearContactOptions ContactOptions() {
@@ -82,9 +85,11 @@ double FacetingDeviation(const std::vector<TriangleMesh>& teeth, const Gear& g) 
     const TriangleMesh& m = teeth[k];
     for (const auto& t : m.triangles) {
       const Vec3 &a = m.vertices[t[0]], &b = m.vertices[t[1]], &c = m.vertices[t[2]];
-      const double r_min = std::min({std::hypot(a.x(), a.y()), std::hypot(b.x(), b.y()), std::hypot(c.x(), c.y())});
+      const double r_min =
+          std::min({std::hypot(a.x(), a.y()), std::hypot(b.x(), b.y()), std::hypot(c.x(), c.y())});
       if (r_min < g.form_radius_m() + 1e-9) continue;
-      for (const Vec3& p : {a, b, c, Vec3((a + b) / 2), Vec3((b + c) / 2), Vec3((c + a) / 2), Vec3((a + b + c) / 3)})
+      for (const Vec3& p : {a, b, c, Vec3((a + b) / 2), Vec3((b + c) / 2), Vec3((c + a) / 2),
+                            Vec3((a + b + c) / 3)})
         D = std::max(D, deviation(p, 2 * kPi * k / z));
     }
   }
@@ -95,14 +100,18 @@ double FacetingDeviation(const std::vector<TriangleMesh>& teeth, const Gear& g) 
 std::vector<TriangleMesh> GeneratedTeeth(const Gear& g, const gears::GearContactOptions& o) {
   std::vector<TriangleMesh> teeth;
   for (int k = 0; k < g.teeth(); ++k)
-    teeth.push_back(gears::MakeToothSurfaceMesh(
-        g, k, {.root = o.root_intervals, .fillet = o.fillet_intervals, .involute = o.involute_intervals, .tip = o.tip_intervals},
-        o.face_intervals));
+    teeth.push_back(gears::MakeToothSurfaceMesh(g, k,
+                                                {.root = o.root_intervals,
+                                                 .fillet = o.fillet_intervals,
+                                                 .involute = o.involute_intervals,
+                                                 .tip = o.tip_intervals},
+                                                o.face_intervals));
   return teeth;
 }
 
 // Largest distance of an imported vertex from the nearest generated vertex of its tooth.
-double VertexDisplacement(const std::vector<TriangleMesh>& imported, const std::vector<TriangleMesh>& generated) {
+double VertexDisplacement(const std::vector<TriangleMesh>& imported,
+                          const std::vector<TriangleMesh>& generated) {
   double worst = 0;
   for (std::size_t k = 0; k < imported.size(); ++k)
     for (const Vec3& v : imported[k].vertices) {
@@ -114,30 +123,35 @@ double VertexDisplacement(const std::vector<TriangleMesh>& imported, const std::
 }
 
 // The sweep with the planet's teeth imported (or generated: null).
-gears::MeshSweep Sweep(const GearPair& pair, std::shared_ptr<const std::vector<TriangleMesh>> planet) {
+gears::MeshSweep Sweep(const GearPair& pair,
+                       std::shared_ptr<const std::vector<TriangleMesh>> planet) {
   gears::GearContactOptions o = ContactOptions();
   o.imported_teeth2 = std::move(planet);
   return gears::SweepGearMesh(pair, o, kLoad, 12);
 }
 
 // Compares a sweep on imported planet teeth with the generated one against `bound` (m).
-void ExpectSameSweep(const char* what, const gears::MeshSweep& imported, const gears::MeshSweep& generated,
-                     double bound) {
+void ExpectSameSweep(const char* what, const gears::MeshSweep& imported,
+                     const gears::MeshSweep& generated, double bound) {
   ASSERT_EQ(imported.points.size(), generated.points.size());
   double worst = 0;
   for (std::size_t i = 0; i < generated.points.size(); ++i) {
-    const double d = std::abs(imported.points[i].transmission_error_m - generated.points[i].transmission_error_m);
+    const double d = std::abs(imported.points[i].transmission_error_m -
+                              generated.points[i].transmission_error_m);
     worst = std::max(worst, d);
     EXPECT_LE(d, bound) << what << " roll angle " << generated.points[i].roll_angle_rad;
   }
-  std::printf("%s: mean mesh stiffness %.1f N/um (generated %.1f N/um, %+.3f %%); largest |TE difference| %.3g um "
-              "<= bound %.3g um (TE %.2f um)\n",
-              what, imported.mean_stiffness_n_per_m * 1e-6, generated.mean_stiffness_n_per_m * 1e-6,
-              100 * (imported.mean_stiffness_n_per_m / generated.mean_stiffness_n_per_m - 1), worst * 1e6, bound * 1e6,
-              generated.points[0].transmission_error_m * 1e6);
+  std::printf(
+      "%s: mean mesh stiffness %.1f N/um (generated %.1f N/um, %+.3f %%); largest |TE difference| "
+      "%.3g um "
+      "<= bound %.3g um (TE %.2f um)\n",
+      what, imported.mean_stiffness_n_per_m * 1e-6, generated.mean_stiffness_n_per_m * 1e-6,
+      100 * (imported.mean_stiffness_n_per_m / generated.mean_stiffness_n_per_m - 1), worst * 1e6,
+      bound * 1e6, generated.points[0].transmission_error_m * 1e6);
 }
 
-std::shared_ptr<const std::vector<TriangleMesh>> ImportTeeth(const fs::path& file, const Gear& planet,
+std::shared_ptr<const std::vector<TriangleMesh>> ImportTeeth(const fs::path& file,
+                                                             const Gear& planet,
                                                              std::optional<LengthUnit> unit) {
   const SolidMesh s = ReadSolidMesh(file, {.unit = unit}, 7850);
   return std::make_shared<const std::vector<TriangleMesh>>(
@@ -153,8 +167,11 @@ TEST(ImportedGear, StlPlanetGivesTheGeneratedMeshStiffnessWithinTheFacetingBound
   const double d_generated = FacetingDeviation(GeneratedTeeth(planet, o), planet);
 
   // At the contact's own sampling: the generated vertices in float32 millimetres
-  gears::WriteStlBinary(gears::MakeGearMesh(planet, {.root = o.root_intervals, .fillet = o.fillet_intervals,
-                                                     .involute = o.involute_intervals, .tip = o.tip_intervals},
+  gears::WriteStlBinary(gears::MakeGearMesh(planet,
+                                            {.root = o.root_intervals,
+                                             .fillet = o.fillet_intervals,
+                                             .involute = o.involute_intervals,
+                                             .tip = o.tip_intervals},
                                             o.face_intervals, kBore),
                         (dir / "same.stl").string(), {.scale = 1000});
   const auto same = ImportTeeth(dir / "same.stl", planet, LengthUnit::kMillimetre);
@@ -164,12 +181,14 @@ TEST(ImportedGear, StlPlanetGivesTheGeneratedMeshStiffnessWithinTheFacetingBound
   ExpectSameSweep("STL at the contact's sampling", Sweep(pair, same), generated, moved + solve);
 
   // Coarser than the contact (24 involute intervals): the faceting bound
-  gears::WriteStlBinary(gears::MakeGearMesh(planet, {.root = 2, .fillet = 6, .involute = 24, .tip = 4}, 2, kBore),
-                        (dir / "coarse.stl").string(), {.scale = 1000});
+  gears::WriteStlBinary(
+      gears::MakeGearMesh(planet, {.root = 2, .fillet = 6, .involute = 24, .tip = 4}, 2, kBore),
+      (dir / "coarse.stl").string(), {.scale = 1000});
   const auto coarse = ImportTeeth(dir / "coarse.stl", planet, LengthUnit::kMillimetre);
   const double d_coarse = FacetingDeviation(*coarse, planet);
-  std::printf("faceting deviation D: generated (40 intervals) %.3g um, STL (24 intervals) %.3g um\n", d_generated * 1e6,
-              d_coarse * 1e6);
+  std::printf(
+      "faceting deviation D: generated (40 intervals) %.3g um, STL (24 intervals) %.3g um\n",
+      d_generated * 1e6, d_coarse * 1e6);
   const gears::MeshSweep coarse_sweep = Sweep(pair, coarse);
   ExpectSameSweep("STL at 24 intervals", coarse_sweep, generated, d_coarse + d_generated + solve);
   // The bound is not vacuous: a fifth of the transmission error
@@ -199,7 +218,8 @@ TEST(ImportedGear, StepPlanetGivesTheGeneratedMeshStiffnessWithinTheFacetingBoun
 // off the gear frame, a gear of other teeth.
 TEST(ImportedGear, PartsThatAreNotTheTrainsGearAreRefused) {
   const Gear planet(Spec(14));
-  const TriangleMesh mesh = gears::MakeGearMesh(planet, {.root = 2, .fillet = 4, .involute = 8, .tip = 2}, 1, kBore);
+  const TriangleMesh mesh =
+      gears::MakeGearMesh(planet, {.root = 2, .fillet = 4, .involute = 8, .tip = 2}, 1, kBore);
   auto refused = [&](const TriangleMesh& m, const Gear& g, const std::string& expected) {
     try {
       gears::SplitImportedGearTeeth(m, g, "planet.stl");

@@ -48,7 +48,8 @@ std::pair<int, std::string> Orrery(const std::string& args) {
   return {code, out};
 }
 
-const fs::path kScene = fs::path(ORRERY_SOURCE_DIR) / "models" / "scenes" / "seed003_contact_stage.yaml";
+const fs::path kScene =
+    fs::path(ORRERY_SOURCE_DIR) / "models" / "scenes" / "seed003_contact_stage.yaml";
 
 // The scene's planet gear, bore radius and contact options.
 struct ScenePlanet {
@@ -59,8 +60,10 @@ struct ScenePlanet {
 ScenePlanet LoadScenePlanet() {
   const Scene scene = LoadScene(kScene.string());
   const GearTrainScene& g = *scene.gear_train;
-  const gears::GearPair pair = gears::MakeTrainGearPair(*g.train, g.train->MeshIndex("S.sun-planet"), g.options);
-  return {pair.gear2(), g.options.bore_to_pitch_ratio * pair.gear2().reference_radius_m(), g.options.contact.gear};
+  const gears::GearPair pair =
+      gears::MakeTrainGearPair(*g.train, g.train->MeshIndex("S.sun-planet"), g.options);
+  return {pair.gear2(), g.options.bore_to_pitch_ratio * pair.gear2().reference_radius_m(),
+          g.options.contact.gear};
 }
 
 // Normal force of a contact branch over the run (one value per output row).
@@ -79,62 +82,80 @@ TEST(ImportedPlanetCli, StlAndStepPlanetsRunRigidAndFlexibleInAPlanetaryScene) {
   const ScenePlanet p = LoadScenePlanet();
   const gears::GearContactOptions& c = p.contact;
   const fs::path stl = dir / "planet.stl";
-  gears::WriteStlBinary(gears::MakeGearMesh(p.gear, {.root = c.root_intervals, .fillet = c.fillet_intervals,
-                                                     .involute = c.involute_intervals, .tip = c.tip_intervals},
+  gears::WriteStlBinary(gears::MakeGearMesh(p.gear,
+                                            {.root = c.root_intervals,
+                                             .fillet = c.fillet_intervals,
+                                             .involute = c.involute_intervals,
+                                             .tip = c.tip_intervals},
                                             c.face_intervals, p.bore_m),
                         stl.string(), {.scale = 1000});
   const fs::path step = test_support::WriteGearStep(dir, p.gear, p.bore_m);
-  const gears::TrainImportedGear imported = ReadImportedGear(stl, {.unit = LengthUnit::kMillimetre}, 7850);
+  const gears::TrainImportedGear imported =
+      ReadImportedGear(stl, {.unit = LengthUnit::kMillimetre}, 7850);
   const std::string run = "run " + kScene.string() + " --end-time 0.002 ";
-  const std::string mass = "--set " + Quote("gear_train.dynamics.members={S.planet: {mass: " +
-                                            std::to_string(imported.mass_kg) + ", inertia: " +
-                                            std::to_string(imported.inertia_kg_m2(2, 2)) + "}}");
+  const std::string mass =
+      "--set " +
+      Quote("gear_train.dynamics.members={S.planet: {mass: " + std::to_string(imported.mass_kg) +
+            ", inertia: " + std::to_string(imported.inertia_kg_m2(2, 2)) + "}}");
 
   // Generated and STL planet 1, rigid, same mass properties
   auto [code, text] = Orrery(run + mass + " -o " + (dir / "generated.h5").string());
   ASSERT_EQ(code, 0) << text;
-  std::tie(code, text) = Orrery(run + mass + " --set " +
-                                Quote("gear_train.dynamics.imported_gears={S.planet1: {file: " + stl.string() +
-                                      ", unit: mm}}") + " -o " + (dir / "stl.h5").string());
+  std::tie(code, text) =
+      Orrery(run + mass + " --set " +
+             Quote("gear_train.dynamics.imported_gears={S.planet1: {file: " + stl.string() +
+                   ", unit: mm}}") +
+             " -o " + (dir / "stl.h5").string());
   ASSERT_EQ(code, 0) << text;
   for (const char* branch : {"S.sun-planet#1", "S.ring-planet#1"}) {
-    const Eigen::VectorXd f_gen = NormalForce(dir / "generated.h5", branch), f_stl = NormalForce(dir / "stl.h5", branch);
+    const Eigen::VectorXd f_gen = NormalForce(dir / "generated.h5", branch),
+                          f_stl = NormalForce(dir / "stl.h5", branch);
     ASSERT_EQ(f_gen.size(), f_stl.size());
-    const double diff = (f_gen - f_stl).lpNorm<Eigen::Infinity>(), peak = f_gen.lpNorm<Eigen::Infinity>();
-    std::printf("%s: STL planet vs generated, largest force difference %.3g N of %.0f N\n", branch, diff, peak);
+    const double diff = (f_gen - f_stl).lpNorm<Eigen::Infinity>(),
+                 peak = f_gen.lpNorm<Eigen::Infinity>();
+    std::printf("%s: STL planet vs generated, largest force difference %.3g N of %.0f N\n", branch,
+                diff, peak);
     EXPECT_GT(peak, 5000) << branch;
     EXPECT_LE(diff, 1e-3 * peak) << branch;
   }
 
   // STEP planet 1, rigid
-  std::tie(code, text) = Orrery(run + mass + " --set " +
-                                Quote("gear_train.dynamics.imported_gears={S.planet1: {file: " + step.string() + "}}") +
-                                " -o " + (dir / "step.h5").string());
+  std::tie(code, text) = Orrery(
+      run + mass + " --set " +
+      Quote("gear_train.dynamics.imported_gears={S.planet1: {file: " + step.string() + "}}") +
+      " -o " + (dir / "step.h5").string());
   ASSERT_EQ(code, 0) << text;
   for (const char* branch : {"S.sun-planet#1", "S.ring-planet#1"}) {
-    const Eigen::VectorXd f_gen = NormalForce(dir / "generated.h5", branch), f_step = NormalForce(dir / "step.h5", branch);
+    const Eigen::VectorXd f_gen = NormalForce(dir / "generated.h5", branch),
+                          f_step = NormalForce(dir / "step.h5", branch);
     const double end_gen = f_gen.tail(5).mean(), end_step = f_step.tail(5).mean();
-    std::printf("%s: STEP planet %.0f N, generated %.0f N (mean of the last 5 rows)\n", branch, end_step, end_gen);
+    std::printf("%s: STEP planet %.0f N, generated %.0f N (mean of the last 5 rows)\n", branch,
+                end_step, end_gen);
     EXPECT_NEAR(end_step, end_gen, 0.5 * end_gen) << branch;
   }
 
   // Both reduced and run flexible
   for (const fs::path& part : {stl, step}) {
-    const fs::path body = dir / (part.stem().string() + "_" + part.extension().string().substr(1) + ".h5");
+    const fs::path body =
+        dir / (part.stem().string() + "_" + part.extension().string().substr(1) + ".h5");
     const std::string unit = part.extension() == ".stl" ? " --unit mm" : "";
-    std::tie(code, text) = Orrery("reduce " + part.string() + unit + " --E 210e9 --nu 0.3 --density 7850 --interface bore "
-                                  "--modes 8 --mesh-size 0.005 --curvature 16 -o " + body.string());
+    std::tie(code, text) = Orrery("reduce " + part.string() + unit +
+                                  " --E 210e9 --nu 0.3 --density 7850 --interface bore "
+                                  "--modes 8 --mesh-size 0.005 --curvature 16 -o " +
+                                  body.string());
     ASSERT_EQ(code, 0) << text;
     const fs::path out = dir / ("flexible_" + body.filename().string());
-    std::tie(code, text) = Orrery("run " + kScene.string() + " --end-time 0.001 --set " +
-                                  Quote("gear_train.dynamics.flexible_bodies={S.planet1: {reduced_body: " + body.string() +
-                                        ", damping_ratio: 0.02}}") +
-                                  " --set gear_train.dynamics.tooth_contact.flexible.embed_tolerance_um=400 -o " +
-                                  out.string());
+    std::tie(code, text) = Orrery(
+        "run " + kScene.string() + " --end-time 0.001 --set " +
+        Quote("gear_train.dynamics.flexible_bodies={S.planet1: {reduced_body: " + body.string() +
+              ", damping_ratio: 0.02}}") +
+        " --set gear_train.dynamics.tooth_contact.flexible.embed_tolerance_um=400 -o " +
+        out.string());
     ASSERT_EQ(code, 0) << text;
     for (const char* branch : {"S.sun-planet#1", "S.ring-planet#1"}) {
       const double end = NormalForce(out, branch).tail(3).mean();
-      std::printf("%s, flexible planet from %s: %.0f N at the end\n", branch, part.filename().c_str(), end);
+      std::printf("%s, flexible planet from %s: %.0f N at the end\n", branch,
+                  part.filename().c_str(), end);
       EXPECT_GT(end, 1000) << part << " " << branch;
     }
   }
@@ -148,9 +169,11 @@ TEST(ImportedPlanetCli, BadImportedGearsAreOneLineErrors) {
   fs::create_directories(dir);
   const ScenePlanet p = LoadScenePlanet();
   const fs::path stl = dir / "planet.stl";
-  gears::WriteStlBinary(gears::MakeGearMesh(p.gear, {.root = 2, .fillet = 4, .involute = 8, .tip = 2}, 1, p.bore_m),
-                        stl.string(), {.scale = 1000});
-  const std::string run = "run " + kScene.string() + " --end-time 0.0001 -o " + (dir / "x.h5").string() + " --set ";
+  gears::WriteStlBinary(
+      gears::MakeGearMesh(p.gear, {.root = 2, .fillet = 4, .involute = 8, .tip = 2}, 1, p.bore_m),
+      stl.string(), {.scale = 1000});
+  const std::string run =
+      "run " + kScene.string() + " --end-time 0.0001 -o " + (dir / "x.h5").string() + " --set ";
   const std::pair<std::string, std::string> cases[] = {
       {"{S.planet1: {file: " + stl.string() + ", unit: m}}", "is the unit right"},
       {"{S.planet1: {file: " + stl.string() + "}}", "missing required key 'unit'"},
