@@ -28,6 +28,7 @@
 #include "import/mesh_checks.h"
 #include "import/scene_reader.h"
 #include "import/sensor_reader.h"
+#include "import/solid_mesh.h"
 #include "import/surface_mesh.h"
 #include "mbd/file_checks.h"
 
@@ -316,29 +317,14 @@ MassProperties Loader::ReadBodyMesh(const std::string& body, const Item& item) {
   if (!(density > 0) || !std::isfinite(density))
     ctx_.Fail(density_item, "density must be > 0 (kg/m^3), got " + density_item.node.Scalar());
   // Read, check, orient; a valid solid boundary only
-  SurfaceMesh surface;
-  MeshCheckReport report;
+  SolidMesh solid;
   try {
-    surface = ReadSurfaceMesh(file, options);
-    report = CheckMesh(surface.mesh);
+    solid = ReadSolidMesh(file, options, density);
   } catch (const std::exception& e) {
     ctx_.Fail(file_item, e.what());
   }
-  if (!report.watertight() || report.non_orientable_components > 0 || report.duplicate_triangles > 0 ||
-      report.self_intersections > 0) {
-    std::string problems;
-    for (const std::string& p : report.Problems())
-      if (p.find("re-oriented") == std::string::npos && p.find("degenerate") == std::string::npos)
-        problems += (problems.empty() ? "" : "; ") + p;
-    ctx_.Fail(file_item, file.string() + ": not a valid solid for mass properties: " + problems);
-  }
-  OrientMesh(surface.mesh, report);
-  MassProperties p;
-  try {
-    p = MassPropertiesOfSolid(surface.mesh, density, report, file.string());
-  } catch (const std::exception& e) {
-    ctx_.Fail(file_item, e.what());
-  }
+  SurfaceMesh& surface = solid.surface;
+  const MassProperties p = solid.mass;
   // The contact surface: the whole mesh or one named region
   TriangleMesh& contact = surfaces_[body];
   if (const auto region = m.Find("contact_region")) {

@@ -1,7 +1,8 @@
 // The `dynamics:` map of a gear_train into TrainModelOptions (docs/scene_format.md, "dynamics"):
 // DOF set, mesh models (per mesh and per branch), lumped mesh stiffness, member and mesh
 // overrides, tooth contact, flexible bodies (their reduced-body files by path: gear_scene.cpp
-// loads them). Names are checked against the names the train's stages give.
+// loads them), imported planets (their mesh files read here). Names are checked against the names
+// the train's stages give.
 #include <algorithm>
 #include <filesystem>
 #include <map>
@@ -11,6 +12,8 @@
 
 #include "import/gear_train_reader.h"
 #include "import/tooth_fault_reader.h"
+#include "import/length_unit.h"
+#include "import/solid_mesh.h"
 #include "import/unit_keys.h"
 
 namespace orrery::scene_reader {
@@ -156,6 +159,35 @@ void ReadFlexibleBody(const Context& ctx, const Item& item, const std::string& b
   if (const auto sets = m.Find("record_node_sets"))
     for (const Item& set : ListItems(ctx, sets)) b.options.record_node_sets.push_back(ToString(ctx, set));
   r.flexible_files.push_back(f);
+}
+
+// An imported planet (models/train_dynamics.h, "Imported gears"): its mesh file, read now
+// (mass properties, surface), relative to the scene; unit required but for STEP/IGES; density
+// default the train's.
+void ReadImportedGearEntry(const Context& ctx, const Item& item, const std::string& body,
+                           TrainModelOptions& o) {
+  const MapReader m(ctx, item, {"file", "unit", "density"});
+  const Item file_item = m.Need("file");
+  std::filesystem::path file = ToString(ctx, file_item);
+  if (file.is_relative()) file = std::filesystem::path(ctx.file()).parent_path() / file;
+  SurfaceReadOptions options;
+  const bool cad = DetectMeshFileFormat(file) == MeshFileFormat::kCad;
+  if (const auto unit = m.Find("unit")) {
+    if (cad) ctx.Fail(*unit, "a STEP/IGES file states its own length unit: remove 'unit'");
+    const std::string u = ToString(ctx, *unit);
+    options.unit = ParseLengthUnit(u);
+    if (!options.unit)
+      ctx.Fail(*unit, "unknown length unit '" + u + "' (expected " + kLengthUnitChoices + ")");
+  } else if (!cad) {
+    m.FailMissing("unit", "missing required key 'unit': a mesh file has no unit of its own (" +
+                              std::string(kLengthUnitChoices) + ")");
+  }
+  const double density = OptScaled(m, Plain("density"), o.density_kg_m3, true);
+  try {
+    o.imported_gears[body] = ReadImportedGear(file, options, density);
+  } catch (const std::exception& e) {
+    ctx.Fail(file_item, "imported gear '" + body + "': " + e.what());
+  }
 }
 
 // `tooth_contact:` of the contact meshes -> TrainContactOptions (models/train_contact.h): flank
@@ -368,7 +400,8 @@ void ReadTrainDynamics(const Context& ctx, const std::optional<Item>& item, Gear
                                    "brake_stiffness", "bearing_stiffness", "axial_bearing_stiffness",
                                    "tilt_bearing_stiffness", "bearing_damping", "port_loads",
                                    "stage_phase_cycles", "members", "meshes", "backlash", "backlash_um",
-                                   "flexible_bodies", "mesh_model", "tooth_contact", "housing", "faults"};
+                                   "flexible_bodies", "mesh_model", "tooth_contact", "housing", "faults",
+                                   "imported_gears"};
   Append(allowed, Names(LengthMm("stage_spacing")));
   const MapReader m(ctx, *item, allowed,
                     {{"damping_ratio", "write 'mesh_damping_ratio'"},
@@ -409,6 +442,11 @@ void ReadTrainDynamics(const Context& ctx, const std::optional<Item>& item, Gear
   ReadToothContact(ctx, m.Find("tooth_contact"), names, o.contact);
   ReadTrainFaults(ctx, m.Find("faults"), names, r);
   ReadDynamicsScalars(m, o);
+  if (const auto bodies = m.Find("imported_gears"))
+    for (const auto& [name, entry] : NamedEntries(ctx, *bodies, names.planets, "imported gear")) {
+      ReadImportedGearEntry(ctx, entry, name, o);
+      r.sources.dynamics_entries.emplace_back(name, entry);
+    }
   ReadMeshStiffness(m, r);
 }
 

@@ -76,12 +76,17 @@ GearContactCalibration CalibrateGearContact(const gears::GearPair& pair,
   return c;
 }
 
-std::shared_ptr<const ContactSurface> MakeGearContactSurface(const gears::Gear& gear,
-                                                             const GearContactOptions& options,
-                                                             const std::vector<int>& missing,
-                                                             const Transform& X_BG,
-                                                             const std::vector<gears::ToothFaultSpec>& faults,
-                                                             const std::vector<std::pair<int, double>>& crack_scales) {
+std::shared_ptr<const ContactSurface> MakeGearContactSurface(
+    const gears::Gear& gear, const GearContactOptions& options, const std::vector<int>& missing,
+    const Transform& X_BG, const std::vector<gears::ToothFaultSpec>& faults,
+    const std::vector<std::pair<int, double>>& crack_scales,
+    const std::vector<TriangleMesh>* imported) {
+  if (imported && (!faults.empty() || static_cast<int>(imported->size()) != gear.teeth()))
+    throw std::invalid_argument(
+        faults.empty() ? "MakeGearContactSurface: " + std::to_string(imported->size()) +
+                             " imported teeth for a gear of " + std::to_string(gear.teeth())
+                       : std::string("MakeGearContactSurface: tooth faults on an imported gear "
+                                     "are not supported (its surface is the file's)"));
   for (int t : missing)
     if (t < 0 || t >= gear.teeth())
       throw std::invalid_argument("MakeGearContactSurface: missing tooth " + std::to_string(t) +
@@ -118,8 +123,10 @@ std::shared_ptr<const ContactSurface> MakeGearContactSurface(const gears::Gear& 
     const bool reshaped = std::any_of(faults.begin(), faults.end(), [&](const gears::ToothFaultSpec& f) {
       return f.tooth == t && f.kind != gears::ToothFaultSpec::Kind::kRootCrack;
     });
-    TriangleMesh m = reshaped ? gears::MakeFaultyToothSurfaceMesh(gear, t, res, options.face_intervals, faults)
-                                     : gears::MakeToothSurfaceMesh(gear, t, res, options.face_intervals);
+    TriangleMesh m =
+        imported   ? (*imported)[t]
+        : reshaped ? gears::MakeFaultyToothSurfaceMesh(gear, t, res, options.face_intervals, faults)
+                   : gears::MakeToothSurfaceMesh(gear, t, res, options.face_intervals);
     // A cracked tooth: its halves, the crack's flank softer (header).
     const auto crack = std::find_if(crack_scales.begin(), crack_scales.end(), [&](const auto& c) { return c.first == t; });
     const auto fault = std::find_if(faults.begin(), faults.end(), [&](const gears::ToothFaultSpec& f) {
@@ -178,6 +185,12 @@ gears::GearPair WithNormalBacklash(const gears::GearPair& pair, double normal_ba
 ContactElementSpec MakeGearContactSpec(const std::string& name, const gears::GearPair& given_pair,
                                        BodyIndex body1, BodyIndex body2,
                                        const GearContactOptions& options) {
+  // Imported teeth keep the file's shape: the backlash thinning goes to a generated gear
+  if (options.normal_backlash_m > 0 && ((options.imported_teeth1 && options.backlash_share1 > 0) ||
+                                        (options.imported_teeth2 && options.backlash_share1 < 1)))
+    throw std::invalid_argument("MakeGearContactSpec '" + name +
+                                "': backlash would thin an imported gear's teeth "
+                                "(give the thinning to the generated gear, backlash_share1)");
   const gears::GearPair pair =
       WithNormalBacklash(given_pair, options.normal_backlash_m, options.backlash_share1);
   const GearContactCalibration c = CalibrateGearContact(pair, options);
@@ -185,10 +198,12 @@ ContactElementSpec MakeGearContactSpec(const std::string& name, const gears::Gea
   spec.name = name;
   spec.body_a = body1;
   spec.body_b = body2;
-  spec.surface_a = MakeGearContactSurface(pair.gear1(), options, options.missing_teeth1, options.X_B1G1,
-                                          options.faults1, CrackStiffnessScales(pair, 1, options));
-  spec.surface_b = MakeGearContactSurface(pair.gear2(), options, options.missing_teeth2, options.X_B2G2,
-                                          options.faults2, CrackStiffnessScales(pair, 2, options));
+  spec.surface_a = MakeGearContactSurface(
+      pair.gear1(), options, options.missing_teeth1, options.X_B1G1, options.faults1,
+      CrackStiffnessScales(pair, 1, options), options.imported_teeth1.get());
+  spec.surface_b = MakeGearContactSurface(
+      pair.gear2(), options, options.missing_teeth2, options.X_B2G2, options.faults2,
+      CrackStiffnessScales(pair, 2, options), options.imported_teeth2.get());
   spec.law = {.stiffness_per_area = c.stiffness_per_area,
               .hunt_crossley_s_per_m = options.hunt_crossley_s_per_m,
               .friction_coefficient = options.friction_coefficient,

@@ -97,6 +97,11 @@ struct GearContactOptions {
   double slip_velocity_m_s = 1e-3;
   // Poses of the gear frames in the body frames (default: the same frame).
   Transform X_B1G1, X_B2G2;
+  // Imported tooth surfaces (models/imported_gear.h SplitImportedGearTeeth: one mesh per tooth,
+  // gear frame) replacing the generated outlines of gear 1 / gear 2; null: generated. Missing
+  // teeth are left out as for generated ones; faults and backlash thinning cannot reshape them
+  // (an error).
+  std::shared_ptr<const std::vector<TriangleMesh>> imported_teeth1, imported_teeth2;
   // > 0: record this many contact points per output row (contact_point_record.h).
   int record_points = 0;
 };
@@ -114,14 +119,14 @@ GearContactCalibration CalibrateGearContact(const gears::GearPair& pair,
 
 // The surface of one gear (gear frame, then X_BG), one part per present tooth, with the faults'
 // geometry (header); crack_scales: (tooth, stiffness scale of the cracked half) per cracked tooth,
-// from CrackStiffnessScales. Throws std::invalid_argument for a missing-tooth index out of range,
-// no tooth left or invalid faults.
-std::shared_ptr<const contact::ContactSurface> MakeGearContactSurface(const gears::Gear& gear,
-                                                             const GearContactOptions& options,
-                                                             const std::vector<int>& missing,
-                                                             const Transform& X_BG,
-                                                             const std::vector<gears::ToothFaultSpec>& faults = {},
-                                                             const std::vector<std::pair<int, double>>& crack_scales = {});
+// from CrackStiffnessScales; imported: the gear's imported tooth surfaces (#teeth, gear frame)
+// instead of generated ones. Throws std::invalid_argument for a missing-tooth index out of range,
+// no tooth left, invalid faults, faults on an imported gear or imported teeth of another count.
+std::shared_ptr<const contact::ContactSurface> MakeGearContactSurface(
+    const gears::Gear& gear, const GearContactOptions& options, const std::vector<int>& missing,
+    const Transform& X_BG, const std::vector<gears::ToothFaultSpec>& faults = {},
+    const std::vector<std::pair<int, double>>& crack_scales = {},
+    const std::vector<TriangleMesh>* imported = nullptr);
 
 // The stiffness scale R^(3/2) of each cracked tooth of gear `gear` (1 or 2) of the pair (header),
 // as (tooth, scale).

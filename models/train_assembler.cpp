@@ -40,6 +40,22 @@ void CheckOptionNames(const PlanetaryTrain& train, const TrainModelOptions& o) {
       FailTrain("flexible body '" + name + "': a flexible carrier is not supported (its planets' "
                 "pins would need joints on its interface nodes); keep it rigid");
   }
+  for (const auto& [name, gear] : o.imported_gears) {
+    bool found = false;
+    for (size_t s = 0; s < train.planet_sets.size(); ++s)
+      for (size_t i = 0; i < train.planet_sets[s].angles_rad.size(); ++i)
+        found = found || train.planet_sets[s].name + std::to_string(i + 1) == name;
+    if (!found)
+      FailTrain("imported gear '" + name +
+                "': no planet of that name in the train (only planets, \"S.planet1\")");
+    if (o.flexible_bodies.count(name))
+      FailTrain("imported gear '" + name +
+                "' is also a flexible body: a flexible planet from a mesh file is the "
+                "body reduced from it (orrery reduce)");
+    if (!(gear.mass_kg > 0) || !(gear.inertia_kg_m2.trace() > 0) || gear.surface.triangles.empty())
+      FailTrain("imported gear '" + name + "' (" + gear.source +
+                "): no surface or mass properties");
+  }
 }
 
 // Other option values that make no model.
@@ -168,6 +184,11 @@ const TrainMemberOverride& TrainAssembly::Override(const std::string& name) cons
   static const TrainMemberOverride kNone;
   const auto it = o.members.find(name);
   return it == o.members.end() ? kNone : it->second;
+}
+
+const TrainImportedGear* TrainAssembly::Imported(const std::string& body_name) const {
+  const auto it = o.imported_gears.find(body_name);
+  return it == o.imported_gears.end() ? nullptr : &it->second;
 }
 
 const TrainFlexibleBody* TrainAssembly::Flexible(const std::string& body_name) const {

@@ -62,6 +62,10 @@ struct TrainAssembly {
   const TrainMemberOverride& Override(const std::string& name) const;
   // The flexible body of that name, or nullptr.
   const TrainFlexibleBody* Flexible(const std::string& body_name) const;
+  // The imported gear of that name, or nullptr.
+  const TrainImportedGear* Imported(const std::string& body_name) const;
+  // AddContactMesh: each imported gear's tooth parts (gear frame), by body name.
+  std::map<std::string, std::shared_ptr<const std::vector<TriangleMesh>>> imported_teeth;
 };
 
 // Centre of gear `g` on branch `branch` in the carrier frame (central gears on the axis).

@@ -39,7 +39,15 @@
 //   `orrery reduce` keeps by default: every surface node and its node sets). Triangles with a
 //   vertex farther than flexible.embed_tolerance_m from those FE triangles are left out (the
 //   chordal error of the FE faces, largest at the fillets); an involute or tip vertex that far
-//   is an error (the reduce input's gear differs from the train's).
+//   is an error (the reduce input's gear differs from the train's). A reduced body without tooth
+//   node sets (a part from a mesh file: `orrery reduce planet.stl|planet.step`, a tet mesh of
+//   gmsh) embeds the outlines in its whole exported surface instead; its facets are chords of the
+//   file's surface (remeshed at the mesh size), so the embed tolerance must cover their deviation
+//   from the involute (about h^2 / (8 rho) for facets of size h on a flank of curvature radius
+//   rho). The contact geometry stays the analytic outline; the FE faces carry its deformation.
+//
+// Imported planets (TrainModelOptions::imported_gears, rigid): their tooth surface is the file's
+// triangles (models/imported_gear.h), placed in the body as the rigid planet's gear frame.
 //   Penalty: the local contact compliance only, CalibrateFlexibleGearContact
 //   (models/flexible_gear_mesh.h): Hertz in series with a rigid partner's own tooth compliance
 //   (its bore bore_to_pitch_ratio r, a ring's rim ring_rim_modules m_n), material
@@ -48,8 +56,8 @@
 //   flexible gears: Hertz alone.
 //
 // Gear geometry: MakeTrainGearPair's (train_dynamics.h: the same gears the lumped stiffness
-// models describe), at the pin-circle radius. Backlash: the central gear's teeth are thinned (WithNormalBacklash), not the
-// planet's (a small planet is near undercut).
+// models describe), at the pin-circle radius. Backlash: the central gear's teeth are thinned
+// (WithNormalBacklash), not the planet's (a small planet is near undercut).
 //
 #include <string>
 #include <vector>

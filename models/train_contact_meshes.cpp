@@ -14,6 +14,7 @@
 #include "models/flexible_gear_mesh.h"
 #include "models/gear_fe_mesh.h"
 #include "models/tooth_fault_geometry.h"
+#include "models/imported_gear.h"
 #include "models/train_assembly.h"
 
 namespace orrery::gears {
@@ -41,7 +42,8 @@ std::string FlexibleWhat(const TrainAssembly& a, int gear, const std::string& bo
 }
 
 // The FE triangles of a reduced gear's tooth node sets (all of them: the surface must be whole),
-// the sets, and the lowest z of their nodes in B.
+// the sets, and the lowest z of their nodes in B; for a reduced body without tooth node sets (a
+// part from a mesh file, `orrery reduce planet.stl`) every exported surface triangle, no sets.
 struct ToothFaces {
   struct Tri {
     Vec3 a, b, c, centre;
@@ -54,17 +56,27 @@ struct ToothFaces {
 
 ToothFaces ReducedToothFaces(const std::string& what, const FlexibleBodyModes& m, int z) {
   ToothFaces f;
-  for (int k = 0; k < z; ++k)
-    for (const char* part : {"FLANK_PLUS", "FLANK_MINUS", "FILLET_PLUS", "FILLET_MINUS", "TIP"})
-      f.sets.push_back(ToothSetName(k, part));
-  f.sets.push_back("ROOT");
+  std::vector<char> allowed(m.nodes.size(), 0);
+  if (!m.node_sets.count("ROOT") && !m.node_sets.count(ToothSetName(0, "FLANK_PLUS"))) {
+    // A part from a mesh file (no tooth node sets): its whole exported surface
+    for (const auto& t : m.surface_triangles)
+      for (int i : t) {
+        allowed[i] = 1;
+        f.z0 = std::min(f.z0, m.nodes[i].position.z());
+      }
+  } else {
+    for (int k = 0; k < z; ++k)
+      for (const char* part : {"FLANK_PLUS", "FLANK_MINUS", "FILLET_PLUS", "FILLET_MINUS", "TIP"})
+        f.sets.push_back(ToothSetName(k, part));
+    f.sets.push_back("ROOT");
+  }
   for (const std::string& set : f.sets)
     if (!m.node_sets.count(set))
       FailTrain(what + "its reduced body has no node set '" + set + "' (a gear of " + std::to_string(z) +
                 " teeth from the gear mesher, reduced with its surface nodes exported, has them)");
   if (m.node_sets.count(ToothSetName(z, "TIP")))
-    FailTrain(what + "its reduced body has more teeth than the train's gear (" + std::to_string(z) + ")");
-  std::vector<char> allowed(m.nodes.size(), 0);
+    FailTrain(what + "its reduced body has more teeth than the train's gear (" + std::to_string(z) +
+              ")");
   for (const std::string& set : f.sets)
     for (int i : m.node_sets.at(set)) {
       allowed[i] = 1;
@@ -192,6 +204,24 @@ std::vector<ToothFaultSpec> BranchFaults(const TrainAssembly& a, int g, int bran
   return faults;
 }
 
+// The tooth parts of an imported planet (train_dynamics.h, "Imported gears"), split once per body
+// against the train's planet gear; null for a generated gear.
+std::shared_ptr<const std::vector<TriangleMesh>> ImportedTeeth(TrainAssembly& a, int gear,
+                                                               int branch, const Gear& geometry) {
+  const std::string body = a.GearBodyName(gear, branch);
+  const TrainImportedGear* imported = a.Imported(body);
+  if (!imported) return nullptr;
+  auto [it, made] = a.imported_teeth.try_emplace(body);
+  if (!made) return it->second;
+  try {
+    it->second = std::make_shared<const std::vector<TriangleMesh>>(
+        SplitImportedGearTeeth(imported->surface, geometry, imported->source));
+  } catch (const std::invalid_argument& e) {
+    FailTrain("imported gear '" + body + "': " + e.what());
+  }
+  return it->second;
+}
+
 // The surface of a flexible gear, made once per body (its branches share it); its joint starts at
 // the gear frame's offset from a whole number of pitches (a planet's delta, train_contact.h).
 std::pair<std::shared_ptr<const FlexibleContactSurface>, double> FlexibleSurfaceOf(
@@ -267,10 +297,11 @@ void AddFlexibleContact(TrainAssembly& a, const TrainMesh& m, int g1, int g2, in
     // The rigid side: the rigid builder's surface, shifted by the flexible gear's z0.
     const Gear& geometry = s == 0 ? pair.gear1() : pair.gear2();
     X_BG[s] = Transform(AxisAngle(Vec3::UnitZ(), rotation[s]), Vec3(0, 0, z0));
+    const auto imported = ImportedTeeth(a, gear[s], branch, geometry);
     sides[s] = ContactSide{.body = s == 0 ? e.body1 : e.body2,
                            .rigid = MakeGearContactSurface(geometry, go, MissingTeeth(a, gear[s], branch), X_BG[s],
                                                            s == 0 ? go.faults1 : go.faults2,
-                                                           CrackStiffnessScales(pair, s + 1, go))};
+                                                           CrackStiffnessScales(pair, s + 1, go), imported.get())};
     (s == 0 ? penalty.rigid1 : penalty.rigid2) = true;
     (s == 0 ? penalty.rim_radius1_m : penalty.rim_radius2_m) = PartnerRim(a, gear[s], geometry);
   }
@@ -330,6 +361,8 @@ void AddContactMesh(TrainAssembly& a, int mesh, int branch, const GearPair& unth
     if (a.Flexible(a.GearBodyName(g1, branch)) || a.Flexible(a.GearBodyName(g2, branch))) {
       AddFlexibleContact(a, m, g1, g2, branch, pair, go, e);
     } else {
+      go.imported_teeth1 = ImportedTeeth(a, g1, branch, pair.gear1());
+      go.imported_teeth2 = ImportedTeeth(a, g2, branch, pair.gear2());
       e.calibration = CalibrateGearContact(pair, go);
       go.normal_backlash_m = 0;  // already in `pair`
       a.b.AddExternalForce(std::make_shared<ContactElement>(MakeGearContactSpec(e.name, pair, e.body1, e.body2, go)));

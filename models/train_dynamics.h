@@ -167,6 +167,17 @@
 // of a flexible gear use its FE tooth surfaces (models/train_contact.h). A flexible carrier is
 // not supported (its planets' pins would need joints on its interface nodes).
 //
+// Imported gears (`imported_gears`, by body name; planets): a rigid planet whose body comes from a
+// mesh file (models/imported_gear.h): its mass, centre of mass and inertia are the closed mesh's
+// (gear frame G, turned into the body frame as the planet's gear frame is, train_contact.h)
+// instead of the lumped parameters, and on its `contact` branches its tooth surface is the
+// file's triangles (SplitImportedGearTeeth against the train's planet gear: tip radius, faces and
+// tooth positions checked) instead of the generated outline. Its lumped meshes use the train's
+// gear geometry as for any planet. A body is imported or flexible, not both; a flexible planet
+// from a mesh file is a flexible body reduced from it (`orrery reduce planet.stl ... -o
+// planet.h5`): its tooth contact then embeds the train's analytic teeth in its FE surface
+// (train_contact.h, "Flexible gears").
+//
 // Housing (`housing`): a rigid body named "housing" on a joint to the ground of the DOF set's
 // type (torsional: turning about the axis; planar: x, y and turning; spatial: free), held by
 // elastic mounts (coordinate springs on its joint, or a 6-DOF bushing in the spatial set). The
@@ -213,6 +224,7 @@
 #include "mbd/sensor.h"
 #include "mbd/state.h"
 #include "mbd/time_function.h"
+#include "mbd/triangle_mesh.h"
 #include "models/mesh_stiffness.h"
 #include "models/planetary_kinematics.h"
 #include "models/planetary_power_flow.h"
@@ -320,6 +332,16 @@ struct TrainFlexibleBody {
   std::string mesh_interface;  // lumped meshes act on this interface's master ("" : on B)
 };
 
+// A gear body from a mesh file (header, "Imported gears"), filled by the scene reader
+// (import/solid_mesh.h ReadImportedGear) or by hand.
+struct TrainImportedGear {
+  TriangleMesh surface;  // the closed surface, gear frame (m; models/imported_gear.h)
+  double mass_kg = 0;
+  Vec3 center_of_mass_m = Vec3::Zero();  // gear frame
+  Mat3 inertia_kg_m2 = Mat3::Zero();     // about the centre of mass, gear-frame axes
+  std::string source;                    // the file, for messages
+};
+
 struct TrainModelOptions {
   TrainDofs dofs = TrainDofs::kTorsional;
 
@@ -399,6 +421,8 @@ struct TrainModelOptions {
   // Flexible bodies, by body name: planets by set name and branch number ("S.planet1"), central
   // members by member name ("S.sun", "S.ring").
   std::unordered_map<std::string, TrainFlexibleBody> flexible_bodies;
+  // Imported gears, by body name: planets ("S.planet1") only, rigid (header, "Imported gears").
+  std::unordered_map<std::string, TrainImportedGear> imported_gears;
 
   // A housing the central members seat in (none: they seat in the ground).
   std::optional<TrainHousing> housing;

@@ -2,7 +2,7 @@
 // j at z = j * spacing in the spatial DOF set) with their bearings; planets on their carriers'
 // pins, joint frames turned by the planet angle psi (x radial, y tangential), with their pin
 // bearings. A body named in TrainModelOptions::flexible_bodies is its reduced FE body instead of
-// a rigid one.
+// a rigid one; a planet named in imported_gears has its mesh file's mass properties.
 #include <cmath>
 
 #include "models/train_assembly.h"
@@ -20,6 +20,17 @@ BodyIndex AddTrainBody(TrainAssembly& a, const std::string& name, const TrainBod
   if (const TrainFlexibleBody* f = a.Flexible(name)) return a.b.AddFlexibleBody(name, f->modes, f->options);
   return a.b.AddBody(name, p.mass_kg, Vec3::Zero(),
                      AxisymmetricInertia(p.polar_inertia_kg_m2, p.transverse_inertia_kg_m2));
+}
+
+// A planet: its imported gear's mass properties turned from its gear frame into the body frame
+// (train_dynamics.h, "Imported gears"), or AddTrainBody's.
+BodyIndex AddPlanetBody(TrainAssembly& a, const std::string& name, int set, int branch) {
+  const TrainImportedGear* g = a.Imported(name);
+  if (!g) return AddTrainBody(a, name, a.tm.planet_params[set]);
+  const Mat3 R =
+      AxisAngle(Vec3::UnitZ(), GearFrameRotation(a.train, a.train.planet_sets[set].gear, branch));
+  return a.b.AddBody(name, g->mass_kg, R * g->center_of_mass_m,
+                     R * g->inertia_kg_m2 * R.transpose());
 }
 
 // The frame lumped meshes act on: a flexible body's mesh interface master, else the body frame.
@@ -147,7 +158,7 @@ void AddPlanets(TrainAssembly& a) {
     for (size_t i = 0; i < ps.angles_rad.size(); ++i) {
       const double psi = ps.angles_rad[i];
       const std::string name = a.PlanetName(static_cast<int>(s), static_cast<int>(i));
-      const BodyIndex body = AddTrainBody(a, name, a.tm.planet_params[s]);
+      const BodyIndex body = AddPlanetBody(a, name, static_cast<int>(s), static_cast<int>(i));
       const Transform X_PF(AxisAngle(Vec3::UnitZ(), psi), ps.center_radius_m * Vec3(std::cos(psi), std::sin(psi), 0));
       const JointIndex j = a.b.AddJoint({.name = name, .type = a.joint_type, .parent = carrier_body, .child = body,
                                          .X_PF = X_PF, .axis = Vec3::UnitZ(), .axis2 = Vec3::UnitX()});
