@@ -42,29 +42,22 @@ const Stage& LoadStage() {
   s->scene = LoadScene(std::string(ORRERY_SOURCE_DIR) + "/models/scenes/seed003_lumped_healthy.yaml");
   const GearTrainScene& g = *s->scene.gear_train;
   gears::TrainModelOptions o = g.options;
-  o.before_finalize = [](ModelBuilder& b, const gears::TrainModel& tm) {
-    std::vector<JointIndex> joints = tm.member_joints;
-    for (const auto& set : tm.planet_joints) joints.insert(joints.end(), set.begin(), set.end());
-    for (const JointIndex j : joints) {
-      const BodyIndex body = b.draft().joints[j].spec.child;
-      const std::string name = b.draft().bodies[body].name;
-      b.AddSensor({.name = "acc_" + name, .kind = SensorKind::kAccelerometer, .frame = b.body_frame(body),
-                   .X_FS = Transform::Translation(Vec3(0.08, 0, 0.01))});
+  // The stage's members and planets, and its six mesh branches (models/train_sensors.cpp)
+  const std::vector<std::string> bodies{"S.sun", "S.carrier", "S.ring", "S.planet1", "S.planet2", "S.planet3"};
+  for (const std::string& body : bodies)
+    o.sensors.push_back({.name = "acc_" + body, .kind = SensorKind::kAccelerometer, .body = body,
+                         .position_m = Vec3(0.08, 0, 0.01)});
+  o.sensors.push_back({.name = "alpha_planet", .kind = SensorKind::kAngularAccelerometer, .body = "S.planet1",
+                       .axes = {2}});
+  for (const std::string& member : {"S.sun", "S.carrier", "S.ring"}) {
+    o.sensors.push_back({.name = "enc_" + member, .kind = SensorKind::kEncoder, .joint = member});
+    o.sensors.push_back({.name = "tach_" + member, .kind = SensorKind::kTachometer, .joint = member});
+  }
+  for (const std::string& mesh : {"S.sun-planet", "S.ring-planet"})
+    for (int k = 1; k <= 3; ++k) {
+      const std::string branch = mesh + "#" + std::to_string(k);
+      o.sensors.push_back({.name = "mesh_" + branch, .kind = SensorKind::kGearMesh, .mesh = branch});
     }
-    const BodyIndex planet = b.draft().joints[tm.planet_joints[0][0]].spec.child;
-    b.AddSensor({.name = "alpha_planet", .kind = SensorKind::kAngularAccelerometer,
-                 .frame = b.body_frame(planet), .axes = {2}});
-    for (const JointIndex j : tm.member_joints) {
-      const std::string name = b.draft().joints[j].spec.name;
-      b.AddSensor({.name = "enc_" + name, .kind = SensorKind::kEncoder, .joint = j,
-                   .coordinate = tm.rotation_coordinate});
-      b.AddSensor({.name = "tach_" + name, .kind = SensorKind::kTachometer, .joint = j,
-                   .coordinate = tm.rotation_coordinate});
-    }
-    for (size_t k = 0; k < b.draft().gear_meshes.size(); ++k)
-      b.AddSensor({.name = "mesh_" + std::to_string(k), .kind = SensorKind::kGearMesh,
-                   .gear_mesh = static_cast<int>(k)});
-  };
   s->with_sensors = gears::BuildTrainModel(*g.train, g.range, o).model;
   s->without_sensors = gears::BuildTrainModel(*g.train, g.range, g.options).model;
   return *s;
