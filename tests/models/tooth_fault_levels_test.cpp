@@ -265,7 +265,6 @@ TEST(ToothFaultLevels, SpallLosesRigidContactExactlyOverItsRollRange) {
   const MeshSweep sweep = SweepGearMesh(pair, o, load, 40, range);
   const ContactElement element(MakeGearContactSpec("spall", pair, 1, 2, o));
   ContactWorkspace ws(*element.spec().surface_a, *element.spec().surface_b);
-  const ContactSurface& s2 = *element.spec().surface_b;
   const gears::Gear& planet = pair.gear2();
   const double z1 = pair.gear1().teeth(), z2 = planet.teeth(), rb1 = pair.gear1().base_radius_m();
   int inside = 0, outside = 0;

@@ -49,11 +49,11 @@ const Stage& LoadStage() {
                          .position_m = Vec3(0.08, 0, 0.01)});
   o.sensors.push_back({.name = "alpha_planet", .kind = SensorKind::kAngularAccelerometer, .body = "S.planet1",
                        .axes = {2}});
-  for (const std::string& member : {"S.sun", "S.carrier", "S.ring"}) {
-    o.sensors.push_back({.name = "enc_" + member, .kind = SensorKind::kEncoder, .joint = member});
-    o.sensors.push_back({.name = "tach_" + member, .kind = SensorKind::kTachometer, .joint = member});
+  for (const char* member : {"S.sun", "S.carrier", "S.ring"}) {
+    o.sensors.push_back({.name = std::string("enc_") + member, .kind = SensorKind::kEncoder, .joint = member});
+    o.sensors.push_back({.name = std::string("tach_") + member, .kind = SensorKind::kTachometer, .joint = member});
   }
-  for (const std::string& mesh : {"S.sun-planet", "S.ring-planet"})
+  for (const std::string mesh : {"S.sun-planet", "S.ring-planet"})
     for (int k = 1; k <= 3; ++k) {
       const std::string branch = mesh + "#" + std::to_string(k);
       o.sensors.push_back({.name = "mesh_" + branch, .kind = SensorKind::kGearMesh, .mesh = branch});
