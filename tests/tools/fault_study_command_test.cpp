@@ -1,7 +1,7 @@
 // The fault study (tools/cli/fault_study_command.h) on seed 003's stage with lumped TVMS meshes
 // (22/14/50, 3 planets, ring +80.6 rad/s, sun -10 rad/s: f_m = 220.3 Hz, f_p^H = 15.74 Hz,
 // docs/validation/scenarios.md), planet 1 with half the face width of a tooth broken off
-// (half of the face width of planet 1's tooth 0 lost: the potential-energy TVMS of that tooth halved over its engagement).
+// (the potential-energy TVMS of that tooth halved over its engagement).
 // Oracles:
 // - the mesh line at the kinematic f_m (seed 003: 220.3 Hz) within the spectrum's resolution;
 // - a broken planet tooth meets the sun and the ring once per planet turn relative to the carrier,
