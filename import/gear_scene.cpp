@@ -113,7 +113,7 @@ std::shared_ptr<const FlexibleBodyModes> LoadReducedBody(const Context& ctx, Fle
                                          "'; name its reduce_input so that the scene makes the body with its faults");
     return std::make_shared<FlexibleBodyModes>(std::move(body.modes));
   } catch (const flex::StaleReducedBodyError& e) {
-    ctx.Fail(*f.reduced_body_item, std::string(e.what()) + "; " + (faults.empty() ? "re" + remake.substr(1) : remake));
+    ctx.Fail(*f.reduced_body_item, std::string(e.what()) + "; " + (faults.empty() ? "re" + remake : remake));
   } catch (const SceneError&) {
     throw;
   } catch (const std::exception& e) {

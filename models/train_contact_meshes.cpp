@@ -65,9 +65,16 @@ ToothFaces ReducedToothFaces(const std::string& what, const FlexibleBodyModes& m
         f.z0 = std::min(f.z0, m.nodes[i].position.z());
       }
   } else {
-    for (int k = 0; k < z; ++k)
-      for (const char* part : {"FLANK_PLUS", "FLANK_MINUS", "FILLET_PLUS", "FILLET_MINUS", "TIP"})
-        f.sets.push_back(ToothSetName(k, part));
+    for (int k = 0; k < z; ++k) {
+      // A tooth broken across the whole face has a fracture surface instead of its tip
+      // (models/gear_fe_mesh.h, faults)
+      const bool broken = m.node_sets.count(ToothSetName(k, "FRACTURE")) > 0;
+      for (const char* part : {"FLANK_PLUS", "FLANK_MINUS", "FILLET_PLUS", "FILLET_MINUS", "TIP", "FRACTURE"}) {
+        const std::string set = ToothSetName(k, part);
+        if (std::string(part) == "FRACTURE" ? broken : !(broken && std::string(part) == "TIP" && !m.node_sets.count(set)))
+          f.sets.push_back(set);
+      }
+    }
     f.sets.push_back("ROOT");
   }
   for (const std::string& set : f.sets)

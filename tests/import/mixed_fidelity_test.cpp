@@ -6,6 +6,8 @@
 // data a program can change and assemble again (the healthy twin of a study, a fidelity swap).
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -26,15 +28,29 @@ namespace {
 namespace fs = std::filesystem;
 using namespace orrery::gears;
 
+std::string ReadText(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
 // The scene, loaded from a scratch copy of models/scenes and models/bodies (its reduced body is
 // made on the first load and must not land in the source tree).
 Scene LoadMixedScene() {
   const fs::path copy = fs::path(::testing::TempDir()) / "mixed_fidelity";
   for (const char* folder : {"scenes", "bodies"}) {
     fs::create_directories(copy / folder);
-    for (const auto& entry : fs::directory_iterator(fs::path(ORRERY_SOURCE_DIR) / "models" / folder))
-      if (entry.path().extension() == ".yaml")
-        fs::copy_file(entry.path(), copy / folder / entry.path().filename(), fs::copy_options::overwrite_existing);
+    for (const auto& entry : fs::directory_iterator(fs::path(ORRERY_SOURCE_DIR) / "models" / folder)) {
+      if (entry.path().extension() != ".yaml") continue;
+      // A changed reduce input: its reduced bodies from an earlier run would be refused as stale
+      const fs::path to = copy / folder / entry.path().filename();
+      if (folder == std::string("bodies") && (!fs::exists(to) || ReadText(to) != ReadText(entry.path())))
+        for (const auto& made : fs::directory_iterator(copy / folder))
+          if (made.path().extension() == ".h5" && made.path().stem().string().rfind(to.stem().string(), 0) == 0)
+            fs::remove(made.path());
+      fs::copy_file(entry.path(), to, fs::copy_options::overwrite_existing);
+    }
   }
   return LoadScene((copy / "scenes" / "seed003_mixed_fidelity.yaml").string());
 }
