@@ -22,11 +22,11 @@
 // FE teeth, a rigid partner's the rigid builder's surface (thinned for backlash as there). What
 // follows is written for a planet; a flexible sun is the same with its own frame (its teeth stand
 // at q = 0 as the rigid sun's: no turn, no joint offset).
-//   Phasing: the FE teeth are fixed in the body frame B (tooth k on polar angle 2 pi k / z_p), so
-//   the planet's joint starts at the angle delta = planet_rot - (2 pi / z_p) m (m the nearest whole
-//   number of pitches, |delta| <= pi / z_p) instead of 0, and its analytic surface is turned by
-//   the whole pitches 2 pi m / z_p in B: the teeth stand in the world where the rigid planet's
-//   stand at q = 0 (tooth indices of missing_teeth are the rigid builder's gear frame indices).
+//   Phasing: the FE teeth are fixed in the body frame B (tooth k on polar angle 2 pi k / z_p), and
+//   B is the planet's gear frame: FE tooth k is gear-frame tooth k (the index of missing_teeth,
+//   of a tooth fault and of the reduce input's `fault:` alike), so the planet's joint starts at
+//   the angle delta = planet_rot (above) instead of 0 and its analytic surface stands in B
+//   unturned: the teeth stand in the world where the rigid planet's stand at q = 0.
 //   Axial position: B's origin is the bore master, mid-face (z0 = -b/2 to +b/2 in B); the gear
 //   surfaces of the rigid builder span z in [0, b] of their frames, so every gear frame of a
 //   flexible branch is shifted by z0 (the lowest z of the FE tooth nodes) along the axis: no

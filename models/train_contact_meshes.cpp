@@ -41,9 +41,10 @@ std::string FlexibleWhat(const TrainAssembly& a, int gear, const std::string& bo
   return std::string(a.train.gears[gear].planet_set >= 0 ? "flexible planet '" : "flexible gear '") + body + "': ";
 }
 
-// The FE triangles of a reduced gear's tooth node sets (all of them: the surface must be whole),
-// the sets, and the lowest z of their nodes in B; for a reduced body without tooth node sets (a
-// part from a mesh file, `orrery reduce planet.stl`) every exported surface triangle, no sets.
+// The FE triangles of a reduced gear's tooth node sets (all of them: the surface must be whole;
+// a broken tooth's fracture surface instead of its lost tip), the sets, and the lowest z of their
+// nodes in B; for a reduced body without tooth node sets (a part from a mesh file, `orrery
+// reduce planet.stl`) every exported surface triangle, no sets.
 struct ToothFaces {
   struct Tri {
     Vec3 a, b, c, centre;
@@ -152,16 +153,16 @@ TriangleMesh EmbeddedTooth(const std::string& what, const Gear& gear, int t, con
   return part;
 }
 
-// The contact surface of a flexible gear (train_contact.h): its analytic tooth outlines turned by
-// rot_B about B's z and shifted by the FE teeth's lowest z, embedded in the FE surface of its
+// The contact surface of a flexible gear (train_contact.h): its analytic tooth outlines in the
+// gear frame, which is B, shifted by the FE teeth's lowest z, embedded in the FE surface of its
 // tooth node sets; *z0 receives that z.
 std::shared_ptr<const FlexibleContactSurface> FlexibleGearSurface(
     const std::string& what, const Gear& gear, const std::shared_ptr<const FlexibleBodyModes>& modes,
-    double rot_B, const std::vector<int>& missing, const std::vector<ToothFaultSpec>& faults,
+    const std::vector<int>& missing, const std::vector<ToothFaultSpec>& faults,
     const TrainContactOptions& c, double* z0) {
   const ToothFaces faces = ReducedToothFaces(what, *modes, gear.teeth());
   *z0 = faces.z0;
-  const Transform X_BG(AxisAngle(Vec3::UnitZ(), rot_B), Vec3(0, 0, faces.z0));
+  const Transform X_BG(Mat3::Identity(), Vec3(0, 0, faces.z0));
   std::vector<TriangleMesh> parts;
   for (int t = 0; t < gear.teeth(); ++t) {
     if (std::find(missing.begin(), missing.end(), t) != missing.end()) continue;
@@ -229,14 +230,13 @@ std::shared_ptr<const std::vector<TriangleMesh>> ImportedTeeth(TrainAssembly& a,
   return it->second;
 }
 
-// The surface of a flexible gear, made once per body (its branches share it); its joint starts at
-// the gear frame's offset from a whole number of pitches (a planet's delta, train_contact.h).
+// The surface of a flexible gear, made once per body (its branches share it): its body frame is
+// its gear frame (FE tooth k is gear-frame tooth k), so its joint starts at the gear frame's
+// rotation (a planet's delta, train_contact.h).
 std::pair<std::shared_ptr<const FlexibleContactSurface>, double> FlexibleSurfaceOf(
     TrainAssembly& a, int gear, int branch, const Gear& geometry, double rotation, double* delta) {
   const std::string body = a.GearBodyName(gear, branch);
-  const double pitch = 2 * kPi / geometry.teeth();
-  const double whole = pitch * std::round(rotation / pitch);
-  *delta = rotation - whole;
+  *delta = rotation;
   auto [it, made] = a.flexible_surfaces.try_emplace(body);
   if (!made) return it->second;
   double z0 = 0;
@@ -246,7 +246,7 @@ std::pair<std::shared_ptr<const FlexibleContactSurface>, double> FlexibleSurface
   } catch (const std::invalid_argument& e) {
     FailTrain("tooth fault on '" + a.train.gears[gear].name + "': " + e.what());
   }
-  it->second.first = FlexibleGearSurface(FlexibleWhat(a, gear, body), geometry, a.Flexible(body)->modes, whole,
+  it->second.first = FlexibleGearSurface(FlexibleWhat(a, gear, body), geometry, a.Flexible(body)->modes,
                                          MissingTeeth(a, gear, branch), faults, a.o.contact, &z0);
   it->second.second = z0;
   if (*delta == 0) return it->second;

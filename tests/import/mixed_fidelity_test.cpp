@@ -36,7 +36,7 @@ std::string ReadText(const fs::path& p) {
 }
 
 // The scene, loaded from a scratch copy of models/scenes and models/bodies (its reduced body is
-// made on the first load and must not land in the source tree).
+// made on the first load, `make_reduced_bodies`, and must not land in the source tree).
 Scene LoadMixedScene() {
   const fs::path copy = fs::path(::testing::TempDir()) / "mixed_fidelity";
   for (const char* folder : {"scenes", "bodies"}) {
@@ -52,7 +52,7 @@ Scene LoadMixedScene() {
       fs::copy_file(entry.path(), to, fs::copy_options::overwrite_existing);
     }
   }
-  return LoadScene((copy / "scenes" / "seed003_mixed_fidelity.yaml").string());
+  return LoadScene((copy / "scenes" / "seed003_mixed_fidelity.yaml").string(), {}, {.make_reduced_bodies = true});
 }
 
 // The description of models/examples/mixed_fidelity_stage.cpp, with the planet's modes given.

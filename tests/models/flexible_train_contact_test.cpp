@@ -302,7 +302,9 @@ TEST(FlexibleTrainContact, FlexiblePlanetCarriesItsShare) {
     const bool internal = flexible.train->meshes[c.train_mesh].kind == gears::MeshKind::kInternal;
     EXPECT_EQ(c.flexible_side, c.branch == 0 ? (internal ? 1 : 2) : 0) << c.name;
     if (c.flexible_side) {
-      EXPECT_LE(std::abs(c.planet_initial_angle_rad), kPi / 14 + 1e-12) << c.name;
+      // B is the planet's gear frame: the joint starts at pi + pi / z_p + (z_s / z_p) psi_1.
+      const double psi = flexible.train->planet_sets[0].angles_rad[0];
+      EXPECT_NEAR(c.planet_initial_angle_rad, kPi + kPi / 14 + 22.0 / 14 * psi, 1e-12) << c.name;
     }
   }
   const StageRun f = Simulate(flexible), r = Simulate(rigid);
