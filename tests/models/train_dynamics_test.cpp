@@ -170,6 +170,21 @@ TEST(TrainDynamics, MeshPhasesFollowParkerLin) {
       for (int i = 0; i < k.n; ++i) EXPECT_LT(near(sorted[i], double(i) / k.n), 1e-12);
     }
     EXPECT_LT(near(mod1(sun[0] + ring[0]), mod1(0.5 * (k.zp - 1))), 1e-9) << "Z_p " << k.zp;
+    // With the reference phase given as 0 (stage_phase_cycles), the absolute phases of Parker &
+    // Lin's table, as before the default followed the body-frame teeth: sun-planet n at
+    // -Z_s psi_n / 2 pi; the default shifts every sun-planet phase by sun[0] and every ring-planet
+    // phase by -sun[0] (phase_r1 + phase_s1 is fixed by the planet's teeth).
+    o.stage_phase_cycles = {0.0};
+    const TrainModel given = BuildTrainModel(*train, 0, o);
+    for (const TrainMeshElement& e : given.meshes) {
+      const double psi = 2 * kPi * e.branch / k.n;
+      const double default_phase = (e.train_mesh == 0 ? sun : ring)[e.branch];
+      if (e.train_mesh == 0) {
+        EXPECT_LT(near(e.phase_cycles, mod1(-k.zs * psi / (2 * kPi))), 1e-12) << k.zs << " planet " << e.branch;
+      }
+      const double shift = e.train_mesh == 0 ? sun[0] : -sun[0];
+      EXPECT_LT(near(mod1(default_phase - e.phase_cycles), mod1(shift)), 1e-12) << k.zs << " mesh " << e.train_mesh;
+    }
   }
 }
 
