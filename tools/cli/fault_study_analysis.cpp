@@ -159,6 +159,7 @@ FaultStudyAnalysis AnalyseFaultStudy(const std::string& healthy_h5, const std::s
   a.db_reference = acceleration ? 1e-6 : 1.0;
   a.db_reference_text = acceleration ? "1e-6 m/s^2" : "1 " + (a.faulty.signal.unit.empty() ? std::string("(unit)") : a.faulty.signal.unit);
   const double nyquist = fs / 2;
+  a.harmonics = o.harmonics;
   for (int k = 1; k <= o.harmonics; ++k)
     for (int m = -o.sidebands; m <= o.sidebands; ++m) {
       const double freq = k * a.mesh.frequency_hz + m * a.modulation.frequency_hz;

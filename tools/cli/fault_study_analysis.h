@@ -88,6 +88,7 @@ struct FaultStudyAnalysis {
   signal::KinematicLine mesh, modulation;
   double mesh_frequency_found_hz = 0;
   std::vector<SidebandLevel> sidebands;
+  int harmonics = 3;          // options.harmonics
   double ser_ratio = 0;       // faulty over healthy (NaN when the healthy run has none)
   double db_reference = 1;    // A_ref
   std::string db_reference_text;  // "1e-6 m/s^2", "1 N"

@@ -254,12 +254,18 @@ void DrawPlots(const FaultStudyArgs& args, const FaultStudyAnalysis& a) {
                            .x_label = "frequency (Hz)", .y_label = "amplitude" + unit + ", Hann window"};
   const SerSummary ser{.healthy = a.healthy.ser, .faulty = a.faulty.ser, .ratio = a.ser_ratio};
   PlotOverlay(overlay, a.healthy.spectrum, a.faulty.spectrum, a.mesh, a.modulation, ser, (dir / "overlay.png").string());
+  // Each spectrum up to the mesh harmonics the summary lists, its peaks labelled as the summary's
+  // sidebands are (k f_m +- n f_mod: the mesh line and the modulation only, so that a planet
+  // fault's 2 f_p^H does not read as another line's multiple)
+  const std::vector<KinematicLine> study_lines{a.mesh, a.modulation};
+  const double top_hz = (a.harmonics + 0.5) * a.mesh.frequency_hz;
   for (const auto& [name, run] : {std::pair{"healthy", &a.healthy}, std::pair{"faulty", &a.faulty}}) {
     std::vector<Peak> peaks = FindPeaks(run->spectrum);
-    LabelPeaks(peaks, a.lines, 1.5 * run->spectrum.resolution);
+    std::erase_if(peaks, [&](const Peak& p) { return p.frequency > top_hz; });
+    LabelPeaks(peaks, study_lines, 1.5 * run->spectrum.resolution);
     PlotSpectrum({.title = std::string(name) + " run: " + s.path + " [" + s.column_name + "]",
                   .x_label = "frequency (Hz)", .y_label = "amplitude" + unit},
-                 run->spectrum, peaks, a.lines, (dir / (std::string(name) + "_spectrum.png")).string());
+                 run->spectrum, peaks, study_lines, (dir / (std::string(name) + "_spectrum.png")).string());
   }
   PlotTimeSignal({.title = "faulty run: " + s.path + " [" + s.column_name + "]", .x_label = "time (s)",
                   .y_label = s.column_name + unit},

@@ -336,10 +336,10 @@ int Main(int argc, char** argv) {
   fault_study->add_option("scene", fs_args.scene_path, "Scene file (YAML, gear_train with tooth faults)")->required();
   fault_study->add_option("-o,--output", fs_args.output_dir, "Study folder")->required();
   CLI::Option* fs_end_option =
-      fault_study->add_option("--end-time", fs_end_time, "Simulated time of each run in s (default 0.35)")
+      fault_study->add_option("--end-time", fs_end_time, "Simulated time of each run in s (default 0.30)")
           ->check(kPositiveSeconds);
   CLI::Option* fs_t0_option =
-      fault_study->add_option("--t0", fs_t0, "Start of the analysed records in s (default 0.05)")->check(CLI::NonNegativeNumber);
+      fault_study->add_option("--t0", fs_t0, "Start of the analysed records in s (default 0.03)")->check(CLI::NonNegativeNumber);
   fault_study->add_option("--signal", fs_args.signal, "Dataset to analyse (default: the scene's first sensor)");
   fault_study->add_option("--set", fs_args.overrides, "Scene override key.path=value (repeatable)")->allow_extra_args(false);
   fault_study->add_flag("--force", fs_args.force, "Replace the folder's earlier results");
