@@ -260,8 +260,9 @@ void DrawPlots(const FaultStudyArgs& args, const FaultStudyAnalysis& a) {
   const std::vector<KinematicLine> study_lines{a.mesh, a.modulation};
   const double top_hz = (a.harmonics + 0.5) * a.mesh.frequency_hz;
   for (const auto& [name, run] : {std::pair{"healthy", &a.healthy}, std::pair{"faulty", &a.faulty}}) {
-    std::vector<Peak> peaks = FindPeaks(run->spectrum);
+    std::vector<Peak> peaks = FindPeaks(run->spectrum, {.max_peaks = 1000});
     std::erase_if(peaks, [&](const Peak& p) { return p.frequency > top_hz; });
+    if (peaks.size() > 12) peaks.resize(12);  // the largest, labelled
     LabelPeaks(peaks, study_lines, 1.5 * run->spectrum.resolution);
     PlotSpectrum({.title = std::string(name) + " run: " + s.path + " [" + s.column_name + "]",
                   .x_label = "frequency (Hz)", .y_label = "amplitude" + unit},
