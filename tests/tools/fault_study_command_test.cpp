@@ -13,7 +13,9 @@
 //   window's first sidelobe (-31.5 dB), while the faulty ±1 sidebands sit some 18 dB below the
 //   mesh line; so this test analyses 0.4 s (6.3 bins: the nearest bin 4.3 bins away, where
 //   Hann's sidelobes are below -50 dB), and the growth must exceed 20 dB;
-// - the folder's results are not overwritten without --force (one error line).
+// - the folder's results are not overwritten without --force (one error line);
+// - the two runs go at once in child processes (forked_run.h): a run that fails in its child is
+//   reported on one line with its reason, and the other run is stopped.
 #include <unistd.h>
 
 #include <filesystem>
@@ -123,6 +125,14 @@ TEST_F(FaultStudyTest, RefusesAHealthySceneAndAFolderThatIsAFile) {
   EXPECT_EQ(Study(Seed003Lumped(true), healthy), 1);
   EXPECT_TRUE(IsOneErrorLine(err_, {dir_, "not a folder"}));
   fs::remove(dir_);
+}
+
+TEST_F(FaultStudyTest, ARunThatFailsInItsProcessIsReportedWithItsReason) {
+  // faulty.h5 a folder: the faulty run's child cannot create its result file
+  fs::create_directories(fs::path(dir_) / "faulty.h5");
+  EXPECT_EQ(Study(Seed003Lumped(true), Seed003Lumped(false), /*force=*/true), 1);
+  EXPECT_TRUE(IsOneErrorLine(err_, {"faulty run failed", "faulty.h5", "the healthy run was stopped"})) << err_;
+  EXPECT_FALSE(fs::exists(fs::path(dir_) / "summary.json"));
 }
 
 }  // namespace

@@ -13,6 +13,7 @@
 #include "mbd/result_file.h"
 #include "tools/cli/error_message.h"
 #include "tools/cli/fault_study_analysis.h"
+#include "tools/cli/forked_run.h"
 #include "tools/cli/interrupt.h"
 #include "tools/cli/json_writer.h"
 #include "tools/cli/kinematic_lines_writer.h"
@@ -97,39 +98,45 @@ std::map<std::string, int> GearTeeth(const Scene& scene) {
   return teeth;
 }
 
-// Progress of both runs on one bar: simulated time, steps and wall time added up
-struct StudyProgress {
-  ProgressBar bar;
-  double total_s = 0, done_s = 0, wall_s = 0;
-  long steps = 0;
-  void Update(const SimulationProgress& p) {
-    bar.Update({.t = done_s + p.t, .end_time = total_s, .steps = steps + p.steps, .wall_s = wall_s + p.wall_s});
-  }
-  void Add(const SimulationReport& r) {
-    done_s += r.final_state.t;
-    steps += r.stats.steps;
-    wall_s += r.wall_s;
-  }
+// The work of one run in its child: DIR/<name> written, progress reported
+ChildWork RunWork(const Scene& scene, const std::string& path) {
+  return [&scene, path](const ProgressFn& progress) {
+    SimulationOptions options = scene.simulation;
+    options.interrupt = InterruptFlag();
+    std::optional<ResultFile> result = ResultFile::Create(path);
+    WriteKinematicLines(scene, *result);
+    SimulationReport report = Simulate(*scene.model, options, &*result, progress);
+    result->Close();
+    return report;
+  };
+}
+
+// Both runs at once, one child process each (forked_run.h), under one progress bar; a failed run
+// is reported with its reason (the other stopped), an interrupt with where both runs stopped
+struct RunTimes {
+  double healthy_wall_s = 0, faulty_wall_s = 0, healthy_cpu_s = 0, faulty_cpu_s = 0;
 };
 
-// One run into DIR/<name>; a failure names the run and what its file holds
-SimulationReport RunOne(const Scene& scene, const std::string& path, const char* which, StudyProgress& progress) {
-  SimulationOptions options = scene.simulation;
-  options.interrupt = InterruptFlag();
-  CheckSimulationSettings(*scene.model, options);
-  std::optional<ResultFile> result = ResultFile::Create(path);
-  WriteKinematicLines(scene, *result);
-  SimulationReport report;
-  try {
-    report = Simulate(*scene.model, options, &*result, [&](const SimulationProgress& p) { progress.Update(p); });
-  } catch (const SimulationInterrupted&) {
-    throw;
-  } catch (const std::exception& e) {
-    throw std::runtime_error(std::string(which) + " run failed: " + e.what() + " (" + path + " keeps its rows)");
-  }
-  result->Close();
-  progress.Add(report);
-  return report;
+RunTimes RunBoth(const Scene& healthy, const Scene& faulty, const fs::path& dir, ProgressBar& bar) {
+  const std::string paths[2] = {(dir / "healthy.h5").string(), (dir / "faulty.h5").string()};
+  const char* const names[2] = {"healthy", "faulty"};
+  for (const Scene* s : {&healthy, &faulty}) CheckSimulationSettings(*s->model, s->simulation);
+  const std::vector<ChildOutcome> r =
+      RunForked({{RunWork(healthy, paths[0]), healthy.simulation.end_time},
+                 {RunWork(faulty, paths[1]), faulty.simulation.end_time}},
+                [&](const SimulationProgress& p) { bar.Update(p); });
+  for (int i = 0; i < 2; ++i)
+    if (r[i].status == ChildOutcome::Status::kFailed)
+      throw std::runtime_error(std::string(names[i]) + " run failed: " + r[i].reason +
+                               (fs::is_regular_file(paths[i]) ? " (" + paths[i] + " keeps its rows)" : "") +
+                               (r[1 - i].status == ChildOutcome::Status::kStopped
+                                                         ? std::string("; the ") + names[1 - i] + " run was stopped"
+                                                         : ""));
+  for (int i = 0; i < 2; ++i)
+    if (r[i].status == ChildOutcome::Status::kInterrupted)
+      throw SimulationInterrupted(r[i].signal, r[i].last.t);
+  return {.healthy_wall_s = r[0].last.wall_s, .faulty_wall_s = r[1].last.wall_s, .healthy_cpu_s = r[0].cpu_time_s,
+          .faulty_cpu_s = r[1].cpu_time_s};
 }
 
 void WriteStress(JsonWriter& w, const std::vector<StressPeak>& peaks) {
@@ -161,6 +168,7 @@ std::string WhyText(const FaultStudyAnalysis& a, double end_time, double t0) {
 
 struct StudyTimes {
   double healthy_wall_s = 0, faulty_wall_s = 0, total_wall_s = 0, end_time_s = 0, t0_s = 0;
+  double healthy_cpu_s = 0, faulty_cpu_s = 0;  // CPU time of each run's process
 };
 
 void WriteSummaryJson(const FaultStudyArgs& args, const FaultStudyAnalysis& a, const StudyTimes& t, std::ostream& out) {
@@ -202,6 +210,7 @@ void WriteSummaryJson(const FaultStudyArgs& args, const FaultStudyAnalysis& a, c
   }
   w.Key("wall_time_s").BeginObject().Key("healthy").Number(t.healthy_wall_s).Key("faulty").Number(t.faulty_wall_s)
       .Key("total").Number(t.total_wall_s).EndObject();
+  w.Key("cpu_time_s").BeginObject().Key("healthy").Number(t.healthy_cpu_s).Key("faulty").Number(t.faulty_cpu_s).EndObject();
   w.EndObject();
   out << "\n";
 }
@@ -242,7 +251,8 @@ void WriteSummaryMd(const FaultStudyArgs& args, const FaultStudyAnalysis& a, con
   out << "| kurtosis | " << Fmt("%.4g", a.healthy.indicators.kurtosis) << " | " << Fmt("%.4g", a.faulty.indicators.kurtosis)
       << " |\n";
   out << "\nwall time: healthy " << FormatDuration(t.healthy_wall_s) << ", faulty " << FormatDuration(t.faulty_wall_s)
-      << ", study " << FormatDuration(t.total_wall_s) << "\n";
+      << " (run at once, one process each), study " << FormatDuration(t.total_wall_s) << "; CPU time: healthy "
+      << FormatDuration(t.healthy_cpu_s) << ", faulty " << FormatDuration(t.faulty_cpu_s) << "\n";
 }
 
 // The PNG files
@@ -283,7 +293,7 @@ int RunFaultStudy(const Scene& faulty, const Scene& healthy, const FaultStudyArg
   const ProgressBar::Style style = args.quiet ? ProgressBar::Style::kNone
                                    : args.err_is_terminal ? ProgressBar::Style::kBar
                                                           : ProgressBar::Style::kLines;
-  StudyProgress progress{.bar = ProgressBar(err, style)};
+  ProgressBar bar(err, style);
   const auto start = std::chrono::steady_clock::now();
   try {
     // The folder, the signal, the fault
@@ -301,12 +311,14 @@ int RunFaultStudy(const Scene& faulty, const Scene& healthy, const FaultStudyArg
       throw std::invalid_argument("--t0 " + Fmt("%g", options.t0_s) + " s: must lie before the end time " +
                                   Fmt("%g", times.end_time_s) + " s");
 
-    // The two runs under one progress bar
-    progress.total_s = healthy.simulation.end_time + faulty.simulation.end_time;
+    // The two runs at once, under one progress bar
     InterruptGuard guard;
-    times.healthy_wall_s = RunOne(healthy, (dir / "healthy.h5").string(), "healthy", progress).wall_s;
-    times.faulty_wall_s = RunOne(faulty, (dir / "faulty.h5").string(), "faulty", progress).wall_s;
-    progress.bar.Finish();
+    const RunTimes run_times = RunBoth(healthy, faulty, dir, bar);
+    times.healthy_wall_s = run_times.healthy_wall_s;
+    times.faulty_wall_s = run_times.faulty_wall_s;
+    times.healthy_cpu_s = run_times.healthy_cpu_s;
+    times.faulty_cpu_s = run_times.faulty_cpu_s;
+    bar.Finish();
 
     // Analysis, plots, summaries
     const FaultStudyAnalysis a = AnalyseFaultStudy((dir / "healthy.h5").string(), (dir / "faulty.h5").string(), options);
@@ -321,11 +333,11 @@ int RunFaultStudy(const Scene& faulty, const Scene& healthy, const FaultStudyArg
     out << text.str() << std::flush;
     return kExitSuccess;
   } catch (const SimulationInterrupted& e) {
-    progress.bar.Abandon();
+    bar.Abandon();
     ReportError(err, e.what());
     return kExitSignalBase + e.signal();
   } catch (const std::exception& e) {
-    progress.bar.Abandon();
+    bar.Abandon();
     ReportError(err, e.what());
     return kExitFailure;
   }
