@@ -164,8 +164,10 @@ TEST(Seed003Study, FlexiblePlanetHotSpotSitsAtTheCompressedToothRootOfTheLoadedT
     EXPECT_GT(top.side * side, 0) << "torque " << torque << ": max at t = " << top.t_s << " s";
     // Every output row once the teeth carry the load (from 2 ms, above 20 MPa): the root region
     // always; the predicted side in most rows. Measured: 63 of 73 rows (nominal), 66 of 73
-    // (reversed); over 0.02 s 154 and 153 of 173; the others recur once per mesh period (4.5 ms), as the loaded tooth pair changes (the bottom of the space between the two
-    // loaded teeth, where one tooth's compressed fillet meets the next one's tensile fillet).
+    // (reversed); over 0.02 s 154 and 153 of 173; the others recur once per mesh period
+    // (4.5 ms), as the loaded tooth pair changes, at r = 23.25 mm or 23.95 mm (the bottom of the
+    // space between two loaded teeth, where one's compressed fillet meets the next one's tensile
+    // fillet).
     // Reversing the load turns 86-90 % into 10-14 %, so 3 rows in 4 separates the two clearly.
     int rows = 0, right = 0;
     for (const HotSpot& s : spots) {
