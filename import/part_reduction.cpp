@@ -27,8 +27,10 @@ std::string Lower(std::string s) {
 
 std::string Extension(const std::string& path) { return Lower(fs::path(path).extension().string()); }
 
-// The bore: boundary nodes within 2 % of the smallest distance from the centroid z axis.
-std::vector<int> BoreNodes(const flex::FeMesh& mesh, const std::string& spec) {
+// The bore: boundary nodes within 2 % of the smallest distance from the centroid z axis; *centre
+// receives the solid's centroid (the master's position: on the axis, mid-face for a gear, where the
+// slave nodes' own centroid is off by the mesh's uneven node density).
+std::vector<int> BoreNodes(const flex::FeMesh& mesh, const std::string& spec, Eigen::Vector3d* centre) {
   const auto fail = [&](const std::string& what) { throw std::runtime_error("--interface " + spec + ": " + what); };
   // The centroid of the solid (its boundary's corner polyhedron, mass_properties.h), not of the
   // nodes, whose density varies
@@ -36,6 +38,7 @@ std::vector<int> BoreNodes(const flex::FeMesh& mesh, const std::string& spec) {
   hull.vertices = mesh.positions();
   hull.triangles = flex::BoundaryTriangles(mesh, false);
   const Eigen::Vector3d centroid = CalcMassProperties(hull, 1.0).center_of_mass_m;
+  *centre = centroid;
   std::set<int> boundary;
   for (const auto& t : flex::BoundaryTriangles(mesh, true)) boundary.insert(t.begin(), t.end());
   const auto radius = [&](int n) { return (mesh.positions()[n] - centroid).head<2>().norm(); };
@@ -116,7 +119,9 @@ flex::FeInterface SelectInterface(const flex::FeMesh& mesh, const std::string& s
     flex::FeInterface i;
     i.name = "BORE";
     i.kind = k;
-    i.nodes = BoreNodes(mesh, spec);
+    Eigen::Vector3d centre;
+    i.nodes = BoreNodes(mesh, spec, &centre);
+    i.master_position_m = centre;
     return i;
   }
   try {

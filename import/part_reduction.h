@@ -12,8 +12,11 @@
 //             from the z axis through the solid's centroid is at most 1.02 r_min, r_min the smallest
 //             such distance of a corner node (corners lie on the surface; midside nodes of straight
 //             edges on chords inside the bore are selected with them). The centroid axis is the gear axis for a
-//             gear in its own frame (gear_geometry.h). Refused when it selects fewer than 3 nodes
-//             or nodes that span less than half the turn.
+//             gear in its own frame (gear_geometry.h). Its master (the body frame's origin when
+//             it is the first interface) is the solid's centroid: on the axis and mid-face for a
+//             gear, not the slave nodes' centroid, which an unstructured mesh's uneven node density
+//             moves off the axis. Refused when it selects fewer than 3 nodes or nodes that span
+//             less than half the turn.
 // Provenance: the mesh hash is that of the FE mesh (meshing with gmsh is deterministic:
 // one thread, fixed options); for external matrices it also covers the matrix files' bytes.
 //
