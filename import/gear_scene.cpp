@@ -104,11 +104,15 @@ std::shared_ptr<const FlexibleBodyModes> LoadReducedBody(const Context& ctx, Fle
   }
   try {
     flex::ReducedBody body = flex::ReadReducedBody(f.reduced_body, expected ? &*expected : nullptr);
-    // Without a reduce input: the file must carry the scene's faults (and nothing else).
+    // Without a reduce input: the file must carry the scene's faults (and nothing else). A body
+    // reduced from a mesh file (faults unknown: its geometry is the file's, damaged or not) serves
+    // a scene that gives it none; faults cannot be added to it.
     const std::string want = DescribeGearFaults(faults);
-    if (!job && body.provenance.faults != want)
-      ctx.Fail(*f.reduced_body_item, given_path + " was reduced with faults '" +
-                                         (body.provenance.faults.empty() ? "unknown" : body.provenance.faults) +
+    if (!job && body.provenance.faults.empty() && !faults.empty())
+      ctx.Fail(*f.reduced_body_item, given_path + " was reduced from a mesh file (its geometry as the file has it) but the scene gives " +
+                                         f.body + " faults '" + want + "'; model the fault in the part's geometry, or reduce a generated gear (reduce_input)");
+    if (!job && !body.provenance.faults.empty() && body.provenance.faults != want)
+      ctx.Fail(*f.reduced_body_item, given_path + " was reduced with faults '" + body.provenance.faults +
                                          "' but the scene gives " + f.body + " '" + want +
                                          "'; name its reduce_input so that the scene makes the body with its faults");
     return std::make_shared<FlexibleBodyModes>(std::move(body.modes));
