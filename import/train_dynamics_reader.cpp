@@ -163,10 +163,13 @@ void ReadFlexibleBody(const Context& ctx, const Item& item, const std::string& b
 
 // An imported planet (models/train_dynamics.h, "Imported gears"): its mesh file, read now
 // (mass properties, surface), relative to the scene; unit required but for STEP/IGES; density
-// default the train's.
+// default the train's; a STEP/IGES file's largest triangle (mesh_size[_mm], default gmsh's 48
+// elements per 2 pi of curvature).
 void ReadImportedGearEntry(const Context& ctx, const Item& item, const std::string& body,
                            TrainModelOptions& o) {
-  const MapReader m(ctx, item, {"file", "unit", "density"});
+  std::vector<std::string> allowed{"file", "unit", "density"};
+  Append(allowed, Names(LengthMm("mesh_size")));
+  const MapReader m(ctx, item, allowed);
   const Item file_item = m.Need("file");
   std::filesystem::path file = ToString(ctx, file_item);
   if (file.is_relative()) file = std::filesystem::path(ctx.file()).parent_path() / file;
@@ -181,6 +184,10 @@ void ReadImportedGearEntry(const Context& ctx, const Item& item, const std::stri
   } else if (!cad) {
     m.FailMissing("unit", "missing required key 'unit': a mesh file has no unit of its own (" +
                               std::string(kLengthUnitChoices) + ")");
+  }
+  if (const auto size = FindOneOf(m, LengthMm("mesh_size"))) {
+    if (!cad) ctx.Fail(size->first, "only a STEP/IGES file is triangulated on reading; a mesh file keeps its triangles");
+    options.cad.max_size_m = OptScaled(m, LengthMm("mesh_size"), 0, true);
   }
   const double density = OptScaled(m, Plain("density"), o.density_kg_m3, true);
   try {
