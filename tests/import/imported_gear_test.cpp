@@ -3,7 +3,7 @@
 // within the faceting error.
 //
 // The pair: seed 003's sun (22 teeth) and planet (14 teeth), m_n 4 mm, alpha_n 22.5 deg, b 40 mm,
-// the contact of models/scenes/seed003_contact_stage.yaml (40 involute intervals, penalty
+// the contact of models/scenes/seed003_contact_healthy.yaml (40 involute intervals, penalty
 // calibrated at the branch's 15 kN); a quasi-static sweep (SweepGearMesh) at 15 kN over one mesh
 // period, the sun generated, the planet generated or imported.
 //

@@ -1,4 +1,4 @@
-// A planet of seed 003's contact stage (models/scenes/seed003_contact_stage.yaml: tooth contact on
+// A planet of seed 003's contact stage (models/scenes/seed003_contact_healthy.yaml: tooth contact on
 // every branch) from a mesh file, from the command line, as a rigid body
 // (`gear_train.dynamics.imported_gears`) and as a flexible one (`orrery reduce planet.stl|step`,
 // `flexible_bodies`):
@@ -49,7 +49,7 @@ std::pair<int, std::string> Orrery(const std::string& args) {
 }
 
 const fs::path kScene =
-    fs::path(ORRERY_SOURCE_DIR) / "models" / "scenes" / "seed003_contact_stage.yaml";
+    fs::path(ORRERY_SOURCE_DIR) / "models" / "scenes" / "seed003_contact_healthy.yaml";
 
 // The scene's planet gear, bore radius and contact options.
 struct ScenePlanet {
