@@ -85,137 +85,137 @@ struct SetRecord {  // one data line of *NSET / *ELSET, or the NSET= / ELSET= of
 struct MaterialRecord { IsotropicMaterial m; bool has_elastic = false, has_density = false; int line; };
 struct SectionRecord { std::string elset, material; int line; };
 
-}  // namespace
+// First pass over the file: keyword lines open blocks, data lines (continued by a trailing comma)
+// become records. Then BuildMesh turns the records into the mesh.
+class InpParser {
+ public:
+  InpParser(const std::string& source, InpReadResult& result) : source_(source), ctx_{source}, result_(result) {}
 
-InpReadResult ParseInp(std::istream& in, const std::string& source) {
-  const Context ctx{source};
-  InpReadResult result;
-  std::vector<NodeRecord> nodes;
-  std::vector<ElementRecord> elements;
-  std::vector<SetRecord> sets;  // in file order
-  std::vector<MaterialRecord> materials;
-  std::vector<SectionRecord> sections;
-
-  enum class Block { kNone, kNode, kElement, kNset, kElset, kElastic, kDensity, kSection, kSkip };
-  Block block = Block::kNone;
-  Keyword kw;
-  std::optional<ElementType> element_type;
-  std::string set_name;
-  bool generate = false;
-  std::vector<std::string> pending;  // values of a continued data line
-  int pending_line = 0;
-
-  std::string raw;
-  int line_no = 0;
-  while (std::getline(in, raw)) {
-    ++line_no;
-    if (!raw.empty() && raw.back() == '\r') raw.pop_back();
-    const std::string line = Trim(raw);
-    if (line.empty() || line.rfind("**", 0) == 0) continue;
-
+  void ReadLine(const std::string& line, int line_no) {
     if (line[0] == '*') {
-      if (!pending.empty()) ctx.Fail(pending_line, kw.name, "data line continued with a comma but no data follows");
-      // Keyword line
-      const std::vector<std::string> parts = SplitCommas(std::string_view(line).substr(1));
-      kw = Keyword{UpperName(parts[0]), {}, line_no};
-      for (std::size_t i = 1; i < parts.size(); ++i) {
-        if (parts[i].empty()) continue;
-        const std::size_t eq = parts[i].find('=');
-        if (eq == std::string::npos) kw.params[UpperName(parts[i])] = "";
-        else kw.params[UpperName(Trim(parts[i].substr(0, eq)))] = Trim(parts[i].substr(eq + 1));
-      }
-      auto param = [&](const char* key, bool required) -> std::string {
-        const auto it = kw.params.find(key);
-        if (it == kw.params.end() || it->second.empty()) {
-          if (required) ctx.Fail(line_no, kw.name, std::string("missing parameter ") + key + "=");
-          return "";
-        }
-        return it->second;
-      };
-      generate = kw.params.contains("GENERATE");
-      if (kw.name == "NODE") {
-        block = Block::kNode;
-        set_name = param("NSET", false);
-      } else if (kw.name == "ELEMENT") {
-        block = Block::kElement;
-        const std::string type = param("TYPE", true);
-        element_type = ElementTypeFromCalculixName(type);
-        if (!element_type)
-          ctx.Fail(line_no, kw.name, "element type " + type + " not supported (C3D4, C3D10, C3D8, C3D20)");
-        set_name = param("ELSET", false);
-      } else if (kw.name == "NSET") {
-        block = Block::kNset;
-        set_name = param("NSET", true);
-      } else if (kw.name == "ELSET") {
-        block = Block::kElset;
-        set_name = param("ELSET", true);
-      } else if (kw.name == "MATERIAL") {
-        block = Block::kNone;
-        materials.push_back({.m = {.name = UpperName(param("NAME", true))}, .line = line_no});
-      } else if (kw.name == "ELASTIC" || kw.name == "DENSITY") {
-        if (materials.empty()) ctx.Fail(line_no, kw.name, "outside a *MATERIAL");
-        const std::string type = UpperName(param("TYPE", false));
-        if (kw.name == "ELASTIC" && !type.empty() && type != "ISO" && type != "ISOTROPIC")
-          ctx.Fail(line_no, kw.name, "TYPE=" + type + " not supported (isotropic only)");
-        block = kw.name == "ELASTIC" ? Block::kElastic : Block::kDensity;
-      } else if (kw.name == "SOLID SECTION") {
-        block = Block::kSection;
-        sections.push_back({param("ELSET", true), UpperName(param("MATERIAL", true)), line_no});
-      } else if (kw.name == "INCLUDE") {
-        ctx.Fail(line_no, kw.name, "not supported (merge the included file into this one)");
-      } else {
-        block = Block::kSkip;
-        result.notes.push_back(source + ":" + std::to_string(line_no) + ": *" + kw.name + " ignored");
-      }
-      continue;
+      if (!pending_.empty()) ctx_.Fail(pending_line_, kw_.name, "data line continued with a comma but no data follows");
+      ReadKeyword(line, line_no);
+    } else {
+      ReadDataLine(line, line_no);
     }
+  }
 
-    // Data line; a trailing comma continues it on the next line
-    if (block == Block::kSkip) continue;
-    if (block == Block::kNone) ctx.Fail(line_no, "", "data line outside a keyword block");
+  void Finish() {
+    if (!pending_.empty()) ctx_.Fail(pending_line_, kw_.name, "data line continued with a comma but the file ends");
+    AddNodesAndElements();
+    AddSets();
+    AssignSections();
+  }
+
+ private:
+  enum class Block { kNone, kNode, kElement, kNset, kElset, kElastic, kDensity, kSection, kSkip };
+
+  // A keyword's parameter; "" when absent (an error if required).
+  std::string Param(const char* key, bool required) const {
+    const auto it = kw_.params.find(key);
+    if (it == kw_.params.end() || it->second.empty()) {
+      if (required) ctx_.Fail(kw_.line, kw_.name, std::string("missing parameter ") + key + "=");
+      return "";
+    }
+    return it->second;
+  }
+
+  // "*NAME, KEY=VALUE, FLAG": the block it opens.
+  void ReadKeyword(const std::string& line, int line_no) {
+    const std::vector<std::string> parts = SplitCommas(std::string_view(line).substr(1));
+    kw_ = Keyword{UpperName(parts[0]), {}, line_no};
+    for (std::size_t i = 1; i < parts.size(); ++i) {
+      if (parts[i].empty()) continue;
+      const std::size_t eq = parts[i].find('=');
+      if (eq == std::string::npos) kw_.params[UpperName(parts[i])] = "";
+      else kw_.params[UpperName(Trim(parts[i].substr(0, eq)))] = Trim(parts[i].substr(eq + 1));
+    }
+    generate_ = kw_.params.contains("GENERATE");
+    const std::string& name = kw_.name;
+    if (name == "NODE") {
+      block_ = Block::kNode;
+      set_name_ = Param("NSET", false);
+    } else if (name == "ELEMENT") {
+      block_ = Block::kElement;
+      const std::string type = Param("TYPE", true);
+      element_type_ = ElementTypeFromCalculixName(type);
+      if (!element_type_) ctx_.Fail(line_no, name, "element type " + type + " not supported (C3D4, C3D10, C3D8, C3D20)");
+      set_name_ = Param("ELSET", false);
+    } else if (name == "NSET" || name == "ELSET") {
+      block_ = name == "NSET" ? Block::kNset : Block::kElset;
+      set_name_ = Param(name.c_str(), true);
+    } else if (name == "MATERIAL") {
+      block_ = Block::kNone;
+      materials_.push_back({.m = {.name = UpperName(Param("NAME", true))}, .line = line_no});
+    } else if (name == "ELASTIC" || name == "DENSITY") {
+      if (materials_.empty()) ctx_.Fail(line_no, name, "outside a *MATERIAL");
+      const std::string type = UpperName(Param("TYPE", false));
+      if (name == "ELASTIC" && !type.empty() && type != "ISO" && type != "ISOTROPIC")
+        ctx_.Fail(line_no, name, "TYPE=" + type + " not supported (isotropic only)");
+      block_ = name == "ELASTIC" ? Block::kElastic : Block::kDensity;
+    } else if (name == "SOLID SECTION") {
+      block_ = Block::kSection;
+      sections_.push_back({Param("ELSET", true), UpperName(Param("MATERIAL", true)), line_no});
+    } else if (name == "INCLUDE") {
+      ctx_.Fail(line_no, name, "not supported (merge the included file into this one)");
+    } else {
+      block_ = Block::kSkip;
+      result_.notes.push_back(source_ + ":" + std::to_string(line_no) + ": *" + name + " ignored");
+    }
+  }
+
+  // A data line; a trailing comma continues it on the next line (an element: until it has its
+  // 1 + NodeCount values, however many lines they take).
+  void ReadDataLine(const std::string& line, int line_no) {
+    if (block_ == Block::kSkip) return;
+    if (block_ == Block::kNone) ctx_.Fail(line_no, "", "data line outside a keyword block");
     std::vector<std::string> values = SplitCommas(line);
     const bool continued = !values.empty() && values.back().empty();
     if (continued) values.pop_back();
-    if (pending.empty()) pending_line = line_no;
-    pending.insert(pending.end(), values.begin(), values.end());
-    if (block == Block::kElement) {
-      // An element needs 1 + NodeCount values, however many lines they take
-      const std::size_t need = 1 + NodeCount(*element_type);
-      if (pending.size() < need) continue;
-      if (pending.size() > need)
-        ctx.Fail(line_no, kw.name, std::to_string(pending.size() - 1) + " node ids for a " +
-                                       CalculixName(*element_type) + " element, expected " + std::to_string(need - 1));
+    if (pending_.empty()) pending_line_ = line_no;
+    pending_.insert(pending_.end(), values.begin(), values.end());
+    if (block_ == Block::kElement) {
+      const std::size_t need = 1 + NodeCount(*element_type_);
+      if (pending_.size() < need) return;
+      if (pending_.size() > need)
+        ctx_.Fail(line_no, kw_.name, std::to_string(pending_.size() - 1) + " node ids for a " +
+                                         CalculixName(*element_type_) + " element, expected " + std::to_string(need - 1));
     } else if (continued) {
-      continue;
+      return;
     }
-    values.swap(pending);
-    pending.clear();
-    const int at = pending_line;
+    values.swap(pending_);
+    pending_.clear();
+    StoreRecord(values, pending_line_);
+  }
 
-    auto as_int = [&](const std::string& s, const char* what) {
-      const std::optional<long long> v = ParseInt(s);
-      if (!v || *v < 1 || *v > 2147483647) ctx.Fail(at, kw.name, std::string(what) + " '" + s + "' is not a positive integer");
-      return static_cast<int>(*v);
-    };
-    auto as_double = [&](const std::string& s, const char* what) {
-      const std::optional<double> v = ParseDouble(s);
-      if (!v) ctx.Fail(at, kw.name, std::string(what) + " '" + s + "' is not a number");
-      return *v;
-    };
-    switch (block) {
+  int AsInt(const std::string& s, const char* what, int at) const {
+    const std::optional<long long> v = ParseInt(s);
+    if (!v || *v < 1 || *v > 2147483647) ctx_.Fail(at, kw_.name, std::string(what) + " '" + s + "' is not a positive integer");
+    return static_cast<int>(*v);
+  }
+  double AsDouble(const std::string& s, const char* what, int at) const {
+    const std::optional<double> v = ParseDouble(s);
+    if (!v) ctx_.Fail(at, kw_.name, std::string(what) + " '" + s + "' is not a number");
+    return *v;
+  }
+
+  // One complete data record of the open block, first line `at`.
+  void StoreRecord(const std::vector<std::string>& values, int at) {
+    switch (block_) {
       case Block::kNode: {
-        if (values.size() < 2 || values.size() > 4) ctx.Fail(at, kw.name, "expected id, x, y, z");
+        if (values.size() < 2 || values.size() > 4) ctx_.Fail(at, kw_.name, "expected id, x, y, z");
         Eigen::Vector3d p = Eigen::Vector3d::Zero();
-        for (std::size_t i = 1; i < values.size(); ++i) p(i - 1) = values[i].empty() ? 0.0 : as_double(values[i], "coordinate");
-        nodes.push_back({as_int(values[0], "node id"), p, at});
-        if (!set_name.empty()) sets.push_back({true, set_name, {values[0]}, false, at, kw.name});
+        for (std::size_t i = 1; i < values.size(); ++i)
+          p(i - 1) = values[i].empty() ? 0.0 : AsDouble(values[i], "coordinate", at);
+        nodes_.push_back({AsInt(values[0], "node id", at), p, at});
+        if (!set_name_.empty()) sets_.push_back({true, set_name_, {values[0]}, false, at, kw_.name});
         break;
       }
       case Block::kElement: {
-        ElementRecord e{as_int(values[0], "element id"), *element_type, {}, at};
-        for (std::size_t i = 1; i < values.size(); ++i) e.nodes.push_back(as_int(values[i], "node id"));
-        if (!set_name.empty()) sets.push_back({false, set_name, {values[0]}, false, at, kw.name});
-        elements.push_back(std::move(e));
+        ElementRecord e{AsInt(values[0], "element id", at), *element_type_, {}, at};
+        for (std::size_t i = 1; i < values.size(); ++i) e.nodes.push_back(AsInt(values[i], "node id", at));
+        if (!set_name_.empty()) sets_.push_back({false, set_name_, {values[0]}, false, at, kw_.name});
+        elements_.push_back(std::move(e));
         break;
       }
       case Block::kNset:
@@ -223,91 +223,131 @@ InpReadResult ParseInp(std::istream& in, const std::string& source) {
         std::vector<std::string> items;
         for (const std::string& v : values)
           if (!v.empty()) items.push_back(v);
-        if (generate && (items.size() < 2 || items.size() > 3))
-          ctx.Fail(at, kw.name, "GENERATE expects first, last[, increment]");
-        sets.push_back({block == Block::kNset, set_name, items, generate, at, kw.name});
+        if (generate_ && (items.size() < 2 || items.size() > 3))
+          ctx_.Fail(at, kw_.name, "GENERATE expects first, last[, increment]");
+        sets_.push_back({block_ == Block::kNset, set_name_, items, generate_, at, kw_.name});
         break;
       }
       case Block::kElastic: {
-        if (values.size() < 2) ctx.Fail(at, kw.name, "expected E, nu");
-        if (values.size() > 2 && !values[2].empty()) ctx.Fail(at, kw.name, "temperature-dependent data not supported");
-        materials.back().m.youngs_modulus_pa = as_double(values[0], "E");
-        materials.back().m.poissons_ratio = as_double(values[1], "nu");
-        materials.back().has_elastic = true;
-        block = Block::kSkip;  // one line only
+        if (values.size() < 2) ctx_.Fail(at, kw_.name, "expected E, nu");
+        if (values.size() > 2 && !values[2].empty()) ctx_.Fail(at, kw_.name, "temperature-dependent data not supported");
+        materials_.back().m.youngs_modulus_pa = AsDouble(values[0], "E", at);
+        materials_.back().m.poissons_ratio = AsDouble(values[1], "nu", at);
+        materials_.back().has_elastic = true;
+        block_ = Block::kSkip;  // one line only
         break;
       }
       case Block::kDensity: {
-        if (values.empty() || (values.size() > 1 && !values[1].empty())) ctx.Fail(at, kw.name, "expected rho");
-        materials.back().m.density_kg_m3 = as_double(values[0], "density");
-        materials.back().has_density = true;
-        block = Block::kSkip;
+        if (values.empty() || (values.size() > 1 && !values[1].empty())) ctx_.Fail(at, kw_.name, "expected rho");
+        materials_.back().m.density_kg_m3 = AsDouble(values[0], "density", at);
+        materials_.back().has_density = true;
+        block_ = Block::kSkip;
         break;
       }
-      case Block::kSection: block = Block::kSkip; break;  // thickness line: not used by solids
+      case Block::kSection: block_ = Block::kSkip; break;  // thickness line: not used by solids
       case Block::kNone:
       case Block::kSkip: break;
     }
   }
-  if (!pending.empty()) ctx.Fail(pending_line, kw.name, "data line continued with a comma but the file ends");
 
-  // Build the mesh: nodes, elements, sets in file order, materials, sections
-  FeMesh& mesh = result.mesh;
-  for (const NodeRecord& n : nodes) {
-    try {
-      mesh.AddNode(n.id, n.p);
-    } catch (const std::invalid_argument& e) {
-      ctx.Fail(n.line, "NODE", e.what());
-    }
-  }
-  for (const ElementRecord& e : elements) {
-    try {
-      mesh.AddElement(e.id, e.type, e.nodes);
-    } catch (const std::invalid_argument& ex) {
-      ctx.Fail(e.line, "ELEMENT", ex.what());
-    }
-  }
-  for (const SetRecord& s : sets) {
-    std::vector<int> indices;
-    auto add_id = [&](long long id) {
-      const std::optional<int> i = s.nodes ? mesh.FindNode(static_cast<int>(id)) : mesh.FindElement(static_cast<int>(id));
-      if (!i) ctx.Fail(s.line, s.keyword, std::string(s.nodes ? "unknown node " : "unknown element ") + std::to_string(id));
-      indices.push_back(*i);
-    };
-    if (s.generate) {
-      const std::optional<long long> a = ParseInt(s.items[0]), b = ParseInt(s.items[1]),
-                                     step = s.items.size() > 2 ? ParseInt(s.items[2]) : std::optional<long long>(1);
-      if (!a || !b || !step || *step < 1 || *b < *a) ctx.Fail(s.line, s.keyword, "bad GENERATE range");
-      for (long long id = *a; id <= *b; id += *step) add_id(id);
-    } else {
-      for (const std::string& item : s.items) {
-        if (const std::optional<long long> id = ParseInt(item)) {
-          add_id(*id);
-          continue;
-        }
-        // A set name: its members
-        const auto& existing = s.nodes ? mesh.node_sets() : mesh.element_sets();
-        const auto it = existing.find(UpperName(item));
-        if (it == existing.end()) ctx.Fail(s.line, s.keyword, "'" + item + "' is neither an id nor a known set");
-        indices.insert(indices.end(), it->second.begin(), it->second.end());
+  void AddNodesAndElements() {
+    FeMesh& mesh = result_.mesh;
+    for (const NodeRecord& n : nodes_) {
+      try {
+        mesh.AddNode(n.id, n.p);
+      } catch (const std::invalid_argument& e) {
+        ctx_.Fail(n.line, "NODE", e.what());
       }
     }
-    if (s.nodes) mesh.AddToNodeSet(s.name, indices);
-    else mesh.AddToElementSet(s.name, indices);
-  }
-  for (const SectionRecord& sec : sections) {
-    const MaterialRecord* m = nullptr;
-    for (const MaterialRecord& r : materials)
-      if (r.m.name == sec.material) m = &r;
-    if (!m) ctx.Fail(sec.line, "SOLID SECTION", "unknown material " + sec.material);
-    if (!m->has_elastic || !m->has_density)
-      ctx.Fail(m->line, "MATERIAL", m->m.name + ": needs *ELASTIC and *DENSITY for modes");
-    try {
-      mesh.AssignMaterial(sec.elset, m->m);
-    } catch (const std::invalid_argument& e) {
-      ctx.Fail(sec.line, "SOLID SECTION", e.what());
+    for (const ElementRecord& e : elements_) {
+      try {
+        mesh.AddElement(e.id, e.type, e.nodes);
+      } catch (const std::invalid_argument& ex) {
+        ctx_.Fail(e.line, "ELEMENT", ex.what());
+      }
     }
   }
+
+  // Sets in file order: ids, GENERATE ranges, or the members of sets defined before.
+  void AddSets() {
+    FeMesh& mesh = result_.mesh;
+    for (const SetRecord& s : sets_) {
+      std::vector<int> indices;
+      auto add_id = [&](long long id) {
+        const std::optional<int> i = s.nodes ? mesh.FindNode(static_cast<int>(id)) : mesh.FindElement(static_cast<int>(id));
+        if (!i) ctx_.Fail(s.line, s.keyword, std::string(s.nodes ? "unknown node " : "unknown element ") + std::to_string(id));
+        indices.push_back(*i);
+      };
+      if (s.generate) {
+        const std::optional<long long> a = ParseInt(s.items[0]), b = ParseInt(s.items[1]),
+                                       step = s.items.size() > 2 ? ParseInt(s.items[2]) : std::optional<long long>(1);
+        if (!a || !b || !step || *step < 1 || *b < *a) ctx_.Fail(s.line, s.keyword, "bad GENERATE range");
+        for (long long id = *a; id <= *b; id += *step) add_id(id);
+      } else {
+        for (const std::string& item : s.items) {
+          if (const std::optional<long long> id = ParseInt(item)) {
+            add_id(*id);
+            continue;
+          }
+          const auto& existing = s.nodes ? mesh.node_sets() : mesh.element_sets();
+          const auto it = existing.find(UpperName(item));
+          if (it == existing.end()) ctx_.Fail(s.line, s.keyword, "'" + item + "' is neither an id nor a known set");
+          indices.insert(indices.end(), it->second.begin(), it->second.end());
+        }
+      }
+      if (s.nodes) mesh.AddToNodeSet(s.name, indices);
+      else mesh.AddToElementSet(s.name, indices);
+    }
+  }
+
+  void AssignSections() {
+    for (const SectionRecord& sec : sections_) {
+      const MaterialRecord* m = nullptr;
+      for (const MaterialRecord& r : materials_)
+        if (r.m.name == sec.material) m = &r;
+      if (!m) ctx_.Fail(sec.line, "SOLID SECTION", "unknown material " + sec.material);
+      if (!m->has_elastic || !m->has_density)
+        ctx_.Fail(m->line, "MATERIAL", m->m.name + ": needs *ELASTIC and *DENSITY for modes");
+      try {
+        result_.mesh.AssignMaterial(sec.elset, m->m);
+      } catch (const std::invalid_argument& e) {
+        ctx_.Fail(sec.line, "SOLID SECTION", e.what());
+      }
+    }
+  }
+
+  const std::string& source_;
+  const Context ctx_;
+  InpReadResult& result_;
+  std::vector<NodeRecord> nodes_;
+  std::vector<ElementRecord> elements_;
+  std::vector<SetRecord> sets_;  // in file order
+  std::vector<MaterialRecord> materials_;
+  std::vector<SectionRecord> sections_;
+  Block block_ = Block::kNone;
+  Keyword kw_;
+  std::optional<ElementType> element_type_;
+  std::string set_name_;
+  bool generate_ = false;
+  std::vector<std::string> pending_;  // values of a continued data line
+  int pending_line_ = 0;
+};
+
+}  // namespace
+
+InpReadResult ParseInp(std::istream& in, const std::string& source) {
+  InpReadResult result;
+  InpParser parser(source, result);
+  std::string raw;
+  int line_no = 0;
+  while (std::getline(in, raw)) {
+    ++line_no;
+    if (!raw.empty() && raw.back() == '\r') raw.pop_back();
+    const std::string line = Trim(raw);
+    if (line.empty() || line.rfind("**", 0) == 0) continue;
+    parser.ReadLine(line, line_no);
+  }
+  parser.Finish();
   return result;
 }
 

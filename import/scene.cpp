@@ -872,40 +872,13 @@ void ApplyOverride(Context& ctx, YAML::Node& root, const std::string& setting) {
 // ---------------------------------------------------------------------------------------------
 // Scene text: the tree after overrides, emitted with quoted strings kept quoted
 
-void Emit(YAML::Emitter& out, const YAML::Node& n) {
-  switch (n.Type()) {
-    case YAML::NodeType::Sequence:
-      if (n.Style() == YAML::EmitterStyle::Flow) out << YAML::Flow;
-      out << YAML::BeginSeq;
-      for (const YAML::Node& item : n) Emit(out, item);
-      out << YAML::EndSeq;
-      break;
-    case YAML::NodeType::Map:
-      if (n.Style() == YAML::EmitterStyle::Flow) out << YAML::Flow;
-      out << YAML::BeginMap;
-      for (auto it = n.begin(); it != n.end(); ++it) {
-        out << YAML::Key;
-        Emit(out, it->first);
-        out << YAML::Value;
-        Emit(out, it->second);
-      }
-      out << YAML::EndMap;
-      break;
-    case YAML::NodeType::Scalar:
-      if (n.Tag() == "!") out << YAML::DoubleQuoted;
-      out << n.Scalar();
-      break;
-    default: out << YAML::Null; break;
-  }
-}
-
 std::string SceneText(const std::string& original, const std::string& file, const YAML::Node& root,
                       const std::vector<std::string>& overrides) {
   if (overrides.empty()) return original;
   std::string text = "# " + file + " with overrides:\n";
   for (const std::string& o : overrides) text += "#   --set " + o + "\n";
   YAML::Emitter out;
-  Emit(out, root);
+  EmitYaml(out, root, false);
   return text + out.c_str() + "\n";
 }
 

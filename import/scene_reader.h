@@ -359,6 +359,36 @@ class MapReader {
 // ---------------------------------------------------------------------------------------------
 // Rotations, poses and functions of time
 
+// Writes `n` to `out` as YAML text that reads back to the same node: every collection in flow
+// style when `all_flow` (a one-line value for `--set key=TEXT`), else in the style each had;
+// scalars tagged "!" (quoted in the source) stay quoted.
+inline void EmitYaml(YAML::Emitter& out, const YAML::Node& n, bool all_flow) {
+  switch (n.Type()) {
+    case YAML::NodeType::Sequence:
+      if (all_flow || n.Style() == YAML::EmitterStyle::Flow) out << YAML::Flow;
+      out << YAML::BeginSeq;
+      for (const YAML::Node& item : n) EmitYaml(out, item, all_flow);
+      out << YAML::EndSeq;
+      break;
+    case YAML::NodeType::Map:
+      if (all_flow || n.Style() == YAML::EmitterStyle::Flow) out << YAML::Flow;
+      out << YAML::BeginMap;
+      for (auto it = n.begin(); it != n.end(); ++it) {
+        out << YAML::Key;
+        EmitYaml(out, it->first, all_flow);
+        out << YAML::Value;
+        EmitYaml(out, it->second, all_flow);
+      }
+      out << YAML::EndMap;
+      break;
+    case YAML::NodeType::Scalar:
+      if (n.Tag() == "!") out << YAML::DoubleQuoted;
+      out << n.Scalar();
+      break;
+    default: out << YAML::Null; break;
+  }
+}
+
 inline Mat3 RotX(double a) { return AxisAngle(Vec3::UnitX(), a); }
 inline Mat3 RotY(double a) { return AxisAngle(Vec3::UnitY(), a); }
 inline Mat3 RotZ(double a) { return AxisAngle(Vec3::UnitZ(), a); }

@@ -21,39 +21,14 @@ std::string Where(const Context& ctx, const Item& it) {
   return w + ": " + it.path;
 }
 
-// A YAML node as one line of YAML text: scalars as written (quoted ones quoted), lists and maps
-// in flow style. This is the text a `--set key=TEXT` hands to the scene reader.
-void EmitFlow(YAML::Emitter& out, const YAML::Node& n) {
-  switch (n.Type()) {
-    case YAML::NodeType::Sequence:
-      out << YAML::Flow << YAML::BeginSeq;
-      for (const YAML::Node& item : n) EmitFlow(out, item);
-      out << YAML::EndSeq;
-      break;
-    case YAML::NodeType::Map:
-      out << YAML::Flow << YAML::BeginMap;
-      for (auto it = n.begin(); it != n.end(); ++it) {
-        out << YAML::Key;
-        EmitFlow(out, it->first);
-        out << YAML::Value;
-        EmitFlow(out, it->second);
-      }
-      out << YAML::EndMap;
-      break;
-    case YAML::NodeType::Scalar:
-      if (n.Tag() == "!") out << YAML::DoubleQuoted;
-      out << n.Scalar();
-      break;
-    default: out << YAML::Null; break;
-  }
-}
-
+// A study value as text for `--set key=TEXT`: a plain scalar as written, anything else as flow
+// YAML (quoted strings kept quoted).
 std::string ValueText(const Context& ctx, const Item& it) {
   if (!it.node.IsDefined() || it.node.IsNull())
     ctx.Fail(it, "expected a value, got nothing (null)");
   if (it.node.IsScalar() && it.node.Tag() != "!") return it.node.Scalar();
   YAML::Emitter out;
-  EmitFlow(out, it.node);
+  EmitYaml(out, it.node, true);
   return out.c_str();
 }
 

@@ -24,6 +24,7 @@
 #include "mbd/model.h"
 #include "mbd/result_file.h"
 #include "mbd/simulation.h"
+#include "tests/common/plain_test_element.h"
 
 namespace orrery {
 namespace {
@@ -148,15 +149,10 @@ TEST(RunHealth, LumpedMeshDeflectedBeyondAQuarterPitchStopsTheRun) {
 
 // A torque on a rotor that reports no power (an element that forgets its energy): the energy
 // balance is off by the kinetic energy it put in, (T t)^2 / (2 J).
-class SilentTorque final : public ExternalForceElement {
+class SilentTorque final : public test_support::PlainTestElement {
  public:
   explicit SilentTorque(BodyIndex body, double torque) : body_(body), torque_(torque) {}
   const std::string& name() const override { return name_; }
-  bool HasTangents() const override { return false; }
-  void AddTangents(const Model&, const Data&, ExternalForceWorkspace&, Eigen::Ref<Eigen::MatrixXd>,
-                   Eigen::Ref<Eigen::MatrixXd>) const override {}
-  const std::vector<OutputDescription>& outputs() const override { return outputs_; }
-  void GetOutputs(const ExternalForceWorkspace&, double*) const override {}
   std::unique_ptr<ExternalForceWorkspace> MakeWorkspace(const Model&) const override {
     return std::make_unique<ExternalForceWorkspace>();
   }
@@ -165,7 +161,6 @@ class SilentTorque final : public ExternalForceElement {
   }
 
  private:
-  std::vector<OutputDescription> outputs_;
   std::string name_ = "silent";
   BodyIndex body_;
   double torque_;
@@ -233,15 +228,10 @@ TEST(RunHealth, ConstraintDriftNamesTheRow) {
 }
 
 // An element with checks of its own (element_health.h): a value it reports against its limit.
-class ReportingElement final : public ExternalForceElement, public ElementHealthReporter {
+class ReportingElement final : public test_support::PlainTestElement, public ElementHealthReporter {
  public:
   ReportingElement(double value, bool stops) : value_(value), stops_(stops) {}
   const std::string& name() const override { return name_; }
-  bool HasTangents() const override { return false; }
-  void AddTangents(const Model&, const Data&, ExternalForceWorkspace&, Eigen::Ref<Eigen::MatrixXd>,
-                   Eigen::Ref<Eigen::MatrixXd>) const override {}
-  const std::vector<OutputDescription>& outputs() const override { return outputs_; }
-  void GetOutputs(const ExternalForceWorkspace&, double*) const override {}
   std::unique_ptr<ExternalForceWorkspace> MakeWorkspace(const Model&) const override {
     return std::make_unique<ExternalForceWorkspace>();
   }
@@ -253,7 +243,6 @@ class ReportingElement final : public ExternalForceElement, public ElementHealth
   void GetHealthValues(const ExternalForceWorkspace&, double* values) const override { values[0] = value_; }
 
  private:
-  std::vector<OutputDescription> outputs_;
   std::string name_ = "teeth";
   double value_;
   bool stops_;

@@ -29,6 +29,7 @@
 #include "mbd/model.h"
 #include "mbd/result_file.h"
 #include "mbd/simulation.h"
+#include "tests/common/plain_test_element.h"
 
 namespace orrery {
 namespace {
@@ -381,15 +382,10 @@ TEST(SensorSampler, ResultFileLayoutAndAttributes) {
 // A run that stops: the sensors end with /time.
 
 // Throws once the simulated time passes t_fail (a solver failure in the middle of a run).
-class FailingElement final : public ExternalForceElement {
+class FailingElement final : public test_support::PlainTestElement {
  public:
   explicit FailingElement(double t_fail) : t_fail_(t_fail) {}
   const std::string& name() const override { return name_; }
-  bool HasTangents() const override { return false; }
-  void AddTangents(const Model&, const Data&, ExternalForceWorkspace&, Eigen::Ref<Eigen::MatrixXd>,
-                   Eigen::Ref<Eigen::MatrixXd>) const override {}
-  const std::vector<OutputDescription>& outputs() const override { return outputs_; }
-  void GetOutputs(const ExternalForceWorkspace&, double*) const override {}
   std::unique_ptr<ExternalForceWorkspace> MakeWorkspace(const Model&) const override {
     return std::make_unique<ExternalForceWorkspace>();
   }
@@ -398,7 +394,6 @@ class FailingElement final : public ExternalForceElement {
   }
 
  private:
-  std::vector<OutputDescription> outputs_;
   std::string name_ = "failing";
   double t_fail_;
 };

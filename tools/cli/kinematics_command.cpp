@@ -56,125 +56,159 @@ int SceneFaultGear(const gears::PlanetaryTrain& t, const gears::TrainToothFault&
   throw std::invalid_argument("tooth fault on '" + f.gear + "': no such gear");
 }
 
-int GearTrainReport(const Scene& scene, const KinematicsArgs& args, std::ostream& out) {
+// What the report says of a gear train at the range asked for: kinematics at the operating
+// point, power flow at the input torque (unit speeds at rest), and per mesh its forces, geometry
+// and stiffness.
+struct TrainReport {
+  int range = 0;
+  Eigen::VectorXd w;  // input speeds, rad/s
+  gears::PlanetaryKinematics k;
+  gears::PlanetaryPowerFlow p;
+  bool torque_given = false;
+  std::vector<MeshReport> meshes;
+};
+
+int ReportRange(const GearTrainScene& g, const KinematicsArgs& args) {
+  const gears::PlanetaryTrain& t = *g.train;
+  if (args.range.empty()) return g.range;
+  if (!t.range_by_name.count(args.range)) {
+    std::string known;
+    for (const gears::GearRange& r : t.ranges) known += (known.empty() ? "" : ", ") + r.name;
+    throw std::invalid_argument("--range: no gear range named '" + args.range + "' (ranges: " + known + ")");
+  }
+  return t.RangeIndex(args.range);
+}
+
+MeshReport MeshReportOf(const GearTrainScene& g, const TrainReport& tr, int mi) {
+  const gears::PlanetaryTrain& t = *g.train;
+  const gears::PlanetaryKinematics& k = tr.k;
+  const gears::PlanetaryPowerFlow& p = tr.p;
+  const bool torque_given = tr.torque_given;
+  const int range = tr.range;
+  const gears::TrainMesh& m = t.meshes[mi];
+  MeshReport r;
+  r.name = m.name;
+  r.stage = t.stages[m.stage].name;
+  r.mesh_frequency_hz = k.mesh_frequencies_hz(mi);
+  r.static_force_n = torque_given ? p.mesh_tangential_forces_n(mi) : 0.0;
+  r.line_of_action_force_n = torque_given ? p.mesh_line_of_action_forces_n(mi) : 0.0;
+  r.normal_force_n = torque_given ? p.mesh_normal_forces_n(mi) : 0.0;
+  r.loaded = torque_given && p.mesh_loaded[mi];
+  const bool internal = m.kind == gears::MeshKind::kInternal;
+  r.gear_1 = t.gears[internal ? m.gear_b : m.gear_a].name;
+  r.gear_2 = t.gears[internal ? m.gear_a : m.gear_b].name;
+  try {
+    const gears::GearPair pair = gears::MakeTrainGearPair(t, mi, g.options);
+    r.base_radius_1_m = pair.gear1().base_radius_m();
+    r.base_radius_2_m = pair.gear2().base_radius_m();
+    r.contact_ratio = pair.transverse_contact_ratio();
+    r.overlap_ratio = pair.overlap_ratio();
+    r.working_pressure_angle_deg = pair.working_pressure_angle_rad() * kRadToDeg;
+    r.face_width_m = pair.face_width_m();
+    const gears::Iso6336Stiffness iso = gears::CalcIso6336Stiffness(pair);
+    r.c_prime_th = iso.c_th;
+    r.c_prime = iso.c_single;
+    r.c_gamma_alpha = iso.c_gamma_alpha;
+    r.c_gamma_beta = iso.c_gamma_beta;
+    const gears::Tvms tvms = gears::CalcTvms(pair, gears::MakeTrainTvmsOptions(t, mi, g.options));
+    r.tvms_mean = tvms.mean_n_per_m;
+    r.tvms_min = tvms.min_n_per_m;
+    r.tvms_max = tvms.max_n_per_m;
+  } catch (const std::exception& e) {
+    r.geometry_error = OneLine(e.what());
+  }
+  if (range == g.range)
+    for (const gears::TrainMeshElement& e : g.model->meshes)
+      if (e.train_mesh == mi && e.branch == 0) r.model_stiffness = e.stiffness_n_per_m;
+  return r;
+}
+
+TrainReport MakeTrainReport(const GearTrainScene& g, const KinematicsArgs& args) {
+  const gears::PlanetaryTrain& t = *g.train;
+  TrainReport tr;
+  tr.range = ReportRange(g, args);
+  const int ni = static_cast<int>(t.inputs.size());
+  tr.w.resize(ni);
+  Eigen::VectorXd w_flow = Eigen::VectorXd::Ones(ni);
+  for (int i = 0; i < ni; ++i) tr.w(i) = g.input_speeds_rad_s[i];
+  if (tr.w.cwiseAbs().maxCoeff() > 0) w_flow = tr.w;
+  tr.k = gears::SolvePlanetaryKinematics(t, tr.range, tr.w);
+  tr.p = gears::CalcPlanetaryPowerFlow(t, gears::SolvePlanetaryKinematics(t, tr.range, w_flow), t.inputs[0],
+                                       g.input_torque_n_m);
+  tr.torque_given = g.input_torque_n_m != 0;
+  for (int mi = 0; mi < static_cast<int>(t.meshes.size()); ++mi) tr.meshes.push_back(MeshReportOf(g, tr, mi));
+  return tr;
+}
+
+void WriteTrainJson(const Scene& scene, const TrainReport& tr, std::ostream& out) {
   const GearTrainScene& g = *scene.gear_train;
   const gears::PlanetaryTrain& t = *g.train;
-  // Range.
-  int range = g.range;
-  if (!args.range.empty()) {
-    if (!t.range_by_name.count(args.range)) {
-      std::string known;
-      for (const gears::GearRange& r : t.ranges) known += (known.empty() ? "" : ", ") + r.name;
-      throw std::invalid_argument("--range: no gear range named '" + args.range + "' (ranges: " + known + ")");
-    }
-    range = t.RangeIndex(args.range);
+  const gears::PlanetaryKinematics& k = tr.k;
+  const gears::PlanetaryPowerFlow& p = tr.p;
+  const Eigen::VectorXd& w = tr.w;
+  const int range = tr.range, ni = static_cast<int>(w.size());
+  const bool torque_given = tr.torque_given;
+  const std::vector<MeshReport>& meshes = tr.meshes;
+  JsonWriter j(out);
+  j.BeginObject().Key("scene").String(scene.name).Key("kind").String("gear_train");
+  j.Key("range").String(t.ranges[range].name).Key("ratio").Number(k.ratio);
+  j.Key("inputs").BeginArray();
+  for (int i = 0; i < ni; ++i)
+    j.BeginObject().Key("member").String(t.members[t.inputs[i]].name).Key("speed_rad_s").Number(w(i)).EndObject();
+  j.EndArray().Key("input_torque_n_m").Number(g.input_torque_n_m);
+  j.Key("members").BeginObject();
+  for (int i = 0; i < t.num_members(); ++i) {
+    j.Key(t.members[i].name).BeginObject();
+    j.Key("speed_rad_s").Number(k.speeds_rad_s(i)).Key("speed_rpm").Number(k.speeds_rad_s(i) * kRadPerSToRpm);
+    j.Key("torque_n_m").Number(p.mesh_torques_n_m(i)).Key("external_torque_n_m").Number(p.external_torques_n_m(i));
+    j.Key("loaded").Bool(torque_given && p.member_loaded[i]).EndObject();
   }
-  // Kinematics at the operating point; power flow at the input torque (unit speeds at rest).
-  const int ni = static_cast<int>(t.inputs.size());
-  Eigen::VectorXd w(ni), w_flow = Eigen::VectorXd::Ones(ni);
-  for (int i = 0; i < ni; ++i) w(i) = g.input_speeds_rad_s[i];
-  if (w.cwiseAbs().maxCoeff() > 0) w_flow = w;
-  const gears::PlanetaryKinematics k = gears::SolvePlanetaryKinematics(t, range, w);
-  const gears::PlanetaryPowerFlow p = gears::CalcPlanetaryPowerFlow(
-      t, gears::SolvePlanetaryKinematics(t, range, w_flow), t.inputs[0], g.input_torque_n_m);
-  const bool torque_given = g.input_torque_n_m != 0;
-
-  // Per mesh: kinematics, forces, geometry and stiffness.
-  std::vector<MeshReport> meshes;
-  for (int mi = 0; mi < static_cast<int>(t.meshes.size()); ++mi) {
-    const gears::TrainMesh& m = t.meshes[mi];
-    MeshReport r;
-    r.name = m.name;
-    r.stage = t.stages[m.stage].name;
-    r.mesh_frequency_hz = k.mesh_frequencies_hz(mi);
-    r.static_force_n = torque_given ? p.mesh_tangential_forces_n(mi) : 0.0;
-    r.line_of_action_force_n = torque_given ? p.mesh_line_of_action_forces_n(mi) : 0.0;
-    r.normal_force_n = torque_given ? p.mesh_normal_forces_n(mi) : 0.0;
-    r.loaded = torque_given && p.mesh_loaded[mi];
-    const bool internal = m.kind == gears::MeshKind::kInternal;
-    r.gear_1 = t.gears[internal ? m.gear_b : m.gear_a].name;
-    r.gear_2 = t.gears[internal ? m.gear_a : m.gear_b].name;
-    try {
-      const gears::GearPair pair = gears::MakeTrainGearPair(t, mi, g.options);
-      r.base_radius_1_m = pair.gear1().base_radius_m();
-      r.base_radius_2_m = pair.gear2().base_radius_m();
-      r.contact_ratio = pair.transverse_contact_ratio();
-      r.overlap_ratio = pair.overlap_ratio();
-      r.working_pressure_angle_deg = pair.working_pressure_angle_rad() * kRadToDeg;
-      r.face_width_m = pair.face_width_m();
-      const gears::Iso6336Stiffness iso = gears::CalcIso6336Stiffness(pair);
-      r.c_prime_th = iso.c_th;
-      r.c_prime = iso.c_single;
-      r.c_gamma_alpha = iso.c_gamma_alpha;
-      r.c_gamma_beta = iso.c_gamma_beta;
-      const gears::Tvms tvms = gears::CalcTvms(pair, gears::MakeTrainTvmsOptions(t, mi, g.options));
-      r.tvms_mean = tvms.mean_n_per_m;
-      r.tvms_min = tvms.min_n_per_m;
-      r.tvms_max = tvms.max_n_per_m;
-    } catch (const std::exception& e) {
-      r.geometry_error = OneLine(e.what());
-    }
-    if (range == g.range)
-      for (const gears::TrainMeshElement& e : g.model->meshes)
-        if (e.train_mesh == mi && e.branch == 0) r.model_stiffness = e.stiffness_n_per_m;
-    meshes.push_back(r);
+  j.EndObject().Key("planet_sets").BeginObject();
+  for (size_t s = 0; s < t.planet_sets.size(); ++s) {
+    const double rel = k.planet_relative_speeds_rad_s(s);
+    j.Key(t.planet_sets[s].name).BeginObject().Key("speed_rad_s").Number(k.speeds_rad_s(t.num_members() + s));
+    j.Key("relative_speed_rad_s").Number(rel).Key("relative_frequency_hz").Number(std::abs(rel) / (2 * std::numbers::pi));
+    j.EndObject();
   }
-
-  if (args.json) {
-    JsonWriter j(out);
-    j.BeginObject().Key("scene").String(scene.name).Key("kind").String("gear_train");
-    j.Key("range").String(t.ranges[range].name).Key("ratio").Number(k.ratio);
-    j.Key("inputs").BeginArray();
-    for (int i = 0; i < ni; ++i)
-      j.BeginObject().Key("member").String(t.members[t.inputs[i]].name).Key("speed_rad_s").Number(w(i)).EndObject();
-    j.EndArray().Key("input_torque_n_m").Number(g.input_torque_n_m);
-    j.Key("members").BeginObject();
-    for (int i = 0; i < t.num_members(); ++i) {
-      j.Key(t.members[i].name).BeginObject();
-      j.Key("speed_rad_s").Number(k.speeds_rad_s(i)).Key("speed_rpm").Number(k.speeds_rad_s(i) * kRadPerSToRpm);
-      j.Key("torque_n_m").Number(p.mesh_torques_n_m(i)).Key("external_torque_n_m").Number(p.external_torques_n_m(i));
-      j.Key("loaded").Bool(torque_given && p.member_loaded[i]).EndObject();
-    }
-    j.EndObject().Key("planet_sets").BeginObject();
-    for (size_t s = 0; s < t.planet_sets.size(); ++s) {
-      const double rel = k.planet_relative_speeds_rad_s(s);
-      j.Key(t.planet_sets[s].name).BeginObject().Key("speed_rad_s").Number(k.speeds_rad_s(t.num_members() + s));
-      j.Key("relative_speed_rad_s").Number(rel).Key("relative_frequency_hz").Number(std::abs(rel) / (2 * std::numbers::pi));
-      j.EndObject();
-    }
-    j.EndObject().Key("stage_mesh_frequencies_hz").BeginObject();
-    for (size_t s = 0; s < t.stages.size(); ++s) j.Key(t.stages[s].name).Number(k.stage_mesh_frequencies_hz(s));
-    j.EndObject().Key("meshes").BeginArray();
-    for (const MeshReport& r : meshes) {
-      j.BeginObject().Key("name").String(r.name).Key("stage").String(r.stage);
-      j.Key("mesh_frequency_hz").Number(r.mesh_frequency_hz).Key("static_force_n").Number(r.static_force_n);
-      j.Key("line_of_action_force_n").Number(r.line_of_action_force_n).Key("normal_force_n").Number(r.normal_force_n);
-      j.Key("loaded").Bool(r.loaded).Key("gear_1").String(r.gear_1).Key("gear_2").String(r.gear_2);
-      j.Key("base_radius_1_m").Number(r.base_radius_1_m).Key("base_radius_2_m").Number(r.base_radius_2_m);
-      j.Key("contact_ratio").Number(r.contact_ratio).Key("overlap_ratio").Number(r.overlap_ratio);
-      j.Key("working_pressure_angle_deg").Number(r.working_pressure_angle_deg).Key("face_width_m").Number(r.face_width_m);
-      j.Key("c_prime_th").Number(r.c_prime_th).Key("c_prime").Number(r.c_prime);
-      j.Key("c_gamma_alpha").Number(r.c_gamma_alpha).Key("c_gamma_beta").Number(r.c_gamma_beta);
-      j.Key("tvms_mean_n_per_m").Number(r.tvms_mean).Key("tvms_min_n_per_m").Number(r.tvms_min);
-      j.Key("tvms_max_n_per_m").Number(r.tvms_max).Key("tvms_range_n_per_m").Number(r.tvms_max - r.tvms_min);
-      j.Key("model_stiffness_n_per_m").Number(r.model_stiffness);
-      if (!r.geometry_error.empty()) j.Key("geometry_error").String(r.geometry_error);
-      j.EndObject();
-    }
-    j.EndArray().Key("fault_frequencies_hz").BeginObject();
-    for (size_t i = 0; i < t.gears.size(); ++i) j.Key(t.gears[i].name).Number(k.gear_fault_frequencies_hz(i));
-    // The scene's own faults (dynamics.faults) with the rate at which each meets its partners.
-    j.EndObject().Key("scene_faults").BeginArray();
-    for (const gears::TrainToothFault& f : g.options.tooth_faults) {
-      j.BeginObject().Key("gear").String(f.gear).Key("branch").Number(f.branch + 1);
-      j.Key("kind").String(gears::KindName(f.spec.kind)).Key("tooth").Number(f.spec.tooth);
-      j.Key("fault_frequency_hz").Number(k.gear_fault_frequencies_hz(SceneFaultGear(t, f))).EndObject();
-    }
-    j.EndArray().EndObject();
-    return kExitSuccess;
+  j.EndObject().Key("stage_mesh_frequencies_hz").BeginObject();
+  for (size_t s = 0; s < t.stages.size(); ++s) j.Key(t.stages[s].name).Number(k.stage_mesh_frequencies_hz(s));
+  j.EndObject().Key("meshes").BeginArray();
+  for (const MeshReport& r : meshes) {
+    j.BeginObject().Key("name").String(r.name).Key("stage").String(r.stage);
+    j.Key("mesh_frequency_hz").Number(r.mesh_frequency_hz).Key("static_force_n").Number(r.static_force_n);
+    j.Key("line_of_action_force_n").Number(r.line_of_action_force_n).Key("normal_force_n").Number(r.normal_force_n);
+    j.Key("loaded").Bool(r.loaded).Key("gear_1").String(r.gear_1).Key("gear_2").String(r.gear_2);
+    j.Key("base_radius_1_m").Number(r.base_radius_1_m).Key("base_radius_2_m").Number(r.base_radius_2_m);
+    j.Key("contact_ratio").Number(r.contact_ratio).Key("overlap_ratio").Number(r.overlap_ratio);
+    j.Key("working_pressure_angle_deg").Number(r.working_pressure_angle_deg).Key("face_width_m").Number(r.face_width_m);
+    j.Key("c_prime_th").Number(r.c_prime_th).Key("c_prime").Number(r.c_prime);
+    j.Key("c_gamma_alpha").Number(r.c_gamma_alpha).Key("c_gamma_beta").Number(r.c_gamma_beta);
+    j.Key("tvms_mean_n_per_m").Number(r.tvms_mean).Key("tvms_min_n_per_m").Number(r.tvms_min);
+    j.Key("tvms_max_n_per_m").Number(r.tvms_max).Key("tvms_range_n_per_m").Number(r.tvms_max - r.tvms_min);
+    j.Key("model_stiffness_n_per_m").Number(r.model_stiffness);
+    if (!r.geometry_error.empty()) j.Key("geometry_error").String(r.geometry_error);
+    j.EndObject();
   }
+  j.EndArray().Key("fault_frequencies_hz").BeginObject();
+  for (size_t i = 0; i < t.gears.size(); ++i) j.Key(t.gears[i].name).Number(k.gear_fault_frequencies_hz(i));
+  // The scene's own faults (dynamics.faults) with the rate at which each meets its partners.
+  j.EndObject().Key("scene_faults").BeginArray();
+  for (const gears::TrainToothFault& f : g.options.tooth_faults) {
+    j.BeginObject().Key("gear").String(f.gear).Key("branch").Number(f.branch + 1);
+    j.Key("kind").String(gears::KindName(f.spec.kind)).Key("tooth").Number(f.spec.tooth);
+    j.Key("fault_frequency_hz").Number(k.gear_fault_frequencies_hz(SceneFaultGear(t, f))).EndObject();
+  }
+  j.EndArray().EndObject();
+}
 
-  // Text.
+void WriteTrainText(const Scene& scene, const TrainReport& tr, std::ostream& out) {
+  const GearTrainScene& g = *scene.gear_train;
+  const gears::PlanetaryTrain& t = *g.train;
+  const gears::PlanetaryKinematics& k = tr.k;
+  const gears::PlanetaryPowerFlow& p = tr.p;
+  const Eigen::VectorXd& w = tr.w;
+  const int range = tr.range, ni = static_cast<int>(w.size());
+  const std::vector<MeshReport>& meshes = tr.meshes;
   out << "scene " << scene.name << " (gear_train), range " << t.ranges[range].name << ", ratio "
       << Fmt("%.5g", k.ratio) << ", input torque " << Fmt("%g", g.input_torque_n_m) << " N m\n";
   for (int i = 0; i < ni; ++i)
@@ -218,6 +252,12 @@ int GearTrainReport(const Scene& scene, const KinematicsArgs& args, std::ostream
         << Pad(Fmt("%.5g", k.gear_fault_frequencies_hz(SceneFaultGear(t, f))), 12) << '\n';
   }
   out << std::flush;
+}
+
+int GearTrainReport(const Scene& scene, const KinematicsArgs& args, std::ostream& out) {
+  const TrainReport tr = MakeTrainReport(*scene.gear_train, args);
+  if (args.json) WriteTrainJson(scene, tr, out);
+  else WriteTrainText(scene, tr, out);
   return kExitSuccess;
 }
 

@@ -196,155 +196,219 @@ struct StudyCli {
   }
 };
 
+// The simulation commands (run, inspect, kinematics, modes, fault-study): arguments, options,
+// dispatch.
+struct SimulationCommands {
+  RunArgs run_args;
+  InspectArgs inspect_args;
+  KinematicsArgs kinematics_args;
+  ModesArgs modes_args;
+  FaultStudyArgs fs_args;
+  double end_time = 0, max_output_gb = 0, fs_end_time = 0, fs_t0 = 0;
+  CLI::App *run = nullptr, *inspect = nullptr, *kinematics = nullptr, *modes = nullptr, *fault_study = nullptr;
+  CLI::Option *end_time_option = nullptr, *max_output_option = nullptr, *fs_end_option = nullptr,
+              *fs_t0_option = nullptr;
+
+  void Add(CLI::App& app) {
+    AddRun(app);
+    AddInspect(app);
+    AddKinematics(app);
+    AddModes(app);
+    AddFaultStudy(app);
+  }
+
+  void AddRun(CLI::App& app) {
+    run = app.add_subcommand("run", "Simulate a scene file and write a result file");
+    run->add_option("scene", run_args.scene_path, "Scene file (YAML)")->required();
+    run->add_option("-o,--output", run_args.output_path, "Result file (default: the scene's output file)");
+    end_time_option =
+        run->add_option("--end-time", end_time, "End time in s (overrides solver.end_time)")
+            ->check(kPositiveSeconds);
+    run->add_option("--set", run_args.overrides, "Scene override key.path=value (repeatable)")
+        ->allow_extra_args(false);
+    run->add_option("--integrator", run_args.integrator, "Integrator (overrides solver.integrator)")
+        ->check(CLI::IsMember({"ida", "generalized_alpha"}));
+    run->add_flag("-q,--quiet", run_args.quiet, "No progress output");
+    run->add_option("--study-attribute", run_args.study_attributes, "")  // set by `orrery study`
+        ->allow_extra_args(false)
+        ->group("");
+    run->add_flag("--strict", run_args.strict, "Stop at the first health warning (run_health.h)");
+    max_output_option =
+        run->add_option("--max-output-gb", max_output_gb,
+                        "Largest result file the run may write, estimated before it starts (GB, default 10)")
+            ->check(kPositiveValue);
+  }
+
+  void AddInspect(CLI::App& app) {
+    inspect = app.add_subcommand("inspect", "List the groups, datasets and attributes of a result file");
+    inspect->add_option("file", inspect_args.path, "Result file (HDF5)")->required();
+  }
+
+  void AddKinematics(CLI::App& app) {
+    kinematics = app.add_subcommand(
+        "kinematics", "Speeds, torques, mesh frequencies, forces and stiffnesses of a gear scene");
+    kinematics->add_option("scene", kinematics_args.scene_path, "Scene file (YAML)")->required();
+    kinematics->add_flag("--json", kinematics_args.json, "Write JSON to stdout");
+    kinematics->add_option("--range", kinematics_args.range, "Gear range (default: the scene's range:)");
+    kinematics->add_option("--set", kinematics_args.overrides, "Scene override key.path=value (repeatable)")
+        ->allow_extra_args(false);
+  }
+
+  void AddModes(CLI::App& app) {
+    modes = app.add_subcommand("modes", "Natural frequencies with mode classes and multiplicities");
+    modes->add_option("scene", modes_args.scene_path, "Scene file (YAML)")->required();
+    modes->add_flag("--json", modes_args.json, "Write JSON to stdout");
+    modes->add_option("--set", modes_args.overrides, "Scene override key.path=value (repeatable)")
+        ->allow_extra_args(false);
+  }
+
+  void AddFaultStudy(CLI::App& app) {
+    fault_study = app.add_subcommand(
+        "fault-study", "Run a faulty gear scene and its healthy twin; spectra, sidebands, indicators, plots, summary");
+    fault_study->add_option("scene", fs_args.scene_path, "Scene file (YAML, gear_train with tooth faults)")->required();
+    fault_study->add_option("-o,--output", fs_args.output_dir, "Study folder")->required();
+    fs_end_option =
+        fault_study->add_option("--end-time", fs_end_time, "Simulated time of each run in s (default 0.30)")
+            ->check(kPositiveSeconds);
+    fs_t0_option =
+        fault_study->add_option("--t0", fs_t0, "Start of the analysed records in s (default 0.03)")->check(CLI::NonNegativeNumber);
+    fault_study->add_option("--signal", fs_args.signal, "Dataset to analyse (default: the scene's first sensor)");
+    fault_study->add_option("--set", fs_args.overrides, "Scene override key.path=value (repeatable)")->allow_extra_args(false);
+    fault_study->add_flag("--force", fs_args.force, "Replace the folder's earlier results");
+    fault_study->add_flag("--no-plots{false}", fs_args.plots, "Skip the PNG plots");
+    fault_study->add_flag("-q,--quiet", fs_args.quiet, "No progress output");
+  }
+
+  // The exit code of the command that was parsed, if it is one of these
+  std::optional<int> Dispatch() {
+    if (run->parsed()) {
+      if (end_time_option->count() > 0) run_args.end_time = end_time;
+      if (max_output_option->count() > 0) run_args.max_output_gb = max_output_gb;
+      run_args.err_is_terminal = isatty(STDERR_FILENO) == 1;
+      return RunCommand(run_args, std::cout, std::cerr);
+    }
+    if (kinematics->parsed()) return KinematicsCommand(kinematics_args, std::cout, std::cerr);
+    if (modes->parsed()) return ModesCommand(modes_args, std::cout, std::cerr);
+    if (fault_study->parsed()) {
+      if (fs_end_option->count() > 0) fs_args.end_time = fs_end_time;
+      if (fs_t0_option->count() > 0) fs_args.t0 = fs_t0;
+      fs_args.err_is_terminal = isatty(STDERR_FILENO) == 1;
+      return FaultStudyCommand(fs_args, std::cout, std::cerr);
+    }
+    if (inspect->parsed()) return InspectCommand(inspect_args, std::cout, std::cerr);
+    return std::nullopt;
+  }
+};
+
+// The body and mesh commands (fe-modes, reduce, mesh-info, mesh-stiffness): arguments, options,
+// dispatch.
+struct BodyCommands {
+  FeModesArgs fe_args;
+  ReduceArgs reduce_args;
+  MeshInfoArgs info_args;
+  MeshStiffnessArgs ms_args;
+  CLI::App *fe_modes = nullptr, *reduce = nullptr, *mesh_info = nullptr, *mesh_stiffness = nullptr;
+
+  void Add(CLI::App& app) {
+    AddFeModes(app);
+    AddReduce(app);
+    AddMeshInfo(app);
+    AddMeshStiffness(app);
+  }
+
+  void AddFeModes(CLI::App& app) {
+    fe_modes = app.add_subcommand("fe-modes", "Natural frequencies of an FE mesh (.inp)");
+    fe_modes->add_option("mesh", fe_args.mesh_path, "Mesh file (Abaqus/CalculiX .inp)")->required();
+    fe_modes->add_option("--E", fe_args.youngs_modulus_pa, "Young's modulus (Pa)")->check(kPositiveValue);
+    fe_modes->add_option("--nu", fe_args.poissons_ratio, "Poisson's ratio")->check(CLI::Range(-1.0, 0.5));
+    fe_modes->add_option("--rho", fe_args.density_kg_m3, "Density (kg/m^3)")->check(kPositiveValue);
+    fe_modes->add_option("--fix", fe_args.fixed_node_sets, "Node set held fixed (repeatable)")->allow_extra_args(false);
+    fe_modes->add_option("--modes", fe_args.num_modes, "Number of modes")->required()->check(CLI::Range(1, 100000));
+    fe_modes->add_flag("--json", fe_args.json, "Write JSON to stdout");
+  }
+
+  void AddReduce(CLI::App& app) {
+    reduce = app.add_subcommand("reduce", "Reduce an FE body (Craig-Bampton) and write a reduced-body file");
+    reduce->add_option("input", reduce_args.input_path,
+                       "Reduce input (YAML: generated gear), or a part: mesh (.inp, .msh), STEP/IGES, surface mesh, "
+                       "CalculiX job.sti or Matrix Market K.mtx")
+        ->required();
+    reduce->add_option("-o,--output", reduce_args.output_path, "Reduced-body file (HDF5)")->required();
+    reduce->add_flag("--json", reduce_args.json, "Write JSON to stdout");
+    reduce->add_option("--interface", reduce_args.interfaces,
+                       "Interface of a part, NODESET or bore, optionally :rbe2|:rbe3 (repeatable; the first is the body frame's)")
+        ->allow_extra_args(false);
+    reduce->add_option("--E", reduce_args.youngs_modulus_pa, "Young's modulus of a part (Pa)")->check(kPositiveValue);
+    reduce->add_option("--nu", reduce_args.poissons_ratio, "Poisson's ratio of a part")->check(CLI::Range(-1.0, 0.5));
+    reduce->add_option("--rho,--density", reduce_args.density_kg_m3, "Density of a part (kg/m^3)")->check(kPositiveValue);
+    reduce->add_option("--modes", reduce_args.num_modes, "Fixed-interface modes kept, part input (default 20)")
+        ->check(CLI::Range(0, 100000));
+    reduce->add_option("--cutoff-hz", reduce_args.cutoff_hz, "Keep fixed-interface modes up to this frequency, part input")
+        ->check(kPositiveValue);
+    reduce->add_option("--unit", reduce_args.unit, "Length unit of a surface mesh or .msh part (m, cm, mm, in; default m)");
+    reduce->add_option("--element", reduce_args.element, "Elements gmsh makes of a CAD or surface part (tet10, tet4)");
+    reduce->add_flag("--curved", reduce_args.curved, "CAD part: tet10 midside nodes on the geometry");
+    reduce->add_option("--mesh-size", reduce_args.mesh_size_m, "Largest element size gmsh makes (m)")->check(kPositiveValue);
+    reduce->add_option("--mesh-min-size", reduce_args.mesh_min_size_m, "Smallest element size gmsh makes (m)")
+        ->check(kPositiveValue);
+    reduce->add_option("--curvature", reduce_args.curvature_elements, "gmsh elements per 2 pi of curvature")
+        ->check(CLI::Range(1, 1000));
+    reduce->add_option("--mass", reduce_args.mass_matrix, "Mass matrix (Matrix Market) of a K.mtx input");
+    reduce->add_option("--dofs", reduce_args.dof_table, "DOF table (NODE DIR per row) of a K.mtx input");
+    reduce->add_option("--mesh", reduce_args.mesh_file, "Mesh (.inp, .msh) with the nodes of FE matrices");
+  }
+
+  void AddMeshInfo(CLI::App& app) {
+    mesh_info = app.add_subcommand(
+        "mesh-info", "Read a mesh or CAD file: checks (watertight, manifold, orientation) and mass properties");
+    mesh_info->add_option("file", info_args.path, "STL, OBJ, STEP/IGES, .msh, .inp, PLY, glTF, 3MF, ...")->required();
+    mesh_info->add_option("--unit", info_args.unit, "Length unit of the file (m, cm, mm, in; default m)");
+    mesh_info->add_option("--density", info_args.density_kg_m3, "Density (kg/m^3): mass and inertia")
+        ->check(kPositiveValue);
+    mesh_info->add_flag("--no-self-intersections{false}", info_args.self_intersections, "Skip the self-intersection test");
+    mesh_info->add_flag("--json", info_args.json, "Write JSON to stdout");
+  }
+
+  void AddMeshStiffness(CLI::App& app) {
+    mesh_stiffness = app.add_subcommand(
+        "mesh-stiffness", "Quasi-static mesh stiffness and transmission error of a gear mesh with tooth contact");
+    mesh_stiffness->add_option("scene", ms_args.scene_path, "Scene file (YAML, gear_train)")->required();
+    mesh_stiffness->add_option("--mesh", ms_args.mesh, "Train mesh, e.g. S1.sun-planet")->required();
+    mesh_stiffness->add_option("--load", ms_args.load_n, "Force along the line of action (N, default 1000)")
+        ->check(kPositiveValue);
+    mesh_stiffness->add_option("--points", ms_args.points, "Roll angles per mesh period (default 40)")
+        ->check(CLI::Range(1, 100000));
+    mesh_stiffness->add_option("--set", ms_args.overrides, "Scene override key.path=value (repeatable)")
+        ->allow_extra_args(false);
+    mesh_stiffness->add_flag("--json", ms_args.json, "Write JSON to stdout");
+    mesh_stiffness->add_flag("--flexible", ms_args.flexible,
+                             "FE-reduced (flexible) gears with Hertzian contact compliance");
+    mesh_stiffness->add_option("--fe-level", ms_args.fe_level,
+                               "With --flexible: FE mesh refinement factor (default 1, coarse)")
+        ->check(CLI::Range(1, 8));
+  }
+
+  std::optional<int> Dispatch() {
+    if (fe_modes->parsed()) return FeModesCommand(fe_args, std::cout, std::cerr);
+    if (reduce->parsed()) return ReduceCommand(reduce_args, std::cout, std::cerr);
+    if (mesh_info->parsed()) return MeshInfoCommand(info_args, std::cout, std::cerr);
+    if (mesh_stiffness->parsed()) return MeshStiffnessCommand(ms_args, std::cout, std::cerr);
+    return std::nullopt;
+  }
+};
+
 int Main(int argc, char** argv) {
   CLI::App app{"Orrery: multibody dynamics engine", "orrery"};
   app.set_version_flag("--version", std::string("orrery ") + ORRERY_VERSION);
   app.require_subcommand(1);
-
-  // orrery run
-  RunArgs run_args;
-  double end_time = 0;
-  CLI::App* run = app.add_subcommand("run", "Simulate a scene file and write a result file");
-  run->add_option("scene", run_args.scene_path, "Scene file (YAML)")->required();
-  run->add_option("-o,--output", run_args.output_path, "Result file (default: the scene's output file)");
-  CLI::Option* end_time_option =
-      run->add_option("--end-time", end_time, "End time in s (overrides solver.end_time)")
-          ->check(kPositiveSeconds);
-  run->add_option("--set", run_args.overrides, "Scene override key.path=value (repeatable)")
-      ->allow_extra_args(false);
-  run->add_option("--integrator", run_args.integrator, "Integrator (overrides solver.integrator)")
-      ->check(CLI::IsMember({"ida", "generalized_alpha"}));
-  run->add_flag("-q,--quiet", run_args.quiet, "No progress output");
-  run->add_option("--study-attribute", run_args.study_attributes, "")  // set by `orrery study`
-      ->allow_extra_args(false)
-      ->group("");
-  run->add_flag("--strict", run_args.strict, "Stop at the first health warning (run_health.h)");
-  double max_output_gb = 0;
-  CLI::Option* max_output_option =
-      run->add_option("--max-output-gb", max_output_gb,
-                      "Largest result file the run may write, estimated before it starts (GB, default 10)")
-          ->check(kPositiveValue);
-
-  // orrery inspect
-  InspectArgs inspect_args;
-  CLI::App* inspect = app.add_subcommand("inspect", "List the groups, datasets and attributes of a result file");
-  inspect->add_option("file", inspect_args.path, "Result file (HDF5)")->required();
-
-  // orrery kinematics
-  KinematicsArgs kinematics_args;
-  CLI::App* kinematics = app.add_subcommand(
-      "kinematics", "Speeds, torques, mesh frequencies, forces and stiffnesses of a gear scene");
-  kinematics->add_option("scene", kinematics_args.scene_path, "Scene file (YAML)")->required();
-  kinematics->add_flag("--json", kinematics_args.json, "Write JSON to stdout");
-  kinematics->add_option("--range", kinematics_args.range, "Gear range (default: the scene's range:)");
-  kinematics->add_option("--set", kinematics_args.overrides, "Scene override key.path=value (repeatable)")
-      ->allow_extra_args(false);
-
-  // orrery modes
-  ModesArgs modes_args;
-  CLI::App* modes = app.add_subcommand("modes", "Natural frequencies with mode classes and multiplicities");
-  modes->add_option("scene", modes_args.scene_path, "Scene file (YAML)")->required();
-  modes->add_flag("--json", modes_args.json, "Write JSON to stdout");
-  modes->add_option("--set", modes_args.overrides, "Scene override key.path=value (repeatable)")
-      ->allow_extra_args(false);
-
-  // orrery fe-modes
-  FeModesArgs fe_args;
-  CLI::App* fe_modes = app.add_subcommand("fe-modes", "Natural frequencies of an FE mesh (.inp)");
-  fe_modes->add_option("mesh", fe_args.mesh_path, "Mesh file (Abaqus/CalculiX .inp)")->required();
-  fe_modes->add_option("--E", fe_args.youngs_modulus_pa, "Young's modulus (Pa)")->check(kPositiveValue);
-  fe_modes->add_option("--nu", fe_args.poissons_ratio, "Poisson's ratio")->check(CLI::Range(-1.0, 0.5));
-  fe_modes->add_option("--rho", fe_args.density_kg_m3, "Density (kg/m^3)")->check(kPositiveValue);
-  fe_modes->add_option("--fix", fe_args.fixed_node_sets, "Node set held fixed (repeatable)")->allow_extra_args(false);
-  fe_modes->add_option("--modes", fe_args.num_modes, "Number of modes")->required()->check(CLI::Range(1, 100000));
-  fe_modes->add_flag("--json", fe_args.json, "Write JSON to stdout");
-
-  // orrery reduce
-  ReduceArgs reduce_args;
-  CLI::App* reduce = app.add_subcommand("reduce", "Reduce an FE body (Craig-Bampton) and write a reduced-body file");
-  reduce->add_option("input", reduce_args.input_path,
-                     "Reduce input (YAML: generated gear), or a part: mesh (.inp, .msh), STEP/IGES, surface mesh, "
-                     "CalculiX job.sti or Matrix Market K.mtx")
-      ->required();
-  reduce->add_option("-o,--output", reduce_args.output_path, "Reduced-body file (HDF5)")->required();
-  reduce->add_flag("--json", reduce_args.json, "Write JSON to stdout");
-  reduce->add_option("--interface", reduce_args.interfaces,
-                     "Interface of a part, NODESET or bore, optionally :rbe2|:rbe3 (repeatable; the first is the body frame's)")
-      ->allow_extra_args(false);
-  reduce->add_option("--E", reduce_args.youngs_modulus_pa, "Young's modulus of a part (Pa)")->check(kPositiveValue);
-  reduce->add_option("--nu", reduce_args.poissons_ratio, "Poisson's ratio of a part")->check(CLI::Range(-1.0, 0.5));
-  reduce->add_option("--rho,--density", reduce_args.density_kg_m3, "Density of a part (kg/m^3)")->check(kPositiveValue);
-  reduce->add_option("--modes", reduce_args.num_modes, "Fixed-interface modes kept, part input (default 20)")
-      ->check(CLI::Range(0, 100000));
-  reduce->add_option("--cutoff-hz", reduce_args.cutoff_hz, "Keep fixed-interface modes up to this frequency, part input")
-      ->check(kPositiveValue);
-  reduce->add_option("--unit", reduce_args.unit, "Length unit of a surface mesh or .msh part (m, cm, mm, in; default m)");
-  reduce->add_option("--element", reduce_args.element, "Elements gmsh makes of a CAD or surface part (tet10, tet4)");
-  reduce->add_flag("--curved", reduce_args.curved, "CAD part: tet10 midside nodes on the geometry");
-  reduce->add_option("--mesh-size", reduce_args.mesh_size_m, "Largest element size gmsh makes (m)")->check(kPositiveValue);
-  reduce->add_option("--mesh-min-size", reduce_args.mesh_min_size_m, "Smallest element size gmsh makes (m)")
-      ->check(kPositiveValue);
-  reduce->add_option("--curvature", reduce_args.curvature_elements, "gmsh elements per 2 pi of curvature")
-      ->check(CLI::Range(1, 1000));
-  reduce->add_option("--mass", reduce_args.mass_matrix, "Mass matrix (Matrix Market) of a K.mtx input");
-  reduce->add_option("--dofs", reduce_args.dof_table, "DOF table (NODE DIR per row) of a K.mtx input");
-  reduce->add_option("--mesh", reduce_args.mesh_file, "Mesh (.inp, .msh) with the nodes of FE matrices");
-
-  // orrery mesh-info
-  MeshInfoArgs info_args;
-  CLI::App* mesh_info = app.add_subcommand(
-      "mesh-info", "Read a mesh or CAD file: checks (watertight, manifold, orientation) and mass properties");
-  mesh_info->add_option("file", info_args.path, "STL, OBJ, STEP/IGES, .msh, .inp, PLY, glTF, 3MF, ...")->required();
-  mesh_info->add_option("--unit", info_args.unit, "Length unit of the file (m, cm, mm, in; default m)");
-  mesh_info->add_option("--density", info_args.density_kg_m3, "Density (kg/m^3): mass and inertia")
-      ->check(kPositiveValue);
-  mesh_info->add_flag("--no-self-intersections{false}", info_args.self_intersections, "Skip the self-intersection test");
-  mesh_info->add_flag("--json", info_args.json, "Write JSON to stdout");
-
-  // orrery mesh-stiffness
-  MeshStiffnessArgs ms_args;
-  CLI::App* mesh_stiffness = app.add_subcommand(
-      "mesh-stiffness", "Quasi-static mesh stiffness and transmission error of a gear mesh with tooth contact");
-  mesh_stiffness->add_option("scene", ms_args.scene_path, "Scene file (YAML, gear_train)")->required();
-  mesh_stiffness->add_option("--mesh", ms_args.mesh, "Train mesh, e.g. S1.sun-planet")->required();
-  mesh_stiffness->add_option("--load", ms_args.load_n, "Force along the line of action (N, default 1000)")
-      ->check(kPositiveValue);
-  mesh_stiffness->add_option("--points", ms_args.points, "Roll angles per mesh period (default 40)")
-      ->check(CLI::Range(1, 100000));
-  mesh_stiffness->add_option("--set", ms_args.overrides, "Scene override key.path=value (repeatable)")
-      ->allow_extra_args(false);
-  mesh_stiffness->add_flag("--json", ms_args.json, "Write JSON to stdout");
-  mesh_stiffness->add_flag("--flexible", ms_args.flexible,
-                           "FE-reduced (flexible) gears with Hertzian contact compliance");
-  mesh_stiffness->add_option("--fe-level", ms_args.fe_level,
-                             "With --flexible: FE mesh refinement factor (default 1, coarse)")
-      ->check(CLI::Range(1, 8));
-
-  // orrery spectrum, compare, octave, plot
+  SimulationCommands simulation;
+  simulation.Add(app);
+  BodyCommands bodies;
+  bodies.Add(app);
   SignalCommands signal_commands;
   signal_commands.Add(app);
-
-  // orrery study
   StudyCli study;
   study.Add(app);
-
-  // orrery fault-study
-  FaultStudyArgs fs_args;
-  double fs_end_time = 0, fs_t0 = 0;
-  CLI::App* fault_study = app.add_subcommand(
-      "fault-study", "Run a faulty gear scene and its healthy twin; spectra, sidebands, indicators, plots, summary");
-  fault_study->add_option("scene", fs_args.scene_path, "Scene file (YAML, gear_train with tooth faults)")->required();
-  fault_study->add_option("-o,--output", fs_args.output_dir, "Study folder")->required();
-  CLI::Option* fs_end_option =
-      fault_study->add_option("--end-time", fs_end_time, "Simulated time of each run in s (default 0.30)")
-          ->check(kPositiveSeconds);
-  CLI::Option* fs_t0_option =
-      fault_study->add_option("--t0", fs_t0, "Start of the analysed records in s (default 0.03)")->check(CLI::NonNegativeNumber);
-  fault_study->add_option("--signal", fs_args.signal, "Dataset to analyse (default: the scene's first sensor)");
-  fault_study->add_option("--set", fs_args.overrides, "Scene override key.path=value (repeatable)")->allow_extra_args(false);
-  fault_study->add_flag("--force", fs_args.force, "Replace the folder's earlier results");
-  fault_study->add_flag("--no-plots{false}", fs_args.plots, "Skip the PNG plots");
-  fault_study->add_flag("-q,--quiet", fs_args.quiet, "No progress output");
 
   // Parse: help and version go to stdout, any other problem is one line on stderr
   try {
@@ -362,27 +426,12 @@ int Main(int argc, char** argv) {
   }
 
   // Dispatch
-  if (run->parsed()) {
-    if (end_time_option->count() > 0) run_args.end_time = end_time;
-    if (max_output_option->count() > 0) run_args.max_output_gb = max_output_gb;
-    run_args.err_is_terminal = isatty(STDERR_FILENO) == 1;
-    return RunCommand(run_args, std::cout, std::cerr);
-  }
-  if (kinematics->parsed()) return KinematicsCommand(kinematics_args, std::cout, std::cerr);
-  if (modes->parsed()) return ModesCommand(modes_args, std::cout, std::cerr);
-  if (fe_modes->parsed()) return FeModesCommand(fe_args, std::cout, std::cerr);
-  if (reduce->parsed()) return ReduceCommand(reduce_args, std::cout, std::cerr);
-  if (mesh_stiffness->parsed()) return MeshStiffnessCommand(ms_args, std::cout, std::cerr);
+  if (const std::optional<int> code = simulation.Dispatch()) return *code;
+  if (const std::optional<int> code = bodies.Dispatch()) return *code;
   if (const std::optional<int> code = signal_commands.Dispatch()) return *code;
-  if (mesh_info->parsed()) return MeshInfoCommand(info_args, std::cout, std::cerr);
   if (const std::optional<int> code = study.Dispatch()) return *code;
-  if (fault_study->parsed()) {
-    if (fs_end_option->count() > 0) fs_args.end_time = fs_end_time;
-    if (fs_t0_option->count() > 0) fs_args.t0 = fs_t0;
-    fs_args.err_is_terminal = isatty(STDERR_FILENO) == 1;
-    return FaultStudyCommand(fs_args, std::cout, std::cerr);
-  }
-  return InspectCommand(inspect_args, std::cout, std::cerr);
+  ReportError(std::cerr, "no command; see orrery --help");
+  return kExitUsage;
 }
 
 }  // namespace

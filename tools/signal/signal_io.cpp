@@ -12,7 +12,14 @@ namespace {
   throw std::runtime_error(file.path() + ": " + object + ": " + reason);
 }
 
-std::vector<std::string> SplitColumns(const std::string& text) {
+std::vector<std::string> ColumnNames(const Hdf5Reader& file, const std::string& path) {
+  return file.HasAttribute(path, "columns") ? SplitAttributeList(file.ReadStringAttribute(path, "columns"))
+                                            : std::vector<std::string>{};
+}
+
+}  // namespace
+
+std::vector<std::string> SplitAttributeList(const std::string& text) {
   std::vector<std::string> names;
   std::stringstream in(text);
   std::string name;
@@ -24,9 +31,7 @@ std::vector<std::string> SplitColumns(const std::string& text) {
   return names;
 }
 
-// The column index of `column` (index or name) in a dataset of `count` columns
-int ColumnIndex(const Hdf5Reader& file, const std::string& path, const std::string& column, int count,
-                const std::vector<std::string>& names) {
+int DatasetColumn(const Hdf5Reader& file, const std::string& path, const std::string& column, int count) {
   if (column.empty()) return 0;
   // A number is an index
   std::size_t used = 0;
@@ -42,6 +47,7 @@ int ColumnIndex(const Hdf5Reader& file, const std::string& path, const std::stri
     return index;
   }
   // A name is looked up in the "columns" attribute
+  const std::vector<std::string> names = ColumnNames(file, path);
   const auto it = std::find(names.begin(), names.end(), column);
   if (it == names.end()) {
     std::string listed;
@@ -50,8 +56,6 @@ int ColumnIndex(const Hdf5Reader& file, const std::string& path, const std::stri
   }
   return static_cast<int>(it - names.begin());
 }
-
-}  // namespace
 
 std::string RecordedSignal::Describe() const { return file + ":" + path + "[" + column_name + "]"; }
 
@@ -68,9 +72,8 @@ RecordedSignal ReadSignal(const Hdf5Reader& file, const std::string& path, const
   s.file = file.path();
   s.path = path;
   if (file.HasAttribute(path, "unit")) s.unit = file.ReadStringAttribute(path, "unit");
-  const std::vector<std::string> names =
-      file.HasAttribute(path, "columns") ? SplitColumns(file.ReadStringAttribute(path, "columns")) : std::vector<std::string>{};
-  s.column = ColumnIndex(file, path, column, static_cast<int>(data.cols()), names);
+  const std::vector<std::string> names = ColumnNames(file, path);
+  s.column = DatasetColumn(file, path, column, static_cast<int>(data.cols()));
   s.column_name = s.column < static_cast<int>(names.size()) ? names[s.column] : std::to_string(s.column);
 
   // Rows from t0 on

@@ -40,6 +40,13 @@ struct RecordedSignal {
 // The fewest samples an analysis accepts.
 inline constexpr int kMinSignalSamples = 16;
 
+// The entries of a comma-separated attribute ("x, y, z"), trimmed.
+std::vector<std::string> SplitAttributeList(const std::string& text);
+// The index of column `column` of dataset `path` (`count` columns): "" is 0, a number is an
+// index, a name is looked up in the dataset's "columns" attribute. Throws
+// "<file>: <path>: no column ..." naming the columns there are.
+int DatasetColumn(const Hdf5Reader& file, const std::string& path, const std::string& column, int count);
+
 // Column `column` (a 0-based index, or a name listed in the dataset's "columns" attribute; ""
 // for the first) of dataset `path`, from time `t0_s` on. Throws (see above) for a missing
 // dataset or /time, a row count that differs from /time's, an unknown column, non-uniform or

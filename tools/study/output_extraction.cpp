@@ -28,50 +28,11 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   throw std::runtime_error(file.path() + ": " + object + ": " + reason);
 }
 
-std::vector<std::string> SplitList(const std::string& text) {
-  std::vector<std::string> items;
-  std::stringstream in(text);
-  std::string item;
-  while (std::getline(in, item, ',')) {
-    item.erase(0, item.find_first_not_of(' '));
-    item.erase(item.find_last_not_of(' ') + 1);
-    items.push_back(item);
-  }
-  return items;
-}
-
-// Column `column` (index or name) of a dataset with `count` columns
-int ColumnIndex(const Hdf5Reader& file, const std::string& path, const std::string& column,
-                int count) {
-  if (column.empty()) return 0;
-  std::size_t used = 0;
-  int index = -1;
-  try {
-    index = std::stoi(column, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used == column.size()) {
-    if (index < 0 || index >= count)
-      Fail(file, path,
-           "no column " + column + " (" + std::to_string(count) + " columns, indices from 0)");
-    return index;
-  }
-  const std::vector<std::string> names = file.HasAttribute(path, "columns")
-                                             ? SplitList(file.ReadStringAttribute(path, "columns"))
-                                             : std::vector<std::string>{};
-  const auto it = std::find(names.begin(), names.end(), column);
-  if (it == names.end())
-    Fail(file, path,
-         "no column '" + column + "'" + (names.empty() ? " (the dataset names no columns)" : ""));
-  return static_cast<int>(it - names.begin());
-}
-
 // The unit of column c: the "unit" attribute, or its c-th entry when it lists one per column
 std::string ColumnUnit(const Hdf5Reader& file, const std::string& path, int column, int count) {
   if (!file.HasAttribute(path, "unit")) return "";
   const std::string unit = file.ReadStringAttribute(path, "unit");
-  const std::vector<std::string> units = SplitList(unit);
+  const std::vector<std::string> units = SplitAttributeList(unit);
   return count > 1 && static_cast<int>(units.size()) == count
              ? units[static_cast<std::size_t>(column)]
              : unit;
@@ -88,7 +49,7 @@ std::vector<double> WindowValues(const Hdf5Reader& file, const StudyOutput& o, i
     Fail(file, o.dataset,
          std::to_string(data.rows()) + " rows, /time has " + std::to_string(time.size()));
   const int cols = static_cast<int>(data.cols());
-  const int c = forced_column >= 0 ? forced_column : ColumnIndex(file, o.dataset, o.column, cols);
+  const int c = forced_column >= 0 ? forced_column : DatasetColumn(file, o.dataset, o.column, cols);
   if (c >= cols) Fail(file, o.dataset, "no column " + std::to_string(c));
   *unit = ColumnUnit(file, o.dataset, c, cols);
   std::vector<double> x;
