@@ -182,4 +182,12 @@ void ContactElement::GetOutputs(const ExternalForceWorkspace& workspace, double*
                       values + 4);
 }
 
+std::vector<ElementHealthCheck> ContactElement::HealthChecks() const {
+  return {PenetrationCheck(0.5 * (spec_.surface_a->margin_m() + spec_.surface_b->margin_m()))};
+}
+
+void ContactElement::GetHealthValues(const ExternalForceWorkspace& workspace, double* values) const {
+  values[0] = static_cast<const ContactWorkspace&>(workspace).max_penetration;
+}
+
 }  // namespace orrery::contact

@@ -33,6 +33,11 @@
 // |F_T|), contact_points (penetrating nodes, both passes), max_penetration (m); then the
 // outputs of spec.monitor (contact_monitor.h), if any; with spec.record_points = n,
 // point_positions (n x 3) and point_normal_forces (n) of contact_point_record.h.
+// Health (mbd/element_health.h, watched by the run-health monitor at every output row):
+// "penetration", the largest penetration of the last evaluation against the gap distance
+// d = (margin_A + margin_B) / 2: a penalty contact calibrated for micrometres that sinks deeper
+// than the distance its search lists (a step that moved the surfaces through each other, a mesh
+// load far above the calibration) gives forces outside the law's range: a warning.
 //
 // Usage:
 //   auto plane = std::make_shared<const ContactSurface>(std::vector{plane_mesh}, 1e-3);
@@ -55,6 +60,7 @@
 #include "contact/contact_monitor.h"
 #include "contact/signed_gap.h"
 #include "contact/tracked_gaps.h"
+#include "mbd/element_health.h"
 #include "mbd/external_force.h"
 #include "mbd/model.h"
 
@@ -103,7 +109,7 @@ class ContactWorkspace final : public ExternalForceWorkspace {
   bool searched = false, gaps_recomputed = false;  // searched: kCandidatePairs only
 };
 
-class ContactElement final : public ExternalForceElement {
+class ContactElement final : public ExternalForceElement, public ElementHealthReporter {
  public:
   // Throws std::invalid_argument for missing surfaces, the same body on both sides, or an
   // invalid law. Body indices are checked against the model in MakeWorkspace().
@@ -116,6 +122,9 @@ class ContactElement final : public ExternalForceElement {
              ExternalForceWorkspace& workspace) const override;
   const std::vector<OutputDescription>& outputs() const override { return outputs_; }
   void GetOutputs(const ExternalForceWorkspace& workspace, double* values) const override;
+  // Health (the header): the penetration against the gap distance.
+  std::vector<ElementHealthCheck> HealthChecks() const override;
+  void GetHealthValues(const ExternalForceWorkspace& workspace, double* values) const override;
   // Stiffness and damping of the penetrating nodes of the last Apply() (contact_tangents.h).
   bool HasTangents() const override { return true; }
   void AddTangents(const Model& model, const Data& data, ExternalForceWorkspace& workspace,

@@ -27,4 +27,10 @@ void WriteContactOutputs(const ContactMonitor* monitor, const ContactMonitorStat
   if (record_points > 0) points.Write(record_points, values, values + 3 * record_points);
 }
 
+ElementHealthCheck PenetrationCheck(double gap_distance_m) {
+  return {.name = "penetration", .unit = "m", .limit = gap_distance_m, .stops = false,
+          .cause = "penetration beyond the contact margin (the penalty law is calibrated for far less; "
+                   "a step or a load that drove the surfaces through each other)"};
+}
+
 }  // namespace orrery::contact

@@ -7,6 +7,7 @@
 
 #include "contact/contact_monitor.h"
 #include "contact/contact_point_record.h"
+#include "mbd/element_health.h"
 #include "mbd/external_force.h"
 
 namespace orrery::contact {
@@ -20,5 +21,9 @@ std::vector<OutputDescription> ContactOutputs(std::vector<OutputDescription> own
 // are NaN when `state` is null (a workspace made without it).
 void WriteContactOutputs(const ContactMonitor* monitor, const ContactMonitorState* state,
                          const ContactPointRecord& points, int record_points, double* values);
+
+// The health check both elements report (mbd/element_health.h): the largest penetration of the
+// last evaluation against the gap distance d (m) of their search, a warning.
+ElementHealthCheck PenetrationCheck(double gap_distance_m);
 
 }  // namespace orrery::contact

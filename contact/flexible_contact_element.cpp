@@ -335,4 +335,13 @@ void FlexibleContactElement::GetOutputs(const ExternalForceWorkspace& workspace,
                       values + 6);
 }
 
+std::vector<ElementHealthCheck> FlexibleContactElement::HealthChecks() const {
+  return {PenetrationCheck(0.5 * (spec_.a.gap_margin_m() + spec_.b.gap_margin_m()))};
+}
+
+void FlexibleContactElement::GetHealthValues(const ExternalForceWorkspace& workspace,
+                                             double* values) const {
+  values[0] = static_cast<const FlexibleContactWorkspace&>(workspace).max_penetration;
+}
+
 }  // namespace orrery::contact

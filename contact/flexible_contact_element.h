@@ -42,6 +42,9 @@
 // (contact_monitor.h), if any; with spec.record_points = n,
 // point_positions (n x 3, side a's body frame, deformed) and point_normal_forces (n) of
 // contact_point_record.h.
+// Health (mbd/element_health.h): "penetration", the largest penetration of the last evaluation
+// against the gap distance d = (g_A + g_B) / 2 (as the rigid element's, contact_element.h): a
+// warning.
 //
 // Usage:
 //   auto block = std::make_shared<const FlexibleContactSurface>(modes, FlexibleContactSurfaceSpec{});
@@ -161,7 +164,7 @@ class FlexibleContactWorkspace final : public ExternalForceWorkspace {
   bool searched = false;
 };
 
-class FlexibleContactElement final : public ExternalForceElement {
+class FlexibleContactElement final : public ExternalForceElement, public ElementHealthReporter {
  public:
   // Throws std::invalid_argument for a side with no surface or both, the same body on both
   // sides, or an invalid law. MakeWorkspace() checks that a flexible side's body is a flexible
@@ -175,6 +178,9 @@ class FlexibleContactElement final : public ExternalForceElement {
              ExternalForceWorkspace& workspace) const override;
   const std::vector<OutputDescription>& outputs() const override { return outputs_; }
   void GetOutputs(const ExternalForceWorkspace& workspace, double* values) const override;
+  // Health (the header): the penetration against the gap distance.
+  std::vector<ElementHealthCheck> HealthChecks() const override;
+  void GetHealthValues(const ExternalForceWorkspace& workspace, double* values) const override;
   // Stiffness and damping of the penetrating nodes of the last Apply(), in the modal coordinates
   // too (contact_tangents.h).
   bool HasTangents() const override { return true; }

@@ -11,15 +11,10 @@
 // the check's cause, as for the engine's own checks. Values are recorded under
 // /health/elements/<element>/<check> (largest value, its time, the limit).
 //
-// Shape, for tooth contact (what contact/ would report):
-//   HealthChecks():   {{"penetration", "m", margin, false,
-//                       "tooth penetration beyond the contact margin (contacts may be missed)"},
-//                      {"motion_per_evaluation", "m", slack, false,
-//                       "relative tooth motion between evaluations beyond the search slack"}}
-//   GetHealthValues(ws, v): v[0] = ws.max_penetration; v[1] = the largest part motion since the
-//                       last evaluation (TrackedGapStats).
-// The lead's list of output descriptions (external_force.h) can absorb this as a second list
-// ("checks") beside the outputs; the monitor only needs the two functions below.
+// Reporters: the contact elements (contact/contact_element.h, flexible_contact_element.h):
+//   HealthChecks():   {{"penetration", "m", d, false, "penetration beyond the contact margin ..."}}
+//                     with d = (margin_A + margin_B) / 2 the gap distance of their search;
+//   GetHealthValues(ws, v): v[0] = ws.max_penetration of the last evaluation.
 #include <string>
 #include <vector>
 

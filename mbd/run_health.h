@@ -42,7 +42,8 @@
 //       tolerance is at least 100 times the solver's (IDA's rtol, generalized-alpha's Newton
 //       tolerance), which bounds what the solver promises.
 //       Warning; names the constraint row.
-//   <element check>        (output rows) checks of force elements (element_health.h).
+//   <element check>        (output rows) checks of force elements (element_health.h): tooth
+//       contact's penetration against its margin (contact/contact_element.h), a warning.
 // A check warns once per element (its first time, then the count and the worst value and time).
 // With `strict`, the first warning stops the run.
 //
