@@ -3,6 +3,7 @@
 #include <array>
 #include <bit>
 #include <charconv>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <set>
@@ -73,16 +74,28 @@ class BodyReader {
   [[noreturn]] void Fail(const std::string& object, const std::string& reason) const {
     throw std::runtime_error(path_ + ": " + object + ": " + reason);
   }
-  // A matrix of the given shape (-1: any).
+  // A matrix of the given shape (-1: any), every entry finite.
   Eigen::MatrixXd Matrix(const std::string& object, Eigen::Index rows, Eigen::Index cols) const {
-    Eigen::MatrixXd m = r_.ReadMatrix(object);
+    Eigen::MatrixXd m = FiniteMatrix(object);
     CheckShape(object, m.rows(), m.cols(), rows, cols);
+    return m;
+  }
+  // A matrix of any shape, every entry finite (a NaN or inf would flow into every result).
+  Eigen::MatrixXd FiniteMatrix(const std::string& object) const {
+    Eigen::MatrixXd m = r_.ReadMatrix(object);
+    for (Eigen::Index j = 0; j < m.cols(); ++j)
+      for (Eigen::Index i = 0; i < m.rows(); ++i)
+        if (!std::isfinite(m(i, j)))
+          Fail(object, "value " + Num(m(i, j)) + " at row " + std::to_string(i) + ", column " + std::to_string(j) +
+                           " is not finite");
     return m;
   }
   std::vector<double> Vector(const std::string& object, Eigen::Index n) const {
     std::vector<double> v = r_.ReadVector(object);
     if (n >= 0 && static_cast<Eigen::Index>(v.size()) != n)
       Fail(object, "expected " + std::to_string(n) + " values, found " + std::to_string(v.size()));
+    for (std::size_t i = 0; i < v.size(); ++i)
+      if (!std::isfinite(v[i])) Fail(object, "value " + Num(v[i]) + " at " + std::to_string(i) + " is not finite");
     return v;
   }
   // Integers in [lo, hi) (hi < 0: no upper bound), `n` of them (-1: any).
@@ -511,12 +524,12 @@ ReducedBody ReadReducedBody(const std::string& path, const ReducedBodyProvenance
   for (Eigen::Index kl = 0; kl < static_cast<Eigen::Index>(nf) * nf; ++kl) m.I5.push_back(I5.middleRows(3 * kl, 3));
   // Stiffness, damping, geometric stiffness
   m.stiffness = in.Matrix("/modes/stiffness", nf, nf);
-  m.damping = r.ReadMatrix("/modes/damping");
+  m.damping = in.FiniteMatrix("/modes/damping");
   if (m.damping.size() != 0) in.CheckShape("/modes/damping", m.damping.rows(), m.damping.cols(), nf, nf);
   else m.damping.resize(0, 0);
   const std::int64_t ng = r.ReadIntAttribute("/modes/geometric_stiffness", "count");
   if (ng != 0 && ng != 6) in.Fail("/modes/geometric_stiffness", "attribute count must be 0 or 6, is " + std::to_string(ng));
-  const Eigen::MatrixXd G = r.ReadMatrix("/modes/geometric_stiffness");
+  const Eigen::MatrixXd G = in.FiniteMatrix("/modes/geometric_stiffness");
   if (ng > 0) in.CheckShape("/modes/geometric_stiffness", G.rows(), G.cols(), ng * nf, nf);
   for (std::int64_t c = 0; c < ng; ++c) m.geometric_stiffness.push_back(G.middleRows(c * nf, nf));
   // Nodes
@@ -553,7 +566,7 @@ ReducedBody ReadReducedBody(const std::string& path, const ReducedBodyProvenance
     m.surface_triangles.push_back(v);
   }
   m.stress_nodes = in.Ints("/modes/stress_nodes", -1, 0, n);
-  m.stress_modes = r.ReadMatrix("/modes/stress_modes");
+  m.stress_modes = in.FiniteMatrix("/modes/stress_modes");
   if (m.stress_nodes.empty() && m.stress_modes.size() == 0) {
     m.stress_modes.resize(0, m.stress_modes.cols());
   } else {

@@ -109,11 +109,13 @@ ReducedInterface DescribeInterface(const FeMesh& mesh, const FeInterface& interf
 // the path when the file cannot be written.
 void WriteReducedBody(const std::string& path, const ReducedBody& body);
 
-// Reads a reduced-body file and checks its format and every size and index against the others.
-// With `expected`, also CheckReducedBodyMatches. Throws std::runtime_error naming the file and
-// the dataset or attribute ("body.h5: /modes/stiffness: expected 4 x 4, found 4 x 5"; "body.h5:
-// not an orrery reduced body file (no attribute format on /)"), StaleReducedBodyError for a
-// provenance mismatch.
+// Reads a reduced-body file and checks its format, every size and index against the others, and
+// that every number is finite (node positions, mode shapes, stress modes, matrices: a NaN or inf
+// would flow silently into every result). With `expected`, also CheckReducedBodyMatches. Throws
+// std::runtime_error naming the file and the dataset or attribute ("body.h5: /modes/stiffness:
+// expected 4 x 4, found 4 x 5"; "body.h5: /modes/nodes/positions: value nan at row 3, column 0 is
+// not finite"; "body.h5: not an orrery reduced body file (no attribute format on /)"),
+// StaleReducedBodyError for a provenance mismatch.
 ReducedBody ReadReducedBody(const std::string& path, const ReducedBodyProvenance* expected = nullptr);
 
 // Compares the known fields of `expected` with the file's provenance; throws

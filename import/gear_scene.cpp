@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -29,6 +30,22 @@ namespace {
     if (reason.find(word) != std::string::npos)
       if (const auto it = stage.Find(key)) stage.ctx().Fail(*it, reason);
   stage.ctx().Fail(stage.item(), reason);
+}
+
+// A gear's geometry refused by the assembler ("gear 'S1.planet': undercut: ..."): at the gear's
+// key in its stage (its tip key when the reason is about a given tip), or the stage.
+void FailAtGear(const MapReader& stage, const std::string& gear_suffix, const std::string& what) {
+  static const std::map<std::string, std::string> kKeys{{"inner", "inner_planet"}, {"outer", "outer_planet"},
+                                                        {"sun1", "small_sun"},   {"sun2", "large_sun"},
+                                                        {"short", "short_planet"}, {"long", "long_planet"}};
+  const auto key = kKeys.find(gear_suffix);
+  const auto gear = stage.Find(key == kKeys.end() ? gear_suffix : key->second);
+  if (!gear) stage.ctx().Fail(stage.item(), what);
+  if (gear->node.IsMap() && what.find("tip") != std::string::npos)
+    for (auto it = gear->node.begin(); it != gear->node.end(); ++it)
+      if (it->first.Scalar().rfind("tip_", 0) == 0)
+        stage.ctx().Fail(Item{it->second, gear->path + "." + it->first.Scalar(), it->first.Mark()}, what);
+  stage.ctx().Fail(*gear, what);
 }
 
 bool Mentions(const std::string& what, const std::string& name) {
@@ -57,7 +74,8 @@ std::string FaultyBodyPath(const std::string& reduced_body, const std::string& f
 // reduce input's mesh takes them too and the file is its faulty twin (FaultyBodyPath); without a
 // reduce input the file's provenance must record exactly those faults.
 std::shared_ptr<const FlexibleBodyModes> LoadReducedBody(const Context& ctx, FlexibleBodyFile f,
-                                                         const std::vector<gears::ToothFaultSpec>& faults) {
+                                                         const std::vector<gears::ToothFaultSpec>& faults,
+                                                         std::string* source) {
   std::optional<flex::ReducedBodyProvenance> expected;
   std::optional<GearReduction> job;
   const std::string given_path = f.reduced_body;
@@ -115,6 +133,7 @@ std::shared_ptr<const FlexibleBodyModes> LoadReducedBody(const Context& ctx, Fle
       ctx.Fail(*f.reduced_body_item, given_path + " was reduced with faults '" + body.provenance.faults +
                                          "' but the scene gives " + f.body + " '" + want +
                                          "'; name its reduce_input so that the scene makes the body with its faults");
+    *source = body.provenance.source;
     return std::make_shared<FlexibleBodyModes>(std::move(body.modes));
   } catch (const flex::StaleReducedBodyError& e) {
     ctx.Fail(*f.reduced_body_item, std::string(e.what()) + "; " + (faults.empty() ? "re" + remake : remake));
@@ -129,7 +148,7 @@ std::shared_ptr<const FlexibleBodyModes> LoadReducedBody(const Context& ctx, Fle
 void LoadFlexibleBodies(const Context& ctx, GearTrainRead& r) {
   for (const FlexibleBodyFile& f : r.flexible_files) {
     gears::TrainFlexibleBody& b = r.description.options.flexible_bodies.at(f.body);
-    b.modes = LoadReducedBody(ctx, f, BodyFaults(r.description, f.body));
+    b.modes = LoadReducedBody(ctx, f, BodyFaults(r.description, f.body), &b.source);
     if (!b.mesh_interface.empty()) {
       const auto set = b.modes->node_sets.find(b.mesh_interface);
       if (set == b.modes->node_sets.end() || set->second.size() != 1)
@@ -149,6 +168,13 @@ void LoadFlexibleBodies(const Context& ctx, GearTrainRead& r) {
 
 void FailAtSource(const Context& ctx, const GearTrainSources& s, const std::string& what, bool kinematics_error) {
   const std::string reason = StripElementPrefix(what);
+  // The shared gear geometry check's (CheckTrainGearGeometry): at the gear in its stage.
+  for (const auto& [name, stage] : s.stages) {
+    const std::string gear = "train model: gear '" + name + ".";
+    if (what.rfind(gear, 0) == 0 && what.find("gear geometry:") != std::string::npos)
+      FailAtGear(stage, what.substr(gear.size(), what.find('\'', gear.size()) - gear.size()),
+                 what.substr(std::string("train model: ").size()));
+  }
   // The sensors stage's: at the sensor it names.
   for (const auto& [name, item] : s.sensors)
     if (what.find("sensor '" + name + "'") != std::string::npos) ctx.Fail(item, what);

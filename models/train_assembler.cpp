@@ -133,6 +133,8 @@ TrainAssembly::TrainAssembly(const PlanetaryTrain& t, int r, const TrainModelOpt
     FailTrain("gear range index " + std::to_string(range) + " out of range");
   CheckOptionNames(train, o);
   CheckOptionValues(train, o);
+  CheckTrainGearGeometry(train, o);
+  CheckFlexibleGearBodies(train, o);
   fault_gear = FaultGears(train, o);
   torsional = o.dofs == TrainDofs::kTorsional;
   spatial = o.dofs == TrainDofs::kSpatial;

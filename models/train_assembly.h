@@ -100,6 +100,9 @@ void AddMeshes(TrainAssembly& a);               // train_meshes.cpp
 void AddCouplings(TrainAssembly& a);            // train_couplings.cpp
 void AddDrives(TrainAssembly& a);               // train_couplings.cpp
 void AddSensors(TrainAssembly& a);              // train_sensors.cpp
+// Before anything is built: every flexible body that stands for a gear with a tooth form is that
+// gear (train_dynamics.h, "Flexible bodies"; train_bodies.cpp).
+void CheckFlexibleGearBodies(const PlanetaryTrain& train, const TrainModelOptions& o);
 // After Finalize(): refuses redundant kinematic meshes (train_meshes.cpp).
 void CheckKinematicMeshes(const TrainModel& tm);
 

@@ -2,7 +2,11 @@
 // gear geometry and material, then overridden), and the involute geometry of the train's meshes
 // that the stiffness models and the parameters share (MakeTrainGearPair, MakeTrainTvmsOptions).
 #include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
 #include <numbers>
+#include <sstream>
 
 #include "models/train_assembly.h"
 
@@ -82,7 +86,8 @@ const TrainMemberOverride& OverrideOf(const TrainModelOptions& o, const std::str
 
 // Involute gear of train gear g (train_dynamics.h, "Mesh stiffness"): the geometry every level
 // meshes with.
-Gear MakeTrainGear(const PlanetaryTrain& train, int g, bool right_hand, const TrainModelOptions& o) {
+Gear MakeTrainGear(const PlanetaryTrain& train, int g, bool right_hand, const TrainModelOptions& o,
+                   double fallback_face_width_m) {
   const TrainGear& tg = train.gears[g];
   if (!tg.has_tooth_form) FailTrain("gear '" + tg.name + "' has no tooth form: its stiffness cannot come from geometry");
   const TrainMemberOverride& ov = OverrideOf(o, TrainGearOwnerName(train, g));
@@ -98,6 +103,7 @@ Gear MakeTrainGear(const PlanetaryTrain& train, int g, bool right_hand, const Tr
   if (tg.internal) spec.root_fillet_coef = o.ring_root_fillet_coefficient;
   if (tg.tip_given) spec.tip_radius_m = tg.tip_radius_m;  // a measured outside diameter wins
   spec.face_width_m = ov.face_width_m.value_or(o.face_width_m);
+  if (spec.face_width_m == 0) spec.face_width_m = fallback_face_width_m;
   spec.internal = tg.internal;
   try {
     return Gear(spec);
@@ -125,13 +131,14 @@ void ResolveBodyParameters(TrainAssembly& a) {
     a.tm.planet_params.push_back(ResolveBody(a, ps.name, ps.gear, false, ps.stage));
 }
 
-GearPair MakeTrainGearPair(const PlanetaryTrain& train, int mesh, const TrainModelOptions& o) {
+GearPair MakeTrainGearPair(const PlanetaryTrain& train, int mesh, const TrainModelOptions& o,
+                           double fallback_face_width_m) {
   const TrainMesh& m = train.meshes.at(mesh);
   const auto [a, b] = TrainSpecGears(m);
   // Hands: gear a right in an external mesh (the sun, or the first planet of a planet pair),
   // left in an internal one (the planet, with the ring: equal hands); gear b left.
-  const Gear g1 = MakeTrainGear(train, a, m.kind == MeshKind::kExternal, o);
-  const Gear g2 = MakeTrainGear(train, b, false, o);
+  const Gear g1 = MakeTrainGear(train, a, m.kind == MeshKind::kExternal, o, fallback_face_width_m);
+  const Gear g2 = MakeTrainGear(train, b, false, o, fallback_face_width_m);
   const double dist = (TrainGearCentre(train, a, 0) - TrainGearCentre(train, b, 0)).norm();
   try {
     return GearPair(g1, g2, dist);
@@ -139,6 +146,85 @@ GearPair MakeTrainGearPair(const PlanetaryTrain& train, int mesh, const TrainMod
     FailTrain("mesh '" + m.name + "': " + e.what() +
               " (give profile shifts or addendum coefficients as member overrides)");
   }
+}
+
+namespace {
+
+std::string Num(double v) {
+  std::ostringstream s;
+  s.precision(9);
+  s << v;
+  return s.str();
+}
+
+// The number after `key` in a reduce input's source text ("gear z=23, m_n=0.002 m, ..."), NaN
+// when absent.
+double SourceNumber(const std::string& source, const std::string& key) {
+  const std::size_t at = source.find(key);
+  if (at == std::string::npos) return std::numeric_limits<double>::quiet_NaN();
+  try {
+    return std::stod(source.substr(at + key.size()));
+  } catch (const std::exception&) {
+    return std::numeric_limits<double>::quiet_NaN();
+  }
+}
+
+// Train gear of a flexible body ("S.planet1": its planet set's gear; "S.sun": the member's), -1.
+int FlexibleBodyGear(const PlanetaryTrain& train, const std::string& body) {
+  if (const auto m = train.member_by_name.find(body); m != train.member_by_name.end())
+    return train.members[m->second].gear;
+  for (const PlanetSet& ps : train.planet_sets)
+    for (std::size_t i = 0; i < ps.angles_rad.size(); ++i)
+      if (ps.name + std::to_string(i + 1) == body) return ps.gear;
+  return -1;
+}
+
+// The tip radius of the body's FE surface: the largest radius (about B's z axis) of the nodes of
+// its surface triangles, the smallest for an internal gear; NaN without a surface.
+double SurfaceTipRadius(const FlexibleBodyModes& modes, bool internal) {
+  double r = std::numeric_limits<double>::quiet_NaN();
+  for (const std::array<int, 3>& t : modes.surface_triangles)
+    for (int n : t) {
+      const Vec3& p = modes.nodes[n].position;
+      const double rn = std::hypot(p.x(), p.y());
+      if (std::isnan(r) || (internal ? rn < r : rn > r)) r = rn;
+    }
+  return r;
+}
+
+}  // namespace
+
+void CheckFlexibleGearBodies(const PlanetaryTrain& train, const TrainModelOptions& o) {
+  for (const auto& [body, flexible] : o.flexible_bodies) {
+    const int g = FlexibleBodyGear(train, body);
+    if (g < 0 || !train.gears[g].has_tooth_form || !flexible.modes) continue;
+    const TrainGear& tg = train.gears[g];
+    const double mn = tg.tooth_form.normal_module_m;
+    const Gear gear = MakeTrainGear(train, g, true, o, 10 * mn);
+    const bool width_given = OverrideOf(o, TrainGearOwnerName(train, g)).face_width_m || o.face_width_m > 0;
+    const std::string what = "flexible body '" + body + "' (" + (flexible.source.empty() ? "no source" : flexible.source) +
+                             ") is not the gear '" + tg.name + "' (z = " + std::to_string(tg.teeth) + ", m_n = " +
+                             Num(mn) + " m" + (width_given ? ", b = " + Num(gear.spec().face_width_m) + " m" : "") + "): ";
+    // What the reduce input says it reduced
+    if (flexible.source.rfind("gear z=", 0) == 0) {
+      const double z = SourceNumber(flexible.source, "z="), m = SourceNumber(flexible.source, "m_n="),
+                   b = SourceNumber(flexible.source, "b=");
+      if (z != tg.teeth) FailTrain(what + "its tooth count is " + Num(z));
+      if (!(std::abs(m - mn) <= 1e-9 * mn)) FailTrain(what + "its normal module is " + Num(m) + " m");
+      if (width_given && !(std::abs(b - gear.spec().face_width_m) <= 1e-9 * gear.spec().face_width_m))
+        FailTrain(what + "its face width is " + Num(b) + " m");
+    }
+    // What its surface shows
+    const double r_tip = SurfaceTipRadius(*flexible.modes, tg.internal);
+    if (!std::isnan(r_tip) && !(std::abs(r_tip - gear.tip_radius_m()) <= 0.25 * mn))
+      FailTrain(what + "its surface reaches radius " + Num(r_tip) + " m, the gear's tip circle is at " +
+                Num(gear.tip_radius_m()) + " m");
+  }
+}
+
+void CheckTrainGearGeometry(const PlanetaryTrain& train, const TrainModelOptions& o) {
+  for (int g = 0; g < static_cast<int>(train.gears.size()); ++g)
+    if (train.gears[g].has_tooth_form) MakeTrainGear(train, g, true, o, 10 * train.gears[g].tooth_form.normal_module_m);
 }
 
 TvmsOptions MakeTrainTvmsOptions(const PlanetaryTrain& train, int mesh, const TrainModelOptions& o) {

@@ -166,6 +166,12 @@
 // the contact's only (the FE body carries the rest): it is the scene's to choose. Contact meshes
 // of a flexible gear use its FE tooth surfaces (models/train_contact.h). A flexible carrier is
 // not supported (its planets' pins would need joints on its interface nodes).
+// A flexible body must be the gear it stands for (a body reduced from another gear turns, meshes
+// and rings as that gear): when its `source` is a reduce input's ("gear z=23, m_n=0.002 m, ...,
+// b=0.02 m, ..."), tooth count, normal module and face width must equal the train gear's (to
+// 1e-9); and, with a surface, its FE surface must reach the gear's tip circle (the largest radius
+// of an external gear's surface nodes, the smallest of a ring's, within a quarter module: one
+// tooth more or less moves the tip by half a module). Refused with both gears named.
 //
 // Imported gears (`imported_gears`, by body name; planets): a rigid planet whose body comes from a
 // mesh file (models/imported_gear.h): its mass, centre of mass and inertia are the closed mesh's
@@ -330,6 +336,7 @@ struct TrainFlexibleBody {
   std::shared_ptr<const FlexibleBodyModes> modes;
   FlexibleBodyOptions options;
   std::string mesh_interface;  // lumped meshes act on this interface's master ("" : on B)
+  std::string source;          // what was reduced (flex::ReducedBodyProvenance::source; "" unknown)
 };
 
 // A gear body from a mesh file (header, "Imported gears"), filled by the scene reader
@@ -512,9 +519,25 @@ MeshModel MeshModelOf(const PlanetaryTrain& train, int mesh, int branch,
                       const TrainModelOptions& options);
 
 // GearPair of train mesh `mesh` with the geometry described above ("Mesh stiffness"). Throws
-// std::invalid_argument naming the mesh if a gear has no tooth form or GearPair rejects the
-// geometry (with GearPair's reason).
-GearPair MakeTrainGearPair(const PlanetaryTrain& train, int mesh, const TrainModelOptions& options);
+// std::invalid_argument naming the gear ("gear 'S.planet': undercut: ...") if a gear has no
+// tooth form or Gear rejects it, naming the mesh if GearPair rejects the pair (with their
+// reasons). fallback_face_width_m: the face width of a gear that has none from the options (0:
+// none, an error).
+GearPair MakeTrainGearPair(const PlanetaryTrain& train, int mesh, const TrainModelOptions& options,
+                           double fallback_face_width_m = 0);
+
+// The involute geometry of every gear that has a tooth form, whatever its meshes' models: the
+// validation every command shares (BuildTrainModel calls it first, so `run`, `kinematics`,
+// `mesh-stiffness` and `modes` refuse the same gears). A gear that cannot be cut (undercut,
+// pointed tip, a root or tip radius that leaves no tooth: Gear's checks) makes kinematics,
+// forces and frequencies of a gear that does not exist, even where a kinematic mesh or a given
+// stiffness does not use the geometry. The pairs' checks (contact ratio, interference) stay with
+// the meshes that use the pair's geometry (TVMS, ISO 6336, contact): published lumped models
+// (seed 000, seed 002) state tooth counts and modules but not the ring's addendum their contact
+// ratio depends on. The face width enters none of the checks of a tooth's form; a gear without
+// one is checked at 10 modules. Throws std::invalid_argument as MakeTrainGearPair ("train model:
+// gear 'S.planet': ...").
+void CheckTrainGearGeometry(const PlanetaryTrain& train, const TrainModelOptions& options);
 
 // TVMS options of that pair: the blank radii BuildTrainModel derives its bodies from (bore of an
 // external gear, rim of a ring), the train's gear material.

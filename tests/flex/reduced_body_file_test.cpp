@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <limits>
 #include <random>
 #include <string>
 #include <unistd.h>
@@ -377,6 +378,44 @@ TEST_F(ReducedBodyFileTest, BadFilesNameTheFileAndTheDataset) {
   }
   e = ErrorOf([&] { ReadReducedBody(Path("v2.h5")); });
   EXPECT_EQ(e, Path("v2.h5") + ": reduced body format version 2, this engine reads version 1");
+}
+
+// Issue 17, class 5: a NaN or inf anywhere in the numbers of a reduced body (a node position, a
+// mode shape, a stress mode, a matrix) is refused naming the file, the dataset and the entry,
+// instead of flowing silently into every result.
+TEST_F(ReducedBodyFileTest, NonFiniteNumbersAreRefusedWithFileAndDataset) {
+  WriteReducedBody(Path("good.h5"), SyntheticBody());
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  struct Case {
+    std::string dataset;
+    Eigen::Index row, col;
+    double value;
+    std::string shown;
+  };
+  for (const Case& c : {Case{"/modes/nodes/positions", 3, 0, nan, "nan"},
+                        Case{"/modes/nodes/translation_shapes", 7, 2, inf, "inf"},
+                        Case{"/modes/nodes/rotation_shapes", 0, 1, -inf, "-inf"},
+                        Case{"/modes/stress_modes", 11, 0, nan, "nan"},
+                        Case{"/modes/stiffness", 1, 1, inf, "inf"},
+                        Case{"/modes/damping", 0, 0, nan, "nan"},
+                        Case{"/modes/geometric_stiffness", 17, 2, nan, "nan"},
+                        Case{"/modes/inertia/I5", 4, 1, nan, "nan"},
+                        Case{"/craig_bampton/M", 8, 8, inf, "inf"}}) {
+    CopyFile(Path("good.h5"), Path("bad.h5"), [&](const std::string& p, Eigen::MatrixXd& m) {
+      if (p == c.dataset) m(c.row, c.col) = c.value;
+      return true;
+    });
+    EXPECT_EQ(ErrorOf([&] { ReadReducedBody(Path("bad.h5")); }),
+              Path("bad.h5") + ": " + c.dataset + ": value " + c.shown + " at row " + std::to_string(c.row) +
+                  ", column " + std::to_string(c.col) + " is not finite");
+  }
+  // Vectors too (the modal frequencies)
+  CopyFile(Path("good.h5"), Path("bad.h5"), [&](const std::string& p, Eigen::MatrixXd& m) {
+    if (p == "/modes/frequencies_hz") m(1, 0) = nan;
+    return true;
+  });
+  EXPECT_EQ(ErrorOf([&] { ReadReducedBody(Path("bad.h5")); }),
+            Path("bad.h5") + ": /modes/frequencies_hz: value nan at 1 is not finite");
 }
 
 }  // namespace
