@@ -13,14 +13,36 @@
 namespace orrery::scene_reader {
 namespace {
 
-LumpedMember ReadLumpedMember(const Context& ctx, const Item& item, const std::string& kind) {
+// Keys a member takes that would not act on the model of this DOF set (each key must act or be
+// refused): a planet turns freely on its pin (no torsional spring to ground: a planet's spin is
+// held by its meshes only); the torsional set has no translations (no bearings); axial and tilt
+// stiffness act in the spatial set only.
+std::map<std::string, std::string> IdleMemberKeys(const std::string& kind, const std::string& dofs) {
+  std::map<std::string, std::string> idle;
+  if (kind == "planet")
+    for (const char* k : {"torsional_stiffness", "torsional_stiffness_u", "torsional_damping"})
+      idle[k] = "a planet turns freely on its pin: it has no torsional spring (its spin is held by its meshes; "
+                "give the sun, ring or carrier a torsional stiffness)";
+  if (dofs == "torsional")
+    for (const char* k : {"bearing_stiffness", "bearing_damping"})
+      idle[k] = "not used with dofs: torsional (no translations; use dofs: planar or spatial)";
+  if (dofs != "spatial")
+    for (const char* k : {"axial_stiffness", "tilt_stiffness"})
+      idle[k] = "not used with dofs: " + dofs + " (axial and tilting motions are in dofs: spatial only)";
+  return idle;
+}
+
+LumpedMember ReadLumpedMember(const Context& ctx, const Item& item, const std::string& kind,
+                             const std::string& dofs) {
   const bool carrier = kind == "carrier";
   const std::string radius_stem = carrier ? "planet_circle" : "base";
-  std::vector<std::string> allowed{"mass", "inertia", "inertia_over_r2", "bearing_stiffness",
-                                   "bearing_damping", "torsional_stiffness", "torsional_stiffness_u",
-                                   "torsional_damping", "axial_stiffness", "tilt_stiffness", "teeth"};
+  std::map<std::string, std::string> notes = IdleMemberKeys(kind, dofs);
+  std::vector<std::string> allowed;
+  for (const char* k : {"mass", "inertia", "inertia_over_r2", "bearing_stiffness", "bearing_damping",
+                        "torsional_stiffness", "torsional_stiffness_u", "torsional_damping", "axial_stiffness",
+                        "tilt_stiffness", "teeth"})
+    if (!notes.count(k)) allowed.push_back(k);
   Append(allowed, Names(RadiusKeys(radius_stem)));
-  std::map<std::string, std::string> notes;
   for (const std::string& k : Names(RadiusKeys(carrier ? "base" : "planet_circle")))
     notes[k] = carrier ? "the carrier has no base circle: give the planet-centre circle "
                          "(planet_circle_diameter_mm, ...)"
@@ -95,10 +117,10 @@ void ReadLumpedStage(const Context& ctx, const Item& section, Scene& scene) {
   p.planets = m.Int("planets", 0);
   if (p.planets < 1) ctx.Fail(m.Need("planets"), "must be >= 1, got " + std::to_string(p.planets));
   p.planet_angles = AnglesOf(m, "planet_angles", p.planets).value_or(std::vector<double>{});
-  p.sun = ReadLumpedMember(ctx, m.Need("sun"), "sun");
-  p.ring = ReadLumpedMember(ctx, m.Need("ring"), "ring");
-  p.carrier = ReadLumpedMember(ctx, m.Need("carrier"), "carrier");
-  p.planet = ReadLumpedMember(ctx, m.Need("planet"), "planet");
+  p.sun = ReadLumpedMember(ctx, m.Need("sun"), "sun", dofs);
+  p.ring = ReadLumpedMember(ctx, m.Need("ring"), "ring", dofs);
+  p.carrier = ReadLumpedMember(ctx, m.Need("carrier"), "carrier", dofs);
+  p.planet = ReadLumpedMember(ctx, m.Need("planet"), "planet", dofs);
   p.mesh_stiffness_sun = NeedScaled(m, Plain("mesh_stiffness_sun"));
   p.mesh_stiffness_ring = NeedScaled(m, Plain("mesh_stiffness_ring"));
   // Working transverse pressure angles, (0, 90) degrees.

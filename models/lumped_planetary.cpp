@@ -23,6 +23,10 @@ void CheckMember(const std::string& name, const LumpedMember& m) {
   if (!(m.radius > 0)) fail("radius", m.radius);
   if (!(m.bearing_stiffness >= 0)) fail("bearing_stiffness", m.bearing_stiffness);
   if (!(m.torsional_stiffness >= 0)) fail("torsional_stiffness", m.torsional_stiffness);
+  if (!(m.bearing_damping >= 0)) fail("bearing_damping", m.bearing_damping);
+  if (!(m.torsional_damping >= 0)) fail("torsional_damping", m.torsional_damping);
+  if (!(m.axial_stiffness >= 0)) fail("axial_stiffness", m.axial_stiffness);
+  if (!(m.tilt_stiffness >= 0)) fail("tilt_stiffness", m.tilt_stiffness);
 }
 
 }  // namespace
@@ -32,6 +36,9 @@ LumpedStage BuildLumpedStage(const LumpedStageParams& p, const LumpedStageExtras
   CheckMember("ring", p.ring);
   CheckMember("carrier", p.carrier);
   CheckMember("planet", p.planet);
+  if (p.planet.torsional_stiffness != 0 || p.planet.torsional_damping != 0)
+    throw std::invalid_argument("lumped stage: planet.torsional_stiffness and planet.torsional_damping must be 0: "
+                                "a planet turns freely on its pin (its spin is held by its meshes)");
   if (p.planets < 1) throw std::invalid_argument("lumped stage: needs at least one planet");
   if (!p.planet_angles.empty() && static_cast<int>(p.planet_angles.size()) != p.planets)
     throw std::invalid_argument("lumped stage: planet_angles must list one angle per planet");

@@ -34,8 +34,8 @@ struct LumpedMember {
   double radius = 0;               // m: base radius (gears); planet-centre radius (carrier)
   double bearing_stiffness = 0;    // N/m, radial, isotropic (planets: to the carrier)
   double bearing_damping = 0;      // N s/m
-  double torsional_stiffness = 0;  // N m/rad, to ground (central members)
-  double torsional_damping = 0;    // N m s/rad
+  double torsional_stiffness = 0;  // N m/rad, to ground (central members; a planet's must be 0)
+  double torsional_damping = 0;    // N m s/rad (central members; a planet's must be 0)
   double axial_stiffness = 0;      // N/m (spatial DOF set)
   double tilt_stiffness = 0;       // N m/rad (spatial DOF set)
   int teeth = 0;                   // gears: tooth count (mesh phase and base pitch)

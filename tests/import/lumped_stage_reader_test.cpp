@@ -1,0 +1,161 @@
+// Tests for import/lumped_stage_reader.cpp: every numeric key the `lumped_stage:` reader accepts
+// acts on the model (issue 17, class 7: a planet's torsional_stiffness was accepted and changed
+// nothing), and a key that cannot act in the chosen DOF set is refused with the reason.
+//
+// The oracle is the model itself: each numeric value of a scene that sets every key the DOF set
+// allows is changed by 30 %, one at a time, and the model's linearization at the start (mass,
+// stiffness and damping matrices), its generalized forces at rest and its meshes' tooth counts
+// must change. A key that is read and dropped leaves all of them equal to the last bit.
+#include <gtest/gtest.h>
+
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "import/scene.h"
+#include "mbd/data.h"
+#include "mbd/evaluate.h"
+#include "mbd/linearization.h"
+
+namespace orrery {
+namespace {
+
+// The numbers of one scene: "sun.mass" -> 0.4, "mesh_stiffness_sun" -> 5e8, ...
+using Values = std::map<std::string, double>;
+
+// Every numeric key a member of `kind` takes in `dofs` (the reader's IdleMemberKeys refuse the
+// others), with values of Lin & Parker's example (docs/validation/lin_parker_1999.md) or of that
+// order.
+Values MemberValues(const std::string& kind, const std::string& dofs) {
+  Values v;
+  const std::map<std::string, std::vector<double>> base{
+      {"sun", {0.4, 1e-3, 77.4, 22}}, {"ring", {2.35, 0.05, 275, 50}},
+      {"carrier", {5.43, 0.05, 176.8, 0}}, {"planet", {0.66, 1e-3, 100.3, 14}}};
+  const std::vector<double>& b = base.at(kind);
+  v["mass"] = b[0];
+  v["inertia"] = b[1];
+  v[kind == "carrier" ? "planet_circle_diameter_mm" : "base_diameter_mm"] = b[2];
+  if (kind != "carrier") v["teeth"] = b[3];
+  if (kind != "planet") {
+    v["torsional_stiffness"] = 2e5;
+    v["torsional_damping"] = 3;
+  }
+  if (dofs != "torsional") {
+    v["bearing_stiffness"] = 1e8;
+    v["bearing_damping"] = 200;
+  }
+  if (dofs == "spatial") {
+    v["axial_stiffness"] = 2e8;
+    v["tilt_stiffness"] = 4e6;
+  }
+  return v;
+}
+
+Values SceneValues(const std::string& dofs) {
+  Values v;
+  for (const std::string kind : {"sun", "ring", "carrier", "planet"})
+    for (const auto& [key, value] : MemberValues(kind, dofs)) v[kind + "." + key] = value;
+  v["mesh_stiffness_sun"] = 5e8;
+  v["mesh_stiffness_ring"] = 6e8;
+  v["pressure_angle_sun_deg"] = 24.6;
+  v["pressure_angle_ring_deg"] = 22.1;
+  v["mesh_damping_ratio"] = 0.05;
+  v["input.torque"] = 100;
+  v["load.torque"] = -300;
+  v["helix_angle_deg"] = 12;
+  return v;
+}
+
+std::string Number(double x) {
+  std::ostringstream s;
+  s.precision(17);
+  s << x;
+  return s.str();
+}
+
+std::string SceneText(const std::string& dofs, const Values& v) {
+  std::ostringstream s;
+  s << "lumped_stage:\n  dofs: " << dofs << "\n  planets: 3\n";
+  for (const std::string kind : {"sun", "ring", "carrier", "planet"}) {
+    s << "  " << kind << ": {";
+    const char* sep = "";
+    for (const auto& [key, value] : v)
+      if (key.rfind(kind + ".", 0) == 0) s << sep << key.substr(kind.size() + 1) << ": " << Number(value), sep = ", ";
+    s << "}\n";
+  }
+  for (const auto& [key, value] : v) {
+    if (key.find('.') != std::string::npos) continue;
+    s << "  " << key << ": " << Number(value) << "\n";
+  }
+  s << "  input: {member: sun, torque: " << Number(v.at("input.torque")) << "}\n";
+  s << "  load: {member: carrier, torque: " << Number(v.at("load.torque")) << "}\n";
+  s << "solver: {end_time: 0.01}\noutput: {interval: 0.001}\n";
+  return s.str();
+}
+
+// What the model is: its linearization at the start, its generalized forces at rest (t = 0.1 s),
+// and its meshes' tooth counts.
+Eigen::VectorXd Fingerprint(const Scene& scene) {
+  const Model& model = *scene.model;
+  const State start = State::Initial(model);
+  const LinearModel lin = Linearize(model, start);
+  Data data(model);
+  EvaluateDynamics(model, 0.1, start.q, start.v, Eigen::VectorXd::Zero(model.nv), data);
+  std::vector<double> f(lin.M.data(), lin.M.data() + lin.M.size());
+  f.insert(f.end(), lin.K.data(), lin.K.data() + lin.K.size());
+  f.insert(f.end(), lin.D.data(), lin.D.data() + lin.D.size());
+  f.insert(f.end(), data.tau_id.data(), data.tau_id.data() + data.tau_id.size());
+  for (const GearMesh& m : model.gear_meshes) f.push_back(m.spec.teeth_a), f.push_back(m.spec.teeth_b);
+  return Eigen::Map<const Eigen::VectorXd>(f.data(), static_cast<Eigen::Index>(f.size()));
+}
+
+TEST(LumpedStageReader, EveryNumericKeyChangesTheModel) {
+  for (const std::string dofs : {"torsional", "planar", "spatial"}) {
+    const Values base = SceneValues(dofs);
+    const Eigen::VectorXd reference = Fingerprint(LoadSceneFromString(SceneText(dofs, base), "base.yaml"));
+    for (const auto& [key, value] : base) {
+      Values changed = base;
+      changed[key] = key.ends_with("teeth") ? value + 1 : 1.3 * value;
+      const Eigen::VectorXd f = Fingerprint(LoadSceneFromString(SceneText(dofs, changed), "changed.yaml"));
+      ASSERT_EQ(f.size(), reference.size()) << dofs << ": " << key;
+      EXPECT_GT((f - reference).norm(), 1e-12 * reference.norm()) << "dofs " << dofs << ": " << key
+                                                                   << " is read and changes nothing";
+    }
+  }
+}
+
+std::string ErrorOf(const std::string& text) {
+  try {
+    LoadSceneFromString(text, "t.yaml");
+  } catch (const SceneError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(LumpedStageReader, KeysThatCannotActAreRefusedWithTheReason) {
+  // A planet's torsional spring (the issue's reproduction: 1e9 N m/rad changed no frequency)
+  Values v = SceneValues("planar");
+  v["planet.torsional_stiffness"] = 1e9;
+  EXPECT_NE(ErrorOf(SceneText("planar", v)).find("lumped_stage.planet.torsional_stiffness: key not allowed here: a "
+                                                 "planet turns freely on its pin"),
+            std::string::npos)
+      << ErrorOf(SceneText("planar", v));
+  // Bearings without translations; axial and tilt stiffness outside the spatial set
+  v = SceneValues("torsional");
+  v["sun.bearing_stiffness"] = 1e8;
+  EXPECT_NE(ErrorOf(SceneText("torsional", v)).find("lumped_stage.sun.bearing_stiffness: key not allowed here: not "
+                                                    "used with dofs: torsional"),
+            std::string::npos)
+      << ErrorOf(SceneText("torsional", v));
+  v = SceneValues("planar");
+  v["ring.tilt_stiffness"] = 1e6;
+  EXPECT_NE(ErrorOf(SceneText("planar", v)).find("lumped_stage.ring.tilt_stiffness: key not allowed here: not used "
+                                                 "with dofs: planar"),
+            std::string::npos)
+      << ErrorOf(SceneText("planar", v));
+}
+
+}  // namespace
+}  // namespace orrery
