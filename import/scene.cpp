@@ -59,7 +59,7 @@ bool HasAngularCoordinate(JointType type) {
 std::vector<std::string> JointTypeNames(bool loop_closure = false) {
   std::vector<std::string> names;
   for (const JointTypeInfo& info : AllJointTypes())
-    if (!loop_closure || info.loop_rows > 0) names.emplace_back(info.name);
+    if (loop_closure ? info.loop_rows > 0 : info.position != nullptr) names.emplace_back(info.name);
   return names;
 }
 

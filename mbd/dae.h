@@ -10,6 +10,19 @@
 // Phi_q N = G_h, differentiating r_mu along a solution gives G_h G_h^T mu = 0, so mu = 0 exactly as
 // in the original form, and no constraint partial with respect to quaternion coordinates is
 // needed. lambda and mu are algebraic (excluded from IDA's error test).
+//
+// Sign of the multipliers (every integrator, Linearize and the result file share it): r_v = 0 reads
+// M v-dot + C = Q - G^T lambda, so the constraints apply the generalized force -G^T lambda, and a
+// row's multiplier is the force the constraint exerts *against* the direction in which its row
+// grows. Per kind of row:
+//   driver (v_k = f(t) or q_k = f(t); G row e_k): the driver applies -lambda to coordinate k; its
+//     effort (torque or force along the coordinate, /drivers/<name>/effort) is -lambda: positive
+//     when the driver pushes the coordinate forward;
+//   gear constraint (delta_drive = 0, model.h GearConstraintSpec): lambda is the tooth force on
+//     gear b along n_drive (/gear_constraints/<name>/force);
+//   loop closure (rows of LoopClosureSpec in world or frame-A axes): the bodies of A and B feel
+//     the wrenches -c lambda (constraints.h CalcConstraintForces); /loop_closures/<name>/reaction
+//     is the wrench on frame B's body.
 #include <Eigen/Core>
 #include <Eigen/LU>
 

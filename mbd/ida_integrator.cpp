@@ -242,7 +242,16 @@ class IdaIntegrator final : public Integrator {
     char* flag_name = IDAGetReturnFlagName(flag);
     s << "IDA stopped at t = " << std::max(state_.t, t_step_) << " s: " << call << " returned " << flag_name;
     free(flag_name);
-    if (flag == IDA_CONV_FAIL || flag == IDA_ERR_FAIL)
+    long steps = 0;
+    if (mem_) IDAGetNumSteps(mem_, &steps);
+    if ((flag == IDA_CONV_FAIL || flag == IDA_ERR_FAIL) && steps == 0)
+      // Not a single step: at the start nothing is stiff or discontinuous yet, the tolerances are
+      // what IDA cannot meet (rounding of q, v near rtol |y| + atol, or the multipliers' Newton test)
+      s << " (no step succeeded: the tolerances rtol = " << options_.rtol << ", atol = " << options_.atol
+        << " may be below what the model's rounding allows; loosen solver.rtol or solver.atol, or "
+           "raise solver.atol_multiplier (now "
+        << options_.atol_multiplier << ", on the multipliers' Newton test))";
+    else if (flag == IDA_CONV_FAIL || flag == IDA_ERR_FAIL)
       s << " (steps kept failing: the model may be too stiff for the tolerances, or a force or "
            "constraint is discontinuous; try the generalized-alpha integrator or a smaller max step)";
     if (flag == IDA_TOO_MUCH_WORK) s << " (more than " << options_.max_steps_per_output << " steps between outputs)";

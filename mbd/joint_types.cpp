@@ -118,7 +118,7 @@ constexpr Kind A = Kind::kAngle, L = Kind::kLength, Q = Kind::kQuaternion;
 
 // The table, in enum order (one entry per type, laid out by hand).
 // clang-format off
-constexpr std::array<JointTypeInfo, 8> kJointTypes{{
+constexpr std::array<JointTypeInfo, 9> kJointTypes{{
     WithRows({.type = JointType::kFixed, .name = "fixed", .nq = 0, .nv = 0,
               .n_loop_terms = 4,
               .loop_terms = {Point(), Perpendicular(kX, kY), Perpendicular(kY, kZ),
@@ -160,6 +160,11 @@ constexpr std::array<JointTypeInfo, 8> kJointTypes{{
               .q_names = {"x", "y", "z", "qw", "qx", "qy", "qz"},
               .v_names = {"x", "y", "z", "wx", "wy", "wz"},
               .position = FreePosition, .velocity_product = FreeVelocityProduct}),
+    // A pin in a plane, as a loop closure only: B's origin on A's z axis (two rows), everything
+    // else free. It closes a planar loop of revolute joints with the two rows the plane leaves
+    // (a revolute cut there has 5 rows of which 3 repeat the plane, a spherical cut 3 of which 1).
+    WithRows({.type = JointType::kPlanarPin, .name = "planar_pin", .nq = 0, .nv = 0,
+              .n_loop_terms = 2, .loop_terms = {Distance(kX), Distance(kY)}}),
 }};
 // clang-format on
 

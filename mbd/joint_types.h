@@ -36,7 +36,8 @@ enum class JointType {
   kUniversal,
   kSpherical,
   kPlanar,
-  kFree
+  kFree,
+  kPlanarPin  // a cut joint only (loop closures): no coordinates of its own
 };
 
 // What a coordinate is. For velocity coordinates kQuaternion marks a component of the angular
@@ -72,7 +73,7 @@ struct JointTypeInfo {
   int n_loop_terms = 0;
   std::array<LoopTerm, 5> loop_terms{};
   int loop_rows = 0;
-  JointPositionFn position = nullptr;
+  JointPositionFn position = nullptr;  // nullptr: a cut-joint type only (no tree joint)
   JointVelocityProductFn velocity_product = nullptr;  // nullptr: S_F is constant in F
 };
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include <Eigen/Eigenvalues>
@@ -85,6 +86,15 @@ ModalResult CalcModes(const LinearModel& lin) {
     r.frequencies_hz.push_back((w2(i) < 0 ? -1.0 : 1.0) * std::sqrt(std::abs(w2(i))) / kTwoPi);
   r.shapes = lin.T * eig.eigenvectors();
   return r;
+}
+
+double LinearizationRelativeError(double step) {
+  return std::numeric_limits<double>::epsilon() / step + step * step;
+}
+
+bool SameEigenvalue(double a, double b, double absolute_tolerance, double step) {
+  const double d = std::abs(a - b);
+  return d <= absolute_tolerance || d <= 10 * LinearizationRelativeError(step) * std::max(std::abs(a), std::abs(b));
 }
 
 }  // namespace orrery

@@ -37,4 +37,17 @@ struct ModalResult {
 // Undamped natural modes of the reduced system: K_s x = w^2 M x, K_s the symmetric part of K_r.
 ModalResult CalcModes(const LinearModel& lin);
 
+// Relative accuracy of what Linearize measures with relative step `step`: a central difference
+// carries a rounding error of eps / step and a truncation error of order step^2 relative to the
+// stiffness it measures (Nocedal & Wright, "Numerical Optimization", 2006, sec. 8.1), and each
+// eigenvalue w^2 of CalcModes as much relative to itself. Two eigenvalues closer than 10 times
+// this are one repeated eigenvalue as far as the linearization can tell (a planet-mode pair that
+// symmetry makes equal splits by ~1e-11 relative at step 1e-6).
+double LinearizationRelativeError(double step = 1e-6);
+
+// Whether eigenvalues a and b (w^2, (rad/s)^2, of one CalcModes) are one repeated eigenvalue:
+// |a - b| within absolute_tolerance (the eigen solver's backward error, e.g. safety n eps
+// lambda_max) or within 10 LinearizationRelativeError(step) of max(|a|, |b|).
+bool SameEigenvalue(double a, double b, double absolute_tolerance, double step = 1e-6);
+
 }  // namespace orrery

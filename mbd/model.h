@@ -62,6 +62,8 @@ struct JointSpec {
 //   cylindrical: x_A.z_B = y_A.z_B = 0, (p_B-p_A).x_A = (p_B-p_A).y_A = 0
 //   planar: z_A.x_B = z_A.y_B = 0, (p_B-p_A).z_A = 0
 //   fixed: p_B = p_A, x_A.y_B = y_A.z_B = z_A.x_B = 0
+//   planar_pin (cut joints only): (p_B-p_A).x_A = (p_B-p_A).y_A = 0: the cut of a planar loop of
+//     revolute joints about z_A (a revolute cut repeats the plane's 3 rows, a spherical cut 1)
 struct LoopClosureSpec {
   std::string name;
   JointType type = JointType::kRevolute;
@@ -70,7 +72,7 @@ struct LoopClosureSpec {
 };
 
 // A driver prescribes one coordinate of a joint as a function of time, as a rheonomic constraint
-// whose multiplier is the driving effort (torque or force). Position drivers: q_k = f(t)
+// whose multiplier is minus the driving effort (torque or force; dae.h, "Sign of the multipliers"). Position drivers: q_k = f(t)
 // (holonomic). Speed drivers: v_k = f(t) (a velocity constraint; the coordinate is its integral).
 struct DriverSpec {
   std::string name;

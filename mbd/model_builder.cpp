@@ -131,6 +131,8 @@ JointIndex ModelBuilder::AddJoint(const JointSpec& spec) {
   j.X_PF_is_identity = spec.X_PF.IsIdentity();
   j.X_MC_is_identity = j.X_MC.IsIdentity();
   const JointTypeInfo& info = JointInfo(spec.type);
+  if (info.position == nullptr)
+    Fail(what + ": a " + info.name + " is a cut joint only: close the loop with it under loop_closures");
   if (info.axes >= 1) {
     if (!spec.axis.allFinite() || spec.axis.norm() < 1e-12)
       Fail(what + ": axis " + Fmt(spec.axis) + " has zero length");

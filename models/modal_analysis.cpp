@@ -152,7 +152,7 @@ TrainModes CalcTrainModes(const TrainModel& tm, const ModalOptions& options) {
   // Groups of equal eigenvalues (ascending order: neighbours).
   for (int i = 0; i < nm; ++i) {
     const bool same = !r.groups.empty() &&
-                      std::abs(lambda[i] - lambda[r.groups.back().first_mode]) <= r.eigenvalue_tolerance;
+                      SameEigenvalue(lambda[i], lambda[r.groups.back().first_mode], r.eigenvalue_tolerance);
     if (same) {
       ++r.groups.back().multiplicity;
     } else {

@@ -17,8 +17,10 @@
 // share reaches `participation_threshold`.
 // Eigenvalue tolerance (grouping of repeated modes and the zero test): the symmetric eigen solver's
 // backward error is O(n eps lambda_max), and Linearize's central-difference K carries a rounding
-// error of O(eps K_max) per entry, i.e. O(eps lambda_max) in the eigenvalues; modes within
-// safety * n * eps * lambda_max (safety 1e3) are one group.
+// error of O(eps K_max) per entry, i.e. O(eps lambda_max) in the eigenvalues: an eigenvalue within
+// safety * n * eps * lambda_max (safety 1e3) of 0 is a rigid-body mode. Modes are one group within
+// that or within Linearize's relative accuracy (mbd/linearization.h SameEigenvalue: the central
+// differences' eps / step + step^2 relative to the eigenvalue, times 10).
 //
 // Forced response (modal summation, seed 001 section 2.4.2): mesh m's transmission error
 // e_m = sum_l A_l cos(2 pi l psi_m + phi_l) with psi_m = phase_m +- f_j t (the sign of gear a's

@@ -276,5 +276,36 @@ TEST(FourBar, PlanarRevoluteCutIsRejectedNamingTheLoopClosure) {
   EXPECT_NO_THROW(integ->Initialize(State::Initial(*ok.model)));
 }
 
+// Issue 17: a planar loop of revolute joints closes with a planar_pin cut (the two in-plane rows,
+// mbd/joint_types.h), no spherical cut and universal coupler needed: driven, the rocker follows
+// Freudenstein's closed form as the spherical-cut mechanism does, within the drift bound of
+// RockerFollowsFreudensteinSolutionWithBoundedDrift; the pin is no tree joint.
+TEST(FourBar, PlanarPinCutClosesTheAllRevoluteFourBar) {
+  const FourBar fb = Build(true, JointType::kRevolute, JointType::kPlanarPin);
+  const Model& m = *fb.model;
+  EXPECT_EQ(m.n_constraints, 2 + 1);  // the pin's two rows and the motor
+  const double rtol = 1e-8, atol = 1e-10;
+  const Trace tr = RunModel(fb, Ida(rtol, atol), 1.2, 0.01);
+  const int n = m.nq + m.nv + m.n_constraints + m.n_holonomic;
+  const double phi_bound = 0.33 * std::sqrt(double(n)) * kPhiQNorm * (rtol * tr.max_abs_q + atol);
+  EXPECT_LE(tr.stats.max_abs_phi, phi_bound);
+  const double sin_mu = MinTransmissionSine();
+  for (size_t k = 0; k < tr.t.size(); ++k)
+    EXPECT_LE(std::abs(Wrap(tr.theta4[k] - Solve(tr.theta2[k]).rocker)),
+              std::sqrt(2.0) * tr.stats.max_abs_phi / (kC * sin_mu) + 100 * kEps)
+        << "t = " << tr.t[k];
+  EXPECT_GT(tr.theta2.back(), 7.0);  // the crank turned (1.2 rev)
+  // As a tree joint it is refused with the reason
+  ModelBuilder b;
+  const BodyIndex body = b.AddBody("b", 1.0, Vec3::Zero(), Mat3::Identity());
+  try {
+    b.AddJoint(MakeJoint("pin", JointType::kPlanarPin, kWorldBody, body));
+    ADD_FAILURE() << "planar_pin accepted as a tree joint";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("joint 'pin': a planar_pin is a cut joint only"), std::string::npos)
+        << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace orrery

@@ -59,7 +59,7 @@ SceneModes GroupedModes(const Model& model, Classify classify) {
   for (int i = 0; i < n; ++i) {
     const bool rigid = std::abs(lambda[i]) <= tol;
     r.frequencies_hz.push_back(rigid ? 0.0 : modal.frequencies_hz[i]);
-    if (i > 0 && std::abs(lambda[i] - lambda[first]) <= tol) {
+    if (i > 0 && SameEigenvalue(lambda[i], lambda[first], tol)) {
       ++r.groups.back().multiplicity;
       continue;
     }
