@@ -76,19 +76,23 @@ class BodyReader {
   }
   // A matrix of the given shape (-1: any), every entry finite.
   Eigen::MatrixXd Matrix(const std::string& object, Eigen::Index rows, Eigen::Index cols) const {
-    Eigen::MatrixXd m = FiniteMatrix(object);
+    Eigen::MatrixXd m = r_.ReadMatrix(object);
     CheckShape(object, m.rows(), m.cols(), rows, cols);
+    CheckFinite(object, m);
     return m;
   }
   // A matrix of any shape, every entry finite (a NaN or inf would flow into every result).
   Eigen::MatrixXd FiniteMatrix(const std::string& object) const {
     Eigen::MatrixXd m = r_.ReadMatrix(object);
+    CheckFinite(object, m);
+    return m;
+  }
+  void CheckFinite(const std::string& object, const Eigen::MatrixXd& m) const {
     for (Eigen::Index j = 0; j < m.cols(); ++j)
       for (Eigen::Index i = 0; i < m.rows(); ++i)
         if (!std::isfinite(m(i, j)))
           Fail(object, "value " + Num(m(i, j)) + " at row " + std::to_string(i) + ", column " + std::to_string(j) +
                            " is not finite");
-    return m;
   }
   std::vector<double> Vector(const std::string& object, Eigen::Index n) const {
     std::vector<double> v = r_.ReadVector(object);

@@ -348,7 +348,7 @@ TEST_F(ReducedBodyFileTest, BadFilesNameTheFileAndTheDataset) {
   EXPECT_EQ(e, Path("no_k.h5") + ": /modes/stiffness: no such dataset");
 
   CopyFile(Path("good.h5"), Path("shape.h5"), [](const std::string& p, Eigen::MatrixXd& m) {
-    if (p == "/modes/nodes/translation_shapes") m.conservativeResize(m.rows(), m.cols() + 1);
+    if (p == "/modes/nodes/translation_shapes") m.conservativeResizeLike(Eigen::MatrixXd::Zero(m.rows(), m.cols() + 1));
     return true;
   });
   e = ErrorOf([&] { ReadReducedBody(Path("shape.h5")); });

@@ -82,11 +82,11 @@ TEST(RunHealthCli, ToothPenetrationFarBeyondTheMarginWarnsPerContact) {
   const std::string scene = ScenePath("seed003_contact_healthy.yaml");
   // As shipped: healthy
   const auto [healthy, healthy_status] =
-      RunCommand(kOrrery + " run " + scene + " --end-time 1e-3 -o " + (TempDir() / "healthy.h5").string());
+      RunCommand(kOrrery + " run " + scene + " --end-time 5e-4 -o " + (TempDir() / "healthy.h5").string());
   EXPECT_EQ(healthy_status, 0) << healthy;
   EXPECT_NE(healthy.find("health              ok"), std::string::npos) << healthy;
   // 100 times the load: every contact warns, the run ends (a warning, not a stop)
-  const std::string overload = " --end-time 1e-3 --set gear_train.output_torque=-600000";
+  const std::string overload = " --end-time 5e-4 --set gear_train.output_torque=-600000";
   const auto [text, status] = RunCommand(kOrrery + " run " + scene + overload + " -o " + (TempDir() / "over.h5").string());
   EXPECT_EQ(status, 0) << text;
   EXPECT_EQ(CountOf(text, "penetration beyond the contact margin"), 6) << text;
