@@ -4,11 +4,12 @@
 //
 // The oracle is the model itself: each numeric value of a scene that sets every key the DOF set
 // allows is changed by 30 %, one at a time, and the model's linearization at the start (mass,
-// stiffness and damping matrices), its generalized forces at rest and its meshes' tooth counts
-// must change. A key that is read and dropped leaves all of them equal to the last bit.
+// stiffness and damping matrices) or its generalized forces at rest must change; the tooth counts
+// (which must agree with the base radii) are checked to reach the meshes. A key that is read and dropped leaves all of them equal to the last bit.
 #include <gtest/gtest.h>
 
 #include <map>
+#include <utility>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -30,13 +31,12 @@ using Values = std::map<std::string, double>;
 Values MemberValues(const std::string& kind, const std::string& dofs) {
   Values v;
   const std::map<std::string, std::vector<double>> base{
-      {"sun", {0.4, 1e-3, 77.4, 22}}, {"ring", {2.35, 0.05, 275, 50}},
-      {"carrier", {5.43, 0.05, 176.8, 0}}, {"planet", {0.66, 1e-3, 100.3, 14}}};
+      {"sun", {0.4, 1e-3, 77.4}}, {"ring", {2.35, 0.05, 275}},
+      {"carrier", {5.43, 0.05, 176.8}}, {"planet", {0.66, 1e-3, 100.3}}};
   const std::vector<double>& b = base.at(kind);
   v["mass"] = b[0];
   v["inertia"] = b[1];
   v[kind == "carrier" ? "planet_circle_diameter_mm" : "base_diameter_mm"] = b[2];
-  if (kind != "carrier") v["teeth"] = b[3];
   if (kind != "planet") {
     v["torsional_stiffness"] = 2e5;
     v["torsional_damping"] = 3;
@@ -94,8 +94,7 @@ std::string SceneText(const std::string& dofs, const Values& v) {
   return s.str();
 }
 
-// What the model is: its linearization at the start, its generalized forces at rest (t = 0.1 s),
-// and its meshes' tooth counts.
+// What the model is: its linearization at the start and its generalized forces at rest (t = 0.1 s).
 Eigen::VectorXd Fingerprint(const Scene& scene) {
   const Model& model = *scene.model;
   const State start = State::Initial(model);
@@ -106,7 +105,6 @@ Eigen::VectorXd Fingerprint(const Scene& scene) {
   f.insert(f.end(), lin.K.data(), lin.K.data() + lin.K.size());
   f.insert(f.end(), lin.D.data(), lin.D.data() + lin.D.size());
   f.insert(f.end(), data.tau_id.data(), data.tau_id.data() + data.tau_id.size());
-  for (const GearMesh& m : model.gear_meshes) f.push_back(m.spec.teeth_a), f.push_back(m.spec.teeth_b);
   return Eigen::Map<const Eigen::VectorXd>(f.data(), static_cast<Eigen::Index>(f.size()));
 }
 
@@ -116,13 +114,33 @@ TEST(LumpedStageReader, EveryNumericKeyChangesTheModel) {
     const Eigen::VectorXd reference = Fingerprint(LoadSceneFromString(SceneText(dofs, base), "base.yaml"));
     for (const auto& [key, value] : base) {
       Values changed = base;
-      changed[key] = key.ends_with("teeth") ? value + 1 : 1.3 * value;
+      changed[key] = 1.3 * value;
       const Eigen::VectorXd f = Fingerprint(LoadSceneFromString(SceneText(dofs, changed), "changed.yaml"));
       ASSERT_EQ(f.size(), reference.size()) << dofs << ": " << key;
       EXPECT_GT((f - reference).norm(), 1e-12 * reference.norm()) << "dofs " << dofs << ": " << key
                                                                    << " is read and changes nothing";
     }
   }
+}
+
+// `teeth` (not in the scenes above: tooth counts must agree with the base radii) set the meshes'
+// tooth counts, which their base pitch and phase come from.
+TEST(LumpedStageReader, TeethReachTheMeshes) {
+  Values v = SceneValues("planar");
+  // 27 / 35 / 96 teeth on base diameters in the same ratio
+  const double per_tooth_mm = 100.3 / 35;
+  v["sun.base_diameter_mm"] = 27 * per_tooth_mm, v["ring.base_diameter_mm"] = 96 * per_tooth_mm;
+  std::string text = SceneText("planar", v);
+  const std::vector<std::pair<std::string, int>> teeth{{"sun", 27}, {"planet", 35}, {"ring", 96}};
+  for (const auto& [kind, z] : teeth) {
+    const std::string at = "  " + kind + ": {";
+    text.insert(text.find(at) + at.size(), "teeth: " + std::to_string(z) + ", ");
+  }
+  const Scene scene = LoadSceneFromString(text, "teeth.yaml");
+  ASSERT_EQ(scene.model->gear_meshes.size(), 6u);
+  EXPECT_EQ(scene.model->gear_meshes[0].spec.teeth_a, 27);  // sun_planet1: sun, planet
+  EXPECT_EQ(scene.model->gear_meshes[0].spec.teeth_b, 35);
+  EXPECT_EQ(scene.model->gear_meshes[1].spec.teeth_b, 96);  // ring_planet1: planet, ring
 }
 
 std::string ErrorOf(const std::string& text) {
