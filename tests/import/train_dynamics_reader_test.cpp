@@ -72,7 +72,10 @@ Eigen::VectorXd Fingerprint(const Scene& scene) {
   return Eigen::Map<const Eigen::VectorXd>(f.data(), static_cast<Eigen::Index>(f.size()));
 }
 
-TEST(TrainDynamicsReader, EveryNumericDynamicsKeyChangesTheModel) {
+// DISABLED_ until it has run once: written while the machine's builds were suspended (the keys
+// that change nothing in this train, if any, are then refused or made to act, and the prefix
+// dropped).
+TEST(TrainDynamicsReader, DISABLED_EveryNumericDynamicsKeyChangesTheModel) {
   const std::map<std::string, double> base{
       {"connection_stiffness", 1e8}, {"clutch_stiffness", 2e8}, {"brake_stiffness", 1e10},
       {"mesh_damping_ratio", 0.05}, {"mesh_stiffness_per_face_width", 1.5e10},
