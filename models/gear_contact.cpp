@@ -95,7 +95,8 @@ std::shared_ptr<const ContactSurface> MakeGearContactSurface(
   const gears::ProfileResolution res{.root = options.root_intervals,
                                      .fillet = options.fillet_intervals,
                                      .involute = options.involute_intervals,
-                                     .tip = options.tip_intervals};
+                                     .tip = options.tip_intervals,
+                                     .fillet_max_sag_m = options.fillet_max_sag_m};
   std::vector<TriangleMesh> parts;
   std::vector<double> scales;
   // The tooth ring of the mesh-zone test: tooth t about angle 2 pi t / z, radial band and half

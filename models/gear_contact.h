@@ -73,6 +73,12 @@ struct GearContactOptions {
   // 2 face intervals integrate a uniform load exactly (helical gears need more).
   int involute_intervals = 100;
   int root_intervals = 2, fillet_intervals = 6, tip_intervals = 4;
+  // Fillet chords within this of the fillet (ProfileResolution::fillet_max_sag_m): a fillet's
+  // chords lie in the tooth space, and seed 003's ring tips pass the 14-tooth planet's fillets
+  // 23 um away at the centred kinematic position (10 um from the flanks): 6 even intervals put
+  // a chord 52 um into the space there and the unloaded ring-planet mesh touched with 3.8 kN,
+  // radially (docs/faults.md). 1 um: 21 to 36 intervals per fillet there.
+  double fillet_max_sag_m = 1e-6;
   int face_intervals = 2;
   double margin_m = 30e-6;   // above the largest penetration (delta_ref is a few um)
   double slack_m = 100e-6;   // per surface: pairs are kept for relative motions up to this

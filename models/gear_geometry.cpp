@@ -314,9 +314,28 @@ std::vector<ProfilePoint> Gear::SampleToothOutline(const ProfileResolution& res)
     const int n = std::max(1, counts[seg]);
     // Zero-length segments (no rack tip flat, zero fillet radius) contribute no points.
     if ((ProfileAt(seg).p - ProfileAt(seg + 1.0).p).norm() < 1e-12 * r_) continue;
-    for (int j = 0; j < n; ++j) pts.push_back(ProfileAt(seg + static_cast<double>(j) / n));
+    const bool fillet = static_cast<ProfileSegment>(seg) == ProfileSegment::kFilletMinus ||
+                        static_cast<ProfileSegment>(seg) == ProfileSegment::kFilletPlus;
+    for (int j = 0; j < n; ++j) {
+      const double s0 = seg + static_cast<double>(j) / n, s1 = seg + static_cast<double>(j + 1) / n;
+      pts.push_back(ProfileAt(s0));
+      if (fillet && res.fillet_max_sag_m > 0) RefineFillet(ProfileAt(s0), ProfileAt(s1), res.fillet_max_sag_m, 10, pts);
+    }
   }
   return pts;
+}
+
+void Gear::RefineFillet(const ProfilePoint& a, const ProfilePoint& b, double max_sag_m, int depth,
+                        std::vector<ProfilePoint>& out) const {
+  // Deviation of the curve's middle from the chord a-b; halve while it exceeds the bound.
+  const ProfilePoint m = ProfileAt(0.5 * (a.s + b.s));
+  const Vec2 d = b.p - a.p;
+  const double len = d.norm();
+  const double sag = len > 0 ? std::abs(d.x() * (m.p - a.p).y() - d.y() * (m.p - a.p).x()) / len : 0.0;
+  if (depth <= 0 || sag <= max_sag_m) return;
+  RefineFillet(a, m, max_sag_m, depth - 1, out);
+  out.push_back(m);
+  RefineFillet(m, b, max_sag_m, depth - 1, out);
 }
 
 std::vector<ProfilePoint> Gear::SampleGearOutline(const ProfileResolution& res) const {

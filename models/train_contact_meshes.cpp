@@ -123,7 +123,8 @@ TriangleMesh EmbeddedTooth(const std::string& what, const Gear& gear, int t, con
     return best;
   };
   const ProfileResolution res{.root = c.gear.root_intervals, .fillet = c.gear.fillet_intervals,
-                              .involute = c.gear.involute_intervals, .tip = c.gear.tip_intervals};
+                              .involute = c.gear.involute_intervals, .tip = c.gear.tip_intervals,
+                              .fillet_max_sag_m = c.gear.fillet_max_sag_m};
   const TriangleMesh full = reshaped ? MakeFaultyToothSurfaceMesh(gear, t, res, c.flexible.face_intervals, faults)
                                      : MakeToothSurfaceMesh(gear, t, res, c.flexible.face_intervals);
   const int nv = static_cast<int>(full.vertices.size());
