@@ -112,4 +112,51 @@ void CheckToothFault(const Context& ctx, const Item& item, const gears::Gear& ge
   }
 }
 
+gears::TrainToothFault ReadTrainToothFaultArgument(const std::string& text, const gears::PlanetaryTrain& train) {
+  const Context ctx("--fault '" + text + "'");
+  // KEY=VALUE pairs into a map, each value read as YAML (a number, a word).
+  YAML::Node map(YAML::NodeType::Map);
+  size_t start = 0;
+  while (start <= text.size()) {
+    const size_t comma = std::min(text.find(',', start), text.size());
+    const std::string pair = text.substr(start, comma - start);
+    const size_t eq = pair.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw SceneError(ctx.file() + ": expected KEY=VALUE pairs separated by commas, got '" + pair + "'");
+    try {
+      map[pair.substr(0, eq)] = YAML::Load(pair.substr(eq + 1));
+    } catch (const YAML::Exception& e) {
+      throw SceneError(ctx.file() + ": " + pair.substr(0, eq) + ": cannot read the value: " + e.msg);
+    }
+    start = comma + 1;
+  }
+  const Item item{map, "", YAML::Mark::null_mark()};
+  const gears::ToothFaultSpec spec = ReadToothFault(ctx, item, {"gear", "branch"});
+  std::vector<std::string> keys;
+  for (auto k = map.begin(); k != map.end(); ++k) keys.push_back(k->first.Scalar());
+  const MapReader m(ctx, item, keys);
+  gears::TrainToothFault f{.gear = m.String("gear"), .branch = 0, .spec = spec};
+  // The gear, its branch (planets) and the tooth index, as in a scene.
+  std::vector<std::string> names;
+  int gear = -1;
+  for (size_t g = 0; g < train.gears.size(); ++g) {
+    names.push_back(train.gears[g].name);
+    if (train.gears[g].name == f.gear) gear = static_cast<int>(g);
+  }
+  if (gear < 0) ctx.Fail(m.Need("gear"), "no gear named '" + f.gear + "'" + SuggestOrList(f.gear, names, "gears"));
+  const gears::TrainGear& tg = train.gears[gear];
+  if (tg.planet_set >= 0) {
+    const int n = static_cast<int>(train.planet_sets[tg.planet_set].angles_rad.size());
+    if (!m.Has("branch")) ctx.Fail(item, "a planet's fault needs 'branch' (1.." + std::to_string(n) + ")");
+    const int branch = m.Int("branch", 1);
+    if (branch < 1 || branch > n) ctx.Fail(m.Need("branch"), "must be in 1.." + std::to_string(n) + " (the planet of the set)");
+    f.branch = branch - 1;
+  } else if (m.Has("branch")) {
+    ctx.Fail(m.Need("branch"), "a branch is for planets; '" + f.gear + "' is a central gear");
+  }
+  if (spec.tooth < 0 || spec.tooth >= tg.teeth)
+    ctx.Fail(m.Need("tooth"), "tooth index " + std::to_string(spec.tooth) + " is not in 0.." + std::to_string(tg.teeth - 1));
+  return f;
+}
+
 }  // namespace orrery

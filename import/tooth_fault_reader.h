@@ -16,7 +16,9 @@
 #include <vector>
 
 #include "import/scene_reader.h"
+#include "models/planetary_train.h"
 #include "models/tooth_fault.h"
+#include "models/train_dynamics.h"
 
 namespace orrery {
 
@@ -31,5 +33,12 @@ std::vector<gears::ToothFaultSpec> ReadToothFaults(const scene_reader::Context& 
 // ValidateToothFault's message as "FILE:LINE: PATH: reason" at `item` (SceneError).
 void CheckToothFault(const scene_reader::Context& ctx, const scene_reader::Item& item, const gears::Gear& gear,
                      const gears::ToothFaultSpec& fault);
+
+// A train's tooth fault written on a command line as comma-separated KEY=VALUE pairs, the keys
+// of a scene's `dynamics.faults` entry (docs/scene_format.md; `branch` 1-based for planets):
+//   "gear=S1.planet,branch=1,kind=broken_tooth,tooth=17,height_fraction=0.25"
+// checked against `train` (gear name, branch, tooth index) as the scene reader checks it. Throws
+// SceneError "--fault 'TEXT': KEY: reason" (a pair without '=', an unknown key or value).
+gears::TrainToothFault ReadTrainToothFaultArgument(const std::string& text, const gears::PlanetaryTrain& train);
 
 }  // namespace orrery

@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <exception>
+#include <optional>
 #include <stdexcept>
 
 #include "models/flexible_gear_mesh.h"
@@ -9,6 +10,7 @@
 #include "models/mesh_stiffness.h"
 #include "tools/cli/error_message.h"
 #include "tools/cli/json_writer.h"
+#include "tools/cli/mesh_stiffness_faults.h"
 
 namespace orrery::cli {
 
@@ -21,7 +23,8 @@ int FlexibleMeshStiffnessCommand(const MeshStiffnessArgs& args, std::ostream& ou
       throw std::runtime_error("mesh-stiffness needs a gear_train scene, '" + args.scene_path +
                                "' is not one");
     const GearTrainScene& gt = *scene.gear_train;
-    const int mesh = gt.train->MeshIndex(args.mesh);
+    int mesh = -1, branch = 0;
+    const MeshFaults faults = SelectMeshFaults(gt, args.mesh, args.faults, &mesh, &branch);
     // The pair and the oracles of the lumped models.
     const gears::GearPair pair = gears::MakeTrainGearPair(*gt.train, mesh, gt.options);
     const gears::Iso6336Stiffness iso = gears::CalcIso6336Stiffness(pair);
@@ -34,6 +37,31 @@ int FlexibleMeshStiffnessCommand(const MeshStiffnessArgs& args, std::ostream& ou
     o.fe.flank_divisions *= fe_level, o.fe.tooth_divisions *= fe_level;
     o.fe.fillet_divisions *= fe_level, o.fe.root_layer_divisions *= fe_level;
     o.fe.rim_divisions *= fe_level, o.fe.face_divisions *= fe_level;
+    if (!faults.empty()) {
+      // Healthy and faulty over the first fault's engagement, against the TVMS.
+      const gears::MeshSweepRange range = FaultEngagement(pair, faults);
+      auto level = [&](const MeshFaults& f) {
+        gears::FlexibleGearMeshOptions fo = o;
+        fo.faults1 = f.gear1, fo.faults2 = f.gear2;
+        std::vector<double> k;
+        for (const gears::MeshSweepPoint& p : gears::SweepFlexibleGearMesh(pair, fo, args.load_n, args.points, range).points)
+          k.push_back(p.stiffness_n_per_m);
+        return k;
+      };
+      std::optional<JsonWriter> w;
+      if (args.json) {
+        w.emplace(out);
+        w->BeginObject().Key("scene").String(scene.name).Key("mesh").String(args.mesh);
+        w->Key("load_n").Number(args.load_n);
+      } else {
+        out << "scene " << scene.name << ", mesh " << args.mesh << ", load " << args.load_n
+            << " N along the line of action, flexible gears (hex20)\n";
+      }
+      WriteFaultReport("flexible FE contact", pair, tvms_options, faults, args.load_n, range, args.points, level,
+                       w ? &*w : nullptr, out);
+      if (w) w->EndObject();
+      return kExitSuccess;
+    }
     const gears::FlexibleMeshSweep sweep =
         gears::SweepFlexibleGearMesh(pair, o, args.load_n, args.points);
 

@@ -13,7 +13,8 @@
 //                 [--mesh-min-size H] [--curvature N] [--mass M.mtx --dofs TABLE] [--mesh MESH] [--json]
 //                 (PART: .inp, .msh, STEP/IGES, a surface mesh, CalculiX job.sti or Matrix Market K.mtx)
 //   orrery mesh-info FILE [--unit m|cm|mm|in] [--density KG_M3] [--no-self-intersections] [--json]
-//   orrery mesh-stiffness SCENE --mesh NAME [--load N] [--points K] [--json] [--set key=value ...]
+//   orrery mesh-stiffness SCENE --mesh NAME[#k] [--load N] [--points K] [--json] [--set key=value ...]
+//                         [--fault KEY=VALUE,... ...]
 //                         [--flexible [--fe-level L]]
 //   orrery spectrum OUT.h5 --signal PATH [--column C] [--window hann|flattop|rect] [--order MEMBER]
 //                   [--t0 T] [--peaks N] [--json] [--png FILE]
@@ -379,6 +380,9 @@ struct BodyCommands {
     mesh_stiffness->add_option("--points", ms_args.points, "Roll angles per mesh period (default 40)")
         ->check(CLI::Range(1, 100000));
     mesh_stiffness->add_option("--set", ms_args.overrides, "Scene override key.path=value (repeatable)")
+        ->allow_extra_args(false);
+    mesh_stiffness->add_option("--fault", ms_args.faults,
+                               "Tooth fault KEY=VALUE,... as in dynamics.faults (repeatable; adds to the scene's)")
         ->allow_extra_args(false);
     mesh_stiffness->add_flag("--json", ms_args.json, "Write JSON to stdout");
     mesh_stiffness->add_flag("--flexible", ms_args.flexible,

@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <exception>
+#include <optional>
 #include <stdexcept>
 
 #include "models/gear_contact.h"
@@ -10,6 +11,7 @@
 #include "tools/cli/error_message.h"
 #include "tools/cli/flexible_mesh_stiffness.h"
 #include "tools/cli/json_writer.h"
+#include "tools/cli/mesh_stiffness_faults.h"
 
 namespace orrery::cli {
 
@@ -35,15 +37,45 @@ int MeshStiffnessCommand(const MeshStiffnessArgs& args, std::ostream& out, std::
       throw std::runtime_error("mesh-stiffness needs a gear_train scene, '" + args.scene_path +
                                "' is not one");
     const GearTrainScene& gt = *scene.gear_train;
-    const int mesh = gt.train->MeshIndex(args.mesh);
+    int mesh = -1, branch = 0;
+    const MeshFaults faults = SelectMeshFaults(gt, args.mesh, args.faults, &mesh, &branch);
     // The pair and the oracles of the lumped models.
     const gears::GearPair pair = gears::MakeTrainGearPair(*gt.train, mesh, gt.options);
     const gears::Iso6336Stiffness iso = gears::CalcIso6336Stiffness(pair);
-    const gears::Tvms tvms =
-        gears::CalcTvms(pair, gears::MakeTrainTvmsOptions(*gt.train, mesh, gt.options));
-    // Rigid tooth contact calibrated at the load, swept over one mesh period.
+    const gears::TvmsOptions tvms_options = gears::MakeTrainTvmsOptions(*gt.train, mesh, gt.options);
+    const gears::Tvms tvms = gears::CalcTvms(pair, tvms_options);
+    // Rigid tooth contact calibrated at the load (a crack's stiffness ratio on the train's blanks).
     gears::GearContactOptions options;
     options.calibration_load_n = args.load_n;
+    options.rim_radius1_m = tvms_options.bore_radius1_m;
+    options.rim_radius2_m = tvms_options.rim_radius2_m;
+    options.material = tvms_options.material1;
+    if (!faults.empty()) {
+      // Healthy and faulty over the first fault's engagement, against the TVMS.
+      const gears::MeshSweepRange range = FaultEngagement(pair, faults);
+      auto level = [&](const MeshFaults& f) {
+        gears::GearContactOptions o = options;
+        o.faults1 = f.gear1, o.faults2 = f.gear2;
+        std::vector<double> k;
+        for (const gears::MeshSweepPoint& p : gears::SweepGearMesh(pair, o, args.load_n, args.points, range).points)
+          k.push_back(p.stiffness_n_per_m);
+        return k;
+      };
+      std::optional<JsonWriter> w;
+      if (args.json) {
+        w.emplace(out);
+        w->BeginObject().Key("scene").String(scene.name).Key("mesh").String(args.mesh);
+        w->Key("load_n").Number(args.load_n);
+      } else {
+        out << "scene " << scene.name << ", mesh " << args.mesh << ", load " << args.load_n
+            << " N along the line of action, rigid tooth contact\n";
+      }
+      WriteFaultReport("rigid contact", pair, tvms_options, faults, args.load_n, range, args.points, level,
+                       w ? &*w : nullptr, out);
+      if (w) w->EndObject();
+      return kExitSuccess;
+    }
+    // Swept over one mesh period.
     const gears::MeshSweep sweep = gears::SweepGearMesh(pair, options, args.load_n, args.points);
 
     if (args.json) {

@@ -1,5 +1,5 @@
 #pragma once
-// `orrery mesh-stiffness SCENE --mesh NAME [--load N] [--points K] [--json]`: quasi-static mesh
+// `orrery mesh-stiffness SCENE --mesh NAME[#k] [--load N] [--points K] [--fault K=V,...] [--json]`: quasi-static mesh
 // stiffness and transmission error of one gear mesh of a gear_train scene with rigid tooth
 // contact (the `contact` mesh model, models/gear_contact.h SweepGearMesh):
 //   - the mesh's GearPair as the lumped models see it (import/train_mesh_geometry.h: gear 1 the
@@ -19,6 +19,11 @@
 // "mean_stiffness_n_per_m", "te_peak_to_peak_m", "iso6336_single_pair_n_per_m" (c' b),
 // "iso6336_c_gamma_alpha_n_per_m" (c_gamma_alpha b), "tvms_mean_n_per_m" (potential-energy TVMS
 // of the lumped model), "penalty_stiffness_per_area" (k_A, N/m^3).
+// Faults (the scene's `dynamics.faults` and `--fault KEY=VALUE,...` entries on the pair's gears,
+// planets of branch k with `--mesh NAME#k`): healthy and faulty sweeps over the first fault's
+// tooth engagement and the lumped TVMS with the same faults; text: per roll angle both
+// stiffnesses, their ratio and the TVMS's, then the rows of docs/faults.md's cross-level table
+// (mesh_stiffness_faults.h; JSON: its keys).
 // Failures print one line "orrery: error: <reason>" and return kExitFailure.
 #include <ostream>
 #include <string>
@@ -39,6 +44,8 @@ struct MeshStiffnessArgs {
   // --flexible: FE-reduced gears instead of rigid ones (flexible_mesh_stiffness.h); --fe-level.
   bool flexible = false;
   int fe_level = 1;
+  // --fault KEY=VALUE,... (repeatable): faults added to the scene's (mesh_stiffness_faults.h).
+  std::vector<std::string> faults;
 };
 
 int MeshStiffnessCommand(const MeshStiffnessArgs& args, std::ostream& out, std::ostream& err);
