@@ -104,7 +104,8 @@ std::vector<TriangleMesh> GeneratedTeeth(const Gear& g, const gears::GearContact
                                                 {.root = o.root_intervals,
                                                  .fillet = o.fillet_intervals,
                                                  .involute = o.involute_intervals,
-                                                 .tip = o.tip_intervals},
+                                                 .tip = o.tip_intervals,
+                                             .fillet_max_sag_m = o.fillet_max_sag_m},
                                                 o.face_intervals));
   return teeth;
 }
@@ -174,7 +175,8 @@ TEST(ImportedGear, StlPlanetGivesTheGeneratedMeshStiffnessWithinTheFacetingBound
                                             {.root = o.root_intervals,
                                              .fillet = o.fillet_intervals,
                                              .involute = o.involute_intervals,
-                                             .tip = o.tip_intervals},
+                                             .tip = o.tip_intervals,
+                                             .fillet_max_sag_m = o.fillet_max_sag_m},
                                             o.face_intervals, kBore),
                         (dir / "same.stl").string(), {.scale = 1000});
   const auto same = ImportTeeth(dir / "same.stl", planet, LengthUnit::kMillimetre);
@@ -183,9 +185,14 @@ TEST(ImportedGear, StlPlanetGivesTheGeneratedMeshStiffnessWithinTheFacetingBound
   const double solve = 2e-7 * generated.calibration.reference_deflection_m;
   ExpectSameSweep("STL at the contact's sampling", Sweep(pair, same), generated, moved + solve);
 
-  // Coarser than the contact (24 involute intervals): the faceting bound
+  // Coarser than the contact (24 involute intervals): the faceting bound. The fillets as the
+  // contact's (chords within 1 um): coarse fillet chords reach into the tooth space, where the
+  // sun's tip passes, and the bound covers the flanks and tips only
   gears::WriteStlBinary(
-      gears::MakeGearMesh(planet, {.root = 2, .fillet = 6, .involute = 24, .tip = 4}, 2, kBore),
+      gears::MakeGearMesh(planet,
+                          {.root = 2, .fillet = 6, .involute = 24, .tip = 4,
+                           .fillet_max_sag_m = o.fillet_max_sag_m},
+                          2, kBore),
       (dir / "coarse.stl").string(), {.scale = 1000});
   const auto coarse = ImportTeeth(dir / "coarse.stl", planet, LengthUnit::kMillimetre);
   const double d_coarse = FacetingDeviation(*coarse, planet);

@@ -167,7 +167,8 @@ double EmbedDistance(const fs::path& body_file, const ScenePlanet& p) {
   for (int k = 0; k < z; ++k) {
     const TriangleMesh tooth = gears::MakeToothSurfaceMesh(
         p.gear, k, {.root = c.root_intervals, .fillet = c.fillet_intervals, .involute = c.involute_intervals,
-                    .tip = c.tip_intervals},
+                    .tip = c.tip_intervals,
+                                             .fillet_max_sag_m = c.fillet_max_sag_m},
         4);
     for (const Vec3& v : tooth.vertices) {
       if (v.head<2>().norm() <= p.gear.form_radius_m() + 1e-9) continue;
@@ -194,7 +195,8 @@ TEST(ImportedPlanetCli, StlAndStepPlanetsRunRigidAndFlexibleInAPlanetaryScene) {
                                             {.root = c.root_intervals,
                                              .fillet = c.fillet_intervals,
                                              .involute = c.involute_intervals,
-                                             .tip = c.tip_intervals},
+                                             .tip = c.tip_intervals,
+                                             .fillet_max_sag_m = c.fillet_max_sag_m},
                                             c.face_intervals, p.bore_m),
                         stl.string(), {.scale = 1000});
   const fs::path step = test_support::WriteGearStep(dir, p.gear, p.bore_m);
