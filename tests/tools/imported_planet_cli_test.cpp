@@ -12,7 +12,7 @@
 // - STEP made by gmsh's OpenCASCADE kernel from the planet's outline (tests/common/gear_step.h),
 //   rigid, triangulated at 0.5 mm (scene key mesh_size_mm): runs, planet 1's branches carry the
 //   stage's load (faceting within 8 um of the flanks against a 24 um tooth deflection: the end
-//   forces within a third, asserted a half; measured -12 %).
+//   forces within a third, asserted a half; measured -2.5 %).
 // - both reduced by `orrery reduce` (gmsh tet10, 4 mm) and run flexible in tooth contact for 1 ms:
 //   the analytic flanks' distance from the FE surface (the embed tolerance the run needs, measured
 //   here as the assembler measures it) lies within the outline's chord sag at the longest tooth
