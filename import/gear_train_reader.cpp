@@ -267,7 +267,18 @@ void ReadDrive(const Context& ctx, const MapReader& m, const Item& section, doub
     ctx.Fail(m.Need("output_torque"), "give either 'input_torque' or 'output_torque', not both");
   if (m.Has("input_torque")) o.input_torque_n_m = m.Number("input_torque");
   if (m.Has("output_torque")) {
-    o.output_port_torque_n_m = m.Number("output_torque");
+    // A number, or a function of time (a load taken up gradually): the power flow and the
+    // kinematics use its value of largest magnitude over the run, the output carries it as written.
+    const Item it = m.Need("output_torque");
+    if (it.node.IsScalar()) {
+      o.output_port_torque_n_m = m.Number("output_torque");
+    } else {
+      if (drive != "speed")
+        ctx.Fail(it, "'output_torque' as a function needs 'drive: speed' (a torque-driven input keeps its constant torque)");
+      const TimeFunction f = ToFunction(ctx, it, FunctionUnits{});
+      o.output_port_torque_n_m = PeakValue(f, end_time);
+      o.output_torque_n_m = f;
+    }
     o.operating_speeds_rad_s = r.input_speeds_rad_s;
   }
   if (drive == "torque" && o.input_torque_n_m == 0 && o.output_port_torque_n_m.value_or(0) == 0)

@@ -24,7 +24,8 @@ using gears::TrainModelOptions;
 gears::TrainMemberOverride ReadMemberOverride(const Context& ctx, const Item& item) {
   std::vector<std::string> allowed{"mass", "inertia", "transverse_inertia", "bearing_stiffness",
                                    "axial_bearing_stiffness", "tilt_bearing_stiffness",
-                                   "bearing_damping", "ground_torsional_stiffness", "brake_stiffness"};
+                                   "bearing_damping", "ground_torsional_stiffness", "brake_stiffness",
+                                   "profile_shift", "addendum_coefficient"};
   for (const auto& group : {RadiusKeys("base"), RadiusKeys("bore"), RadiusKeys("outer"), LengthMm("face_width")})
     Append(allowed, Names(group));
   const MapReader m(ctx, item, allowed);
@@ -48,6 +49,9 @@ gears::TrainMemberOverride ReadMemberOverride(const Context& ctx, const Item& it
   non_negative(Plain("bearing_damping"), o.bearing_damping_n_s_per_m);
   non_negative(Plain("ground_torsional_stiffness"), o.ground_torsional_stiffness_n_m_per_rad);
   positive(Plain("brake_stiffness"), o.brake_stiffness_n_m_per_rad);
+  // Gears: stiffness geometry (ISO 21771 sign, any real; the pair's checks judge the value)
+  if (m.Has("profile_shift")) o.profile_shift = m.Number("profile_shift");
+  non_negative(Plain("addendum_coefficient"), o.addendum_coefficient);
   return o;
 }
 

@@ -202,6 +202,33 @@ TEST(GearScene, GearTrainErrorsNameFileLineKey) {
   }
 }
 
+// Member overrides of the stiffness geometry (profile_shift, ISO 21771 sign; addendum_coefficient)
+// reach TrainModelOptions; output_torque as a function (a load taken up gradually, seed 000's load
+// case) is applied as written and its largest value sets the power flow; with a torque-driven
+// input it is refused (the input's constant torque would not follow it).
+TEST(GearScene, MemberProfileShiftAndAnOutputTorqueFunction) {
+  const std::string shifted = Replace(kTrain, "meshes: {S.sun-planet: {stiffness: 1e9}}",
+                                      "members: {S.sun: {profile_shift: -0.3, addendum_coefficient: 0.9}}");
+  const Scene s = LoadSceneFromString(shifted, "t.yaml");
+  const gears::TrainMemberOverride& sun = s.gear_train->description.options.members.at("S.sun");
+  EXPECT_EQ(sun.profile_shift, -0.3);
+  EXPECT_EQ(sun.addendum_coefficient, 0.9);
+  EXPECT_EQ(ErrorOf(Replace(shifted, "addendum_coefficient: 0.9", "addendum_coefficient: -1")).rfind("t.yaml:12: ", 0), 0u);
+
+  const std::string ramp = Replace(kTrain, "  input_speed_rpm: 20\n",
+                                   "  input_speed_rpm: 20\n  output_torque: {type: smooth_step, t0: 0, t1: 0.005, "
+                                   "v0: 0, v1: -1000}\n");
+  const Scene r = LoadSceneFromString(ramp, "t.yaml");
+  const gears::TrainModelOptions& o = r.gear_train->description.options;
+  ASSERT_TRUE(o.output_torque_n_m.has_value());
+  EXPECT_EQ(o.output_torque_n_m->Value(0.0), 0.0);
+  EXPECT_EQ(o.output_torque_n_m->Value(0.005), -1000.0);
+  EXPECT_EQ(o.output_port_torque_n_m, -1000.0);
+  EXPECT_EQ(ErrorOf(Replace(ramp, "  input_speed_rpm: 20\n", "  input_speed_rpm: 20\n  drive: torque\n")),
+            "t.yaml:13: gear_train.output_torque: 'output_torque' as a function needs 'drive: speed' (a "
+            "torque-driven input keeps its constant torque)");
+}
+
 // dynamics.mesh_model: contact (models/train_contact.h through the scene): seed 003's stage with
 // tooth contact on its six mesh branches runs its 5 ms, the contact outputs are recorded per
 // branch, and in the mean over the last half (after the load taken up at t = 0 has rung down to
