@@ -295,7 +295,9 @@ TEST(SeedMeshExcitation, Seed000UnloadedIsThePapersQuietCase) {
 // F_1 <= k_path (e_sp,1 + e_rp,1); S2 and S3 space their 3 planets unequally (0, 121.15, 238.85
 // deg), so the central members answer the planets' excitations and the branches differ (about
 // 0.7 to 1.3 of the estimate). First elastic mode 3838 Hz (`orrery modes`): f_m <= 0.3 f_1.
-// 0.05 s: 20 periods of the slowest stage (518 Hz) start at 0.011 s.
+// 0.05 s: 20 periods of the slowest stage (518 Hz) start at 0.011 s. The second harmonics of a
+// planet's two meshes act against each other in its path (S1: 0.022 - 0.018 um, F(2 f_m) 0.5 N,
+// no more than the neighbouring bins), so only the line at f_m is asserted.
 TEST(SeedMeshExcitation, Seed001StagesVibrateAtTheirMeshFrequencies) {
   const std::vector<MeshLine> lines = Measure({.scene = "seed001_three_stage.yaml", .overrides = {},
                                                .stages = {{"S1", 34, 4}, {"S2", 34, 3}, {"S3", 34, 3}}, .periods = 20,
