@@ -15,8 +15,9 @@ namespace {
 
 // Keys a member takes that would not act on the model of this DOF set (each key must act or be
 // refused): a planet turns freely on its pin (no torsional spring to ground: a planet's spin is
-// held by its meshes only); the torsional set has no translations (no bearings); axial and tilt
-// stiffness act in the spatial set only.
+// held by its meshes only); the torsional set has no translations (no bearings, and the sun's,
+// ring's and carrier's masses do not act: a planet's mass does, as m r_c^2 on the carrier); axial
+// and tilt stiffness act in the spatial set only.
 std::map<std::string, std::string> IdleMemberKeys(const std::string& kind, const std::string& dofs) {
   std::map<std::string, std::string> idle;
   if (kind == "planet")
@@ -26,6 +27,9 @@ std::map<std::string, std::string> IdleMemberKeys(const std::string& kind, const
   if (dofs == "torsional")
     for (const char* k : {"bearing_stiffness", "bearing_damping"})
       idle[k] = "not used with dofs: torsional (no translations; use dofs: planar or spatial)";
+  if (dofs == "torsional" && kind != "planet")
+    idle["mass"] = "not used with dofs: torsional (the " + kind +
+                   " only turns: its inertia acts, its mass does not; use dofs: planar or spatial)";
   if (dofs != "spatial")
     for (const char* k : {"axial_stiffness", "tilt_stiffness"})
       idle[k] = "not used with dofs: " + dofs + " (axial and tilting motions are in dofs: spatial only)";
@@ -51,7 +55,8 @@ LumpedMember ReadLumpedMember(const Context& ctx, const Item& item, const std::s
   if (carrier) notes["teeth"] = "the carrier has no teeth";
   const MapReader m(ctx, item, allowed, notes);
   LumpedMember x;
-  x.mass = NeedScaled(m, Plain("mass"));
+  // A member that cannot translate still is a body: its mass is a placeholder that never acts.
+  x.mass = notes.count("mass") ? 1.0 : NeedScaled(m, Plain("mass"));
   x.radius = NeedScaled(m, RadiusKeys(radius_stem));
   // Inertia about the axis, or I / r^2 (Lin & Parker's Table 1) with r the radius above.
   const auto inertia = FindOneOf(m, {{"inertia", 1.0}, {"inertia_over_r2", x.radius * x.radius}});
@@ -105,10 +110,19 @@ void ReadLumpedStage(const Context& ctx, const Item& section, Scene& scene) {
                                    "check_centre_distance", "input", "load"};
   for (const auto& group : {Angle("pressure_angle_sun"), Angle("pressure_angle_ring"), Angle("helix_angle")})
     Append(allowed, Names(group));
-  const MapReader m(ctx, section, allowed);
+  // The lines of action's directions act through translations only.
+  const std::string dofs = MapReader(ctx, section, allowed).Choice("dofs", {"torsional", "planar", "spatial"}, "planar");
+  std::map<std::string, std::string> notes;
+  if (dofs == "torsional")
+    for (const auto& group : {Angle("pressure_angle_sun"), Angle("pressure_angle_ring")})
+      for (const std::string& k : Names(group)) {
+        std::erase(allowed, k);
+        notes[k] = "not used with dofs: torsional (the meshes act on the base circles; the lines of action's "
+                   "directions matter with translations only: use dofs: planar or spatial)";
+      }
+  const MapReader m(ctx, section, allowed, notes);
   auto s = std::make_shared<LumpedStageScene>();
   LumpedStageParams& p = s->params;
-  const std::string dofs = m.Choice("dofs", {"torsional", "planar", "spatial"}, "planar");
   p.dofs = dofs == "torsional" ? LumpedStageParams::Dofs::kTorsional
            : dofs == "planar"  ? LumpedStageParams::Dofs::kPlanar
                                : LumpedStageParams::Dofs::kSpatial;
@@ -126,6 +140,7 @@ void ReadLumpedStage(const Context& ctx, const Item& section, Scene& scene) {
   // Working transverse pressure angles, (0, 90) degrees.
   for (const auto& [key, to] : {std::pair{std::string("pressure_angle_sun"), &p.pressure_angle_sun},
                                 std::pair{std::string("pressure_angle_ring"), &p.pressure_angle_ring}}) {
+    if (dofs == "torsional") continue;  // LumpedStageParams' default, which does not act
     *to = NeedScaled(m, Angle(key));
     if (!(*to < std::numbers::pi / 2)) ctx.Fail(FindOneOf(m, Angle(key))->first, "must be below 90 degrees");
   }

@@ -34,7 +34,7 @@ Values MemberValues(const std::string& kind, const std::string& dofs) {
       {"sun", {0.4, 1e-3, 77.4}}, {"ring", {2.35, 0.05, 275}},
       {"carrier", {5.43, 0.05, 176.8}}, {"planet", {0.66, 1e-3, 100.3}}};
   const std::vector<double>& b = base.at(kind);
-  v["mass"] = b[0];
+  if (kind == "planet" || dofs != "torsional") v["mass"] = b[0];  // the torsional set refuses the others'
   v["inertia"] = b[1];
   v[kind == "carrier" ? "planet_circle_diameter_mm" : "base_diameter_mm"] = b[2];
   if (kind != "planet") {
@@ -58,8 +58,10 @@ Values SceneValues(const std::string& dofs) {
     for (const auto& [key, value] : MemberValues(kind, dofs)) v[kind + "." + key] = value;
   v["mesh_stiffness_sun"] = 5e8;
   v["mesh_stiffness_ring"] = 6e8;
-  v["pressure_angle_sun_deg"] = 24.6;
-  v["pressure_angle_ring_deg"] = 22.1;
+  if (dofs != "torsional") {  // refused by the torsional set (directions act through translations)
+    v["pressure_angle_sun_deg"] = 24.6;
+    v["pressure_angle_ring_deg"] = 22.1;
+  }
   v["mesh_damping_ratio"] = 0.05;
   v["input.torque"] = 100;
   v["load.torque"] = -300;
@@ -173,6 +175,20 @@ TEST(LumpedStageReader, KeysThatCannotActAreRefusedWithTheReason) {
                                                  "with dofs: planar"),
             std::string::npos)
       << ErrorOf(SceneText("planar", v));
+  // Without translations the sun's, ring's and carrier's masses and the lines of action's
+  // directions do not act (a planet's mass does, through the carrier)
+  v = SceneValues("torsional");
+  v["carrier.mass"] = 5.43;
+  EXPECT_NE(ErrorOf(SceneText("torsional", v)).find("lumped_stage.carrier.mass: key not allowed here: not used "
+                                                    "with dofs: torsional"),
+            std::string::npos)
+      << ErrorOf(SceneText("torsional", v));
+  v = SceneValues("torsional");
+  v["pressure_angle_ring_deg"] = 22.1;
+  EXPECT_NE(ErrorOf(SceneText("torsional", v)).find("lumped_stage.pressure_angle_ring_deg: key not allowed here: "
+                                                    "not used with dofs: torsional"),
+            std::string::npos)
+      << ErrorOf(SceneText("torsional", v));
 }
 
 }  // namespace
