@@ -33,7 +33,8 @@ Surfaces Make(const gears::Gear& gear, const GearContactOptions& o) {
   for (int t = 0; t < gear.teeth(); ++t)
     parts.push_back(gears::MakeToothSurfaceMesh(
         gear, t, {.root = o.root_intervals, .fillet = o.fillet_intervals,
-                  .involute = o.involute_intervals, .tip = o.tip_intervals}, o.face_intervals));
+                  .involute = o.involute_intervals, .tip = o.tip_intervals,
+                  .fillet_max_sag_m = o.fillet_max_sag_m}, o.face_intervals));
   s.plain = std::make_shared<const ContactSurface>(parts, o.margin_m, o.slack_m);
   EXPECT_TRUE(s.zoned->part_ring().has_value());
   return s;

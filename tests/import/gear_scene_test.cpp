@@ -208,10 +208,10 @@ TEST(GearScene, GearTrainErrorsNameFileLineKey) {
 // input it is refused (the input's constant torque would not follow it).
 TEST(GearScene, MemberProfileShiftAndAnOutputTorqueFunction) {
   const std::string shifted = Replace(kTrain, "meshes: {S.sun-planet: {stiffness: 1e9}}",
-                                      "members: {S.sun: {profile_shift: -0.3, addendum_coefficient: 0.9}}");
+                                      "members: {S.sun: {profile_shift: 0.3, addendum_coefficient: 0.9}}");
   const Scene s = LoadSceneFromString(shifted, "t.yaml");
   const gears::TrainMemberOverride& sun = s.gear_train->description.options.members.at("S.sun");
-  EXPECT_EQ(sun.profile_shift, -0.3);
+  EXPECT_EQ(sun.profile_shift, 0.3);
   EXPECT_EQ(sun.addendum_coefficient, 0.9);
   EXPECT_EQ(ErrorOf(Replace(shifted, "addendum_coefficient: 0.9", "addendum_coefficient: -1")).rfind("t.yaml:12: ", 0), 0u);
 
