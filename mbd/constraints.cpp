@@ -1,9 +1,12 @@
 #include "mbd/constraints.h"
 
 #include <cmath>
+#include <iomanip>
+#include <sstream>
 #include <stdexcept>
 
 #include <Eigen/QR>
+#include <Eigen/SVD>
 
 #include "mbd/gear_mesh.h"
 #include "mbd/kinematics.h"
@@ -151,6 +154,29 @@ std::string ConstraintRowName(const Model& model, int row) {
   for (size_t d = 0; d < model.drivers.size(); ++d)
     if (model.driver_row[d] == row) return "driver '" + model.drivers[d].spec.name + "'";
   return "row " + std::to_string(row);
+}
+
+std::string DependentConstraintRows(const Model& model, const Eigen::MatrixXd& G, double relative_threshold) {
+  if (G.rows() == 0 || !G.allFinite()) return "";
+  // Singular values of G^T (nv x nc): its right singular vectors live in the rows' space.
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(G.transpose(), Eigen::ComputeFullV);
+  const Eigen::VectorXd& s = svd.singularValues();
+  const double s_max = s.size() > 0 ? s(0) : 0.0;
+  const Eigen::Index nc = G.rows();
+  // Fewer columns than rows: G^T has nc - nv zero singular values beyond those computed.
+  const double s_min = s.size() < nc ? 0.0 : s(nc - 1);
+  if (!(s_min <= relative_threshold * s_max)) return "";
+  const Eigen::VectorXd y = svd.matrixV().col(nc - 1);
+  const double y_max = y.lpNorm<Eigen::Infinity>();
+  std::string rows;
+  for (Eigen::Index r = 0; r < nc; ++r) {
+    if (std::abs(y(r)) < 0.1 * y_max) continue;
+    if (!rows.empty()) rows += " and ";
+    rows += ConstraintRowName(model, static_cast<int>(r));
+  }
+  std::ostringstream ratio;
+  ratio << "; s_min / s_max = " << std::setprecision(3) << (s_max > 0 ? s_min / s_max : 0.0);
+  return rows + ratio.str();
 }
 
 void AssembleState(const Model& model, State& state, Data& data, double tolerance) {

@@ -31,4 +31,12 @@ void AssembleState(const Model& model, State& state, Data& data, double toleranc
 // Constraint-row name for messages and output ("loop 'name' row k", "driver 'name'").
 std::string ConstraintRowName(const Model& model, int row);
 
+// The constraint rows that a singular (or nearly singular) constraint Jacobian G (nc x nv) makes
+// dependent, for messages: G^T y = 0 for the right singular vector y of G's smallest singular
+// value s_min, and the rows named are those with |y_i| >= 0.1 |y|_inf, joined with " and ", then
+// "; s_min / s_max = ...". Empty when s_min > relative_threshold s_max (or G has no rows). Where
+// it matters: a mechanism at a singular position (a four-bar with its links in line) loses a
+// rank of G, and the multipliers of those rows are unbounded. Allocates (an error path only).
+std::string DependentConstraintRows(const Model& model, const Eigen::MatrixXd& G, double relative_threshold);
+
 }  // namespace orrery

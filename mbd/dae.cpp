@@ -1,7 +1,9 @@
 #include "mbd/dae.h"
 
 #include <cmath>
+#include <sstream>
 #include <stdexcept>
+#include <string>
 
 #include <Eigen/LU>
 
@@ -225,10 +227,20 @@ void DaeSystem::SolveAccelerations(double t, const Eigen::Ref<const Eigen::Vecto
   kkt_lu_.compute(kkt_);
   // Singular when a free coordinate has no mass or constraints are redundant: the pivots show it.
   const double pivot_floor = 1e-13 * kkt_.lpNorm<Eigen::Infinity>();
-  if (!(kkt_lu_.matrixLU().diagonal().cwiseAbs().minCoeff() > pivot_floor))
-    throw std::runtime_error(
-        "the mass matrix with the constraint Jacobian is singular: a body without mass on a "
-        "free coordinate, or redundant constraints");
+  if (!(kkt_lu_.matrixLU().diagonal().cwiseAbs().minCoeff() > pivot_floor)) {
+    // Name the rows when the constraints lose a rank (a singular position); else the mass.
+    const std::string rows = DependentConstraintRows(model_, data_.G, 1e-8);
+    std::ostringstream s;
+    s << "t = " << t << " s: ";
+    if (!rows.empty())
+      s << "the constraint Jacobian loses a rank (" << rows
+        << "): the mechanism is at a singular position (a four-bar's links in line, say), where the "
+           "multipliers of those rows are unbounded";
+    else
+      s << "the mass matrix with the constraint Jacobian is singular: a body without mass on a free "
+           "coordinate, or redundant constraints";
+    throw std::runtime_error(s.str());
+  }
   kkt_x_.noalias() = kkt_lu_.solve(kkt_rhs_);
   vdot = kkt_x_.head(nv_);
   lambda = kkt_x_.tail(nc_);

@@ -195,6 +195,21 @@ class GeneralizedAlpha final : public Integrator {
     return "the velocity constraint of " + ConstraintRowName(model_, r - nv - nh);
   }
 
+  // For a failed step's message: the constraint rows that lose a rank at the step's start (a
+  // mechanism reaching a singular position, where the iteration matrix is singular and Newton
+  // fails with a non-finite residual), or nothing. The tolerance is loose (1e-4 of the largest
+  // singular value): a step that fails near a singular position starts close to it.
+  std::string SingularConstraints() {
+    if (model_.n_constraints == 0) return "";
+    Data& d = dae_.data();
+    CalcPositionKinematics(model_, state_.q, d);
+    CalcConstraints(model_, state_.t, d);
+    const std::string rows = DependentConstraintRows(model_, d.G, 1e-4);
+    if (rows.empty()) return "";
+    return "; the constraint Jacobian (nearly) loses a rank at the step's start (" + rows +
+           "): a singular position of the mechanism (a four-bar's links in line, say)";
+  }
+
   // Size of a Newton increment: the accelerations' and the (equally scaled) position
   // multipliers' (a position still moving along the constraint normals is not converged).
   double Increment() const {
@@ -375,7 +390,8 @@ class GeneralizedAlpha final : public Integrator {
       matrix_h_ = 0;  // never reuse a matrix that failed
       std::ostringstream s;
       s << "generalized-alpha: Newton did not converge at t = " << t << " s (step " << h << " s, residual "
-        << norm << "); largest in " << WorstRow() << "; reduce the step or lower rho_inf (more damping)";
+        << norm << "); largest in " << WorstRow() << SingularConstraints()
+        << "; reduce the step or lower rho_inf (more damping)";
       throw std::runtime_error(s.str());
     }
     // Accept, then project velocities onto G v + g_t = 0 in the metric of M.
