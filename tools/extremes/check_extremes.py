@@ -76,15 +76,14 @@ def four_bar(row):
 def long_run(row):
     # Energy: peak residual against the swing's energy; no secular trend: the second half's peak
     # within 2x the first's (rho_inf 1); drift: |Phi| at the Newton tolerance's level.
-    scale = num(row, "energy_stored_peak")
-    rel = num(row, "energy_residual_peak") / scale
-    return rel, 1e-3, "peak energy residual / peak stored-energy change"
+    rel = num(row, "energy_residual_peak") / num(row, "kinetic_peak")
+    return rel, 1e-3, "peak energy residual / peak kinetic energy"
 
 
 def backlash(row):
-    sign = num(row, "mesh_force_min") < 0 < num(row, "mesh_force_max")
+    reversed_ = num(row, "flank_min") == -1 and num(row, "flank_max") == 1
     err, tol, _ = carrier(row)
-    return (err if sign else math.inf), tol, "carrier speed vs Willis (inf: no load reversal)"
+    return (err if reversed_ else math.inf), tol, "carrier speed vs Willis (inf: no flank change)"
 
 
 CHECKS = {
@@ -117,7 +116,7 @@ def outcome(folder, study, row, params):
         return "FAILS", "unclean stop: " + reason
     err, tol, what = CHECKS[study](row)
     detail = "%s = %.3g (tolerance %.3g); health: %s" % (what, err, tol, health)
-    if err <= tol:
+    if err <= tol and not (study == "extremes_backlash" and "warning" in health):
         return "meets", detail
     if "warning" in health:
         return "warns", detail

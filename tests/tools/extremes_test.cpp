@@ -1,0 +1,251 @@
+// Stability at the extremes (issue 16, docs/extremes.md), the short versions of the sweep
+// (models/studies/extremes_*.yaml, tools/run_extremes.sh) through the `orrery` program: one case
+// per family, each either meeting its accuracy check against a closed form or stopping with a
+// message that names the time and the element and leaves a readable result file up to then.
+//   - stiffness: the linear oscillator (models/scenes/oscillator.yaml) at k = 1e11 N/m, 10
+//     periods, IDA and generalized-alpha: the end state within 1e-2 x0 of x0 (closed form);
+//   - damping: critical damping (c = 2 sqrt(k m)) and none: x(t) = x0 (1 + w t) exp(-w t);
+//   - step: w h = 10 > pi: without numerical damping the run warns naming the step and the
+//     stiffest mode, --strict stops at t = 0; with rho_inf 0.9 the lost energy warns;
+//   - planet mass 1e-3 kg and speed 30,000 r/min: kinematic ratios (Willis; slider position);
+//   - mesh stiffness 1e6 N/m under seed 003's load: stops naming the mesh (its teeth ratchet);
+//   - the parallelogram four-bar through its singular position: IDA passes on the parallelogram
+//     branch (rocker = crank); an output row at the singular time, or generalized-alpha, stops
+//     naming the time and the closure row that loses its rank;
+//   - drift: 10^4 generalized-alpha steps of the conservative four-bar (rho_inf 1), the energy
+//     residual's growth bounded (theory in the test) and |Phi| at the Newton tolerance;
+//   - load reversal across 100 um of backlash: the engaged flank changes side, the energy balance
+//     closes, the carrier keeps Willis' speed.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+#include <Eigen/Core>
+
+#include "mbd/hdf5_reader.h"
+#include "tests/common/cli_support.h"
+
+namespace orrery {
+namespace {
+
+namespace fs = std::filesystem;
+using test_support::RunCommand;
+
+const std::string kOrrery = std::string(ORRERY_BINARY_DIR) + "/bin/orrery";
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kX0 = 1e-3;  // oscillator.yaml's initial displacement (m)
+// Seed 003's carrier speed from Willis' equation: ring 80.6 rad/s (50 teeth), sun -10 rad/s (22).
+constexpr double kWillis = (50 * 80.6 + 22 * -10.0) / 72;
+
+// A number as the shortest text that reads back as the same double.
+std::string Num(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.17g", x);
+  return buf;
+}
+
+std::string Scene(const std::string& name) { return std::string(ORRERY_SOURCE_DIR) + "/models/scenes/" + name; }
+
+std::string Out(const std::string& stem) {
+  const fs::path dir = fs::temp_directory_path() / ("orrery_extremes_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  return (dir / (stem + ".h5")).string();
+}
+
+// Last value of column `col` of a dataset.
+double Last(const std::string& file, const std::string& dataset, int col = 0) {
+  const Eigen::MatrixXd m = Hdf5Reader(file).ReadMatrix(dataset);
+  return m(m.rows() - 1, col);
+}
+
+// Mean of column 0 over the rows with t >= from.
+double MeanFrom(const std::string& file, const std::string& dataset, double from) {
+  const Hdf5Reader r(file);
+  const Eigen::MatrixXd t = r.ReadMatrix("/time"), x = r.ReadMatrix(dataset);
+  double sum = 0;
+  int n = 0;
+  for (Eigen::Index i = 0; i < t.rows(); ++i)
+    if (t(i, 0) >= from) sum += x(i, 0), ++n;
+  return n > 0 ? sum / n : NAN;
+}
+
+// Runs the oscillator with k (N/m) for 10 periods and returns max(|x - x0|, |v| / w) / x0.
+double OscillatorError(double k, const std::string& integrator, const std::string& stem) {
+  const double w = std::sqrt(k), end = 20 * kPi / w;
+  const std::string out = Out(stem);
+  const auto [text, status] = RunCommand(
+      kOrrery + " run " + Scene("oscillator.yaml") + " --quiet -o " + out + " --integrator " + integrator +
+      " --set force_elements.spring.stiffness=" + Num(k) + " --set solver.end_time=" + Num(end) +
+      " --set output.interval=" + Num(end / 200) + " --set solver.step=" + Num(end / 2000));
+  EXPECT_EQ(status, 0) << text;
+  const double t = Last(out, "/time");
+  EXPECT_NEAR(t, end, 1e-12 * end);
+  const double x = kX0 * std::cos(w * t), v = -kX0 * w * std::sin(w * t);
+  return std::max(std::abs(Last(out, "/joints/slide/q") - x), std::abs(Last(out, "/joints/slide/v") - v) / w) / kX0;
+}
+
+TEST(Extremes, StiffnessOf1e11MeetsTheOscillatorsClosedForm) {
+  // IDA at rtol 1e-9; generalized-alpha at 200 steps a period (w h = 0.0314): the trapezoidal
+  // period error w t (w h)^2 / 12 = 5.2e-3 over 10 periods bounds it.
+  EXPECT_LT(OscillatorError(1e11, "ida", "k_ida"), 1e-4);
+  EXPECT_LT(OscillatorError(1e11, "generalized_alpha", "k_ga"), 6e-3);
+}
+
+TEST(Extremes, CriticalAndZeroDampingMeetTheirClosedForms) {
+  const double w = 1000, end = 20 * kPi / w;
+  for (const double zeta : {0.0, 1.0}) {
+    const std::string out = Out("zeta" + std::to_string(static_cast<int>(zeta)));
+    const auto [text, status] = RunCommand(kOrrery + " run " + Scene("oscillator.yaml") + " --quiet -o " + out +
+                                           " --set force_elements.spring.damping=" + Num(2000 * zeta));
+    ASSERT_EQ(status, 0) << text;
+    const double t = Last(out, "/time");
+    EXPECT_NEAR(t, end, 1e-12);
+    const double x = zeta == 0 ? kX0 * std::cos(w * t) : kX0 * (1 + w * t) * std::exp(-w * t);
+    EXPECT_NEAR(Last(out, "/joints/slide/q"), x, 1e-5 * kX0) << zeta;
+    EXPECT_EQ(text.find("warning"), std::string::npos) << text;
+  }
+}
+
+TEST(Extremes, AStepBeyondTheStabilityLimitWarnsOrStops) {
+  // w h = 10: 1.6 periods a step. rho_inf 1: the warning names the step and the mode.
+  const std::string base = kOrrery + " run " + Scene("oscillator.yaml") +
+                           " --integrator generalized_alpha --set solver.step=0.01 --set solver.end_time=0.2"
+                           " --set output.interval=0.01";
+  {
+    const auto [text, status] = RunCommand(base + " --set solver.rho_inf=1 -o " + Out("step1"));
+    EXPECT_EQ(status, 0) << text;
+    EXPECT_NE(text.find("t = 0 s: run: the step 0.01 s spans 1.59 periods of the stiffest mode (159.2 Hz"),
+              std::string::npos) << text;
+  }
+  {
+    const auto [text, status] = RunCommand(base + " --set solver.rho_inf=1 --strict -o " + Out("step_strict"));
+    EXPECT_EQ(status, 1) << text;
+    EXPECT_NE(text.find("run stopped: t = 0 s: run: the step 0.01 s spans"), std::string::npos) << text;
+    EXPECT_TRUE(Hdf5Reader(Out("step_strict")).Exists("/health")) << text;
+  }
+  {
+    // rho_inf 0.9 damps the unresolved mode: the energy it takes is unaccounted, and that warns.
+    const auto [text, status] = RunCommand(base + " --set solver.rho_inf=0.9 -o " + Out("step09"));
+    EXPECT_EQ(status, 0) << text;
+    EXPECT_NE(text.find("run: the energy balance is off by"), std::string::npos) << text;
+  }
+}
+
+TEST(Extremes, PlanetMassOf1e3AndOneGramKeepWillisSpeed) {
+  for (const double m : {1e-3, 1e3}) {
+    const std::string out = Out(m < 1 ? "mass_light" : "mass_heavy");
+    const auto [text, status] = RunCommand(
+        kOrrery + " run " + Scene("seed003_lumped_healthy.yaml") + " --quiet --end-time 0.01 -o " + out +
+        " --set 'gear_train.dynamics.members={S.planet: {mass: " + Num(m) + ", inertia: " + Num(m * 3.92e-4) +
+        "}}'");
+    ASSERT_EQ(status, 0) << text;
+    EXPECT_NEAR(MeanFrom(out, "/joints/S.carrier/v", 0.005), kWillis, 1e-2 * kWillis) << m;
+  }
+}
+
+TEST(Extremes, SliderCrankAt30000RpmEndsOnItsKinematicPosition) {
+  // 2.25 turns: crank at 90 degrees, slider at sqrt(L^2 - r^2) moving at -r w.
+  const double w = 30000 * kPi / 30, end = 2.25 * 2 * kPi / w;
+  const std::string out = Out("speed");
+  const auto [text, status] = RunCommand(
+      kOrrery + " run " + Scene("slider_crank.yaml") + " --quiet -o " + out +
+      " --set 'drivers.motor.function={type: constant, value_rpm: 30000}' --set solver.end_time=0.0045"
+      " --set output.interval=1e-5");
+  ASSERT_EQ(status, 0) << text;
+  EXPECT_NEAR(Last(out, "/time"), end, 1e-12);
+  EXPECT_NEAR(Last(out, "/joints/slider_guide/q"), std::sqrt(0.09 - 0.01), 1e-6);
+  EXPECT_NEAR(Last(out, "/joints/slider_guide/v"), -0.1 * w, 1e-4 * 0.1 * w);
+}
+
+TEST(Extremes, AMeshTooSoftForItsLoadStopsNamingTheMesh) {
+  // 1e6 N/m under ~15 kN: a deflection beyond a quarter base pitch (2.9 mm).
+  const std::string out = Out("soft");
+  const auto [text, status] = RunCommand(kOrrery + " run " + Scene("seed003_lumped_healthy.yaml") +
+                                         " --end-time 0.05 --set gear_train.dynamics.mesh_stiffness=1e6 -o " + out);
+  EXPECT_EQ(status, 1) << text;
+  EXPECT_NE(text.find("run stopped: t = "), std::string::npos) << text;
+  EXPECT_NE(text.find("mesh 'S."), std::string::npos) << text;
+  const Eigen::MatrixXd t = Hdf5Reader(out).ReadMatrix("/time");
+  EXPECT_GT(t.rows(), 1);
+  EXPECT_TRUE(t.allFinite());
+}
+
+TEST(Extremes, FourBarThroughItsSingularPosition) {
+  const std::string base = kOrrery + " run " + Scene("four_bar_singular.yaml") + " --end-time 0.5";
+  {
+    // IDA steps through t = 0.25 s (links in line) and stays on the parallelogram branch.
+    const std::string out = Out("fb_pass");
+    const auto [text, status] = RunCommand(base + " --set output.interval=7e-4 -o " + out);
+    ASSERT_EQ(status, 0) << text;
+    EXPECT_NEAR(Last(out, "/joints/rocker_hinge/q"), Last(out, "/joints/crank_hinge/q"), 1e-6);
+  }
+  for (const std::string integrator : {"ida", "generalized_alpha"}) {
+    // An output row at the singular time (IDA), or a step onto it (generalized-alpha), stops.
+    const std::string out = Out("fb_" + integrator);
+    const auto [text, status] = RunCommand(base + " --integrator " + integrator + " -o " + out);
+    EXPECT_EQ(status, 1) << text;
+    EXPECT_NE(text.find("t = 0.25 s"), std::string::npos) << text;
+    EXPECT_NE(text.find("loses a rank"), std::string::npos) << text;
+    EXPECT_NE(text.find("loop closure 'coupler_rocker' row 0"), std::string::npos) << text;
+    EXPECT_NE(text.find("holds 250 rows (t = 0 to 0.249 s)"), std::string::npos) << text;
+    EXPECT_EQ(Hdf5Reader(out).ReadMatrix("/time").rows(), 250);
+  }
+}
+
+TEST(Extremes, EnergyAndConstraintDriftOver1e4StepsStayBounded) {
+  // Generalized-alpha with rho_inf = 1 (alpha_m = alpha_f = 1/2, beta = 1/4, gamma = 1/2) is the
+  // trapezoidal rule on linear problems, which conserves their energy; on this nonlinear swing
+  // its energy error is O((w h)^2), oscillates with the motion and has no secular trend. So the
+  // residual's growth rate, the slope of a least-squares line through |r(t)|, times the run's
+  // length, must stay below the residual's own size (a linear drift would double it over the
+  // run), and the peak over the second half below twice that over the first. The closure rows
+  // are solved to the Newton tolerance (1e-8 on the accelerations, scaled by beta h^2) at every
+  // step, so |Phi| does not grow at all: below 1e-12 m of a 0.4 m linkage.
+  const std::string out = Out("drift");
+  const auto [text, status] = RunCommand(kOrrery + " run " + Scene("four_bar.yaml") +
+                                         " --quiet --integrator generalized_alpha --end-time 1 -o " + out);
+  ASSERT_EQ(status, 0) << text;
+  const Hdf5Reader r(out);
+  const Eigen::MatrixXd t = r.ReadMatrix("/time"), e = r.ReadMatrix("/health/energy_balance");
+  const Eigen::MatrixXd drift = r.ReadMatrix("/constraints/drift"), energy = r.ReadMatrix("/energy");
+  ASSERT_EQ(t.rows(), 1001);
+  EXPECT_EQ(r.ReadNumberAttribute("/solver", "steps"), 10000);
+  double st = 0, sr = 0, stt = 0, str = 0, first = 0, second = 0;
+  const double kinetic = energy.col(0).maxCoeff();
+  const double n = static_cast<double>(t.rows());
+  for (Eigen::Index i = 0; i < t.rows(); ++i) {
+    const double ti = t(i, 0), ri = std::abs(e(i, 3));
+    st += ti, sr += ri, stt += ti * ti, str += ti * ri;
+    (ti < 0.5 ? first : second) = std::max(ti < 0.5 ? first : second, ri);
+  }
+  const double slope = (n * str - st * sr) / (n * stt - st * st);
+  EXPECT_GT(kinetic, 0.01);
+  EXPECT_LT(first, 1e-4 * kinetic);
+  EXPECT_LT(second, 2 * first + 1e-12);
+  EXPECT_LT(std::abs(slope) * 1.0, std::max(first, second));
+  EXPECT_LT(drift.col(0).maxCoeff(), 1e-12);
+}
+
+TEST(Extremes, LoadReversalAcrossBacklashKeepsTheBalance) {
+  const std::string out = Out("backlash");
+  const auto [text, status] = RunCommand(
+      kOrrery + " run " + Scene("seed003_lumped_healthy.yaml") + " --end-time 0.03 -o " + out +
+      " --set 'gear_train.output_torque={type: sine, amplitude: 6000, frequency_hz: 40}'"
+      " --set gear_train.dynamics.contact=two_sided --set gear_train.dynamics.backlash_um=100");
+  ASSERT_EQ(status, 0) << text;
+  EXPECT_NE(text.find("health              ok"), std::string::npos) << text;
+  // The engaged flank: +1 drive, -1 coast (the load reversed across the gap).
+  const Eigen::MatrixXd flank = Hdf5Reader(out).ReadMatrix("/gear_meshes/S.sun-planet#1/contact");
+  EXPECT_EQ(flank.minCoeff(), -1);
+  EXPECT_EQ(flank.maxCoeff(), 1);
+  EXPECT_NEAR(MeanFrom(out, "/joints/S.carrier/v", 0.015), kWillis, 1e-2 * kWillis);
+}
+
+}  // namespace
+}  // namespace orrery
