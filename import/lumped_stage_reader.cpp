@@ -140,7 +140,10 @@ void ReadLumpedStage(const Context& ctx, const Item& section, Scene& scene) {
   // Working transverse pressure angles, (0, 90) degrees.
   for (const auto& [key, to] : {std::pair{std::string("pressure_angle_sun"), &p.pressure_angle_sun},
                                 std::pair{std::string("pressure_angle_ring"), &p.pressure_angle_ring}}) {
-    if (dofs == "torsional") continue;  // LumpedStageParams' default, which does not act
+    if (dofs == "torsional") {  // a nominal 20 degrees, which does not act
+      *to = 20 * std::numbers::pi / 180;
+      continue;
+    }
     *to = NeedScaled(m, Angle(key));
     if (!(*to < std::numbers::pi / 2)) ctx.Fail(FindOneOf(m, Angle(key))->first, "must be below 90 degrees");
   }

@@ -191,10 +191,10 @@ TEST(TrainDynamics, MeshPhasesFollowParkerLin) {
 // The initial state turns every member at its kinematic speed: no mesh deflects (its rate, the
 // relative velocity of the two lever points along the line of action, vanishes). Seed 001 (three
 // single-planet stages), seed 002 (helical), a double-planet and a Ravigneaux stage, every DOF set.
-// Their 15-tooth planets are cut at 25 degrees (z_min = 2 / sin^2(25 deg) = 11.2; at 20 degrees
+// Their 15-tooth planets are cut at 22.5 degrees (z_min = 2 / sin^2(22.5 deg) = 13.7; at 20 degrees
 // they would be undercut, z_min = 17.1, which every assembly refuses).
 std::vector<std::shared_ptr<const PlanetaryTrain>> KinematicTrains() {
-  const ToothForm form{.normal_module_m = 0.002, .normal_pressure_angle_rad = 25 * std::numbers::pi / 180};
+  const ToothForm form{.normal_module_m = 0.002, .normal_pressure_angle_rad = 22.5 * std::numbers::pi / 180};
   PlanetaryTrainBuilder d;
   d.AddDoublePlanetStage({.name = "D", .sun = {30}, .inner_planet = {15}, .outer_planet = {15},
                           .ring = {78}, .num_planets = 3, .tooth_form = form});
