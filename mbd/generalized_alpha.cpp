@@ -87,6 +87,8 @@ class GeneralizedAlpha final : public Integrator {
     proj_.setZero(nv + nc, nv + nc);
     proj_rhs_.setZero(nv + nc);
     proj_lu_ = Eigen::PartialPivLU<Eigen::MatrixXd>(nv + nc);
+    proj_residual_.setZero(nv + nc);
+    proj_update_.setZero(nv + nc);
     q_start_.setZero(model.nq);
     v_start_.setZero(nv);
     vdot_start_.setZero(nv);
@@ -423,28 +425,60 @@ class GeneralizedAlpha final : public Integrator {
     h_step_ = h;
   }
 
+  // The kinematics and constraints at state_.q are those of the step's last residual (at q_new_)
+  // unless quaternions were normalized since.
   void ProjectVelocities() {
     const int nv = model_.nv, nc = model_.n_constraints;
     Data& d = dae_.data();
-    CalcPositionKinematics(model_, state_.q, d);
-    CalcConstraints(model_, state_.t, d);
+    if (model_.has_quaternions) {
+      CalcPositionKinematics(model_, state_.q, d);
+      CalcConstraints(model_, state_.t, d);
+    }
     CalcMassMatrix(model_, d);
-    proj_.setZero();
     proj_.topLeftCorner(nv, nv) = d.M;
     proj_.topRightCorner(nv, nc) = d.G.transpose();
     proj_.bottomLeftCorner(nc, nv) = d.G;
+    proj_.bottomRightCorner(nc, nc).setZero();
     proj_rhs_.head(nv).setZero();
     proj_rhs_.tail(nc).noalias() = d.G * state_.v;
     proj_rhs_.tail(nc) += d.g_t;
-    proj_lu_.compute(proj_);
     auto correction = delta_.head(nv + nc);
-    correction.noalias() = proj_lu_.solve(proj_rhs_);
+    if (!SolveProjection(correction)) {
+      proj_lu_.compute(proj_);
+      ++projection_factorizations_;
+      correction.noalias() = proj_lu_.solve(proj_rhs_);
+    }
     state_.v -= correction.head(nv);
   }
 
+  // x = proj_^-1 proj_rhs_ with the factors of an earlier projection matrix (the mass matrix and
+  // constraint Jacobian move little in a step), refined by iteration: x += LU^-1 (rhs - K x)
+  // until the refinement is at rounding (1e-14 of x). false (x unusable) when there are no
+  // factors yet or the refinement does not settle in kMaxRefinements sweeps: then refactorize.
+  bool SolveProjection(Eigen::Ref<Eigen::VectorXd> x) {
+    constexpr int kMaxRefinements = 3;
+    if (projection_factorizations_ == 0) return false;
+    x.noalias() = proj_lu_.solve(proj_rhs_);
+    for (int k = 0; k < kMaxRefinements; ++k) {
+      auto& residual = proj_residual_;
+      residual = proj_rhs_;
+      residual.noalias() -= proj_ * x;
+      auto& update = proj_update_;
+      update.noalias() = proj_lu_.solve(residual);
+      x += update;
+      if (!(update.lpNorm<Eigen::Infinity>() <= 1e-14 * x.lpNorm<Eigen::Infinity>())) continue;
+      return x.allFinite();
+    }
+    return false;
+  }
+
+  // Constraint drift at the state: position kinematics and constraints only (no forces: they
+  // do not enter Phi or G v + g_t), and nothing without constraints.
   void RecordDrift() {
+    if (model_.n_constraints == 0) return;
     Data& d = dae_.data();
-    EvaluateDynamics(model_, state_.t, state_.q, state_.v, vdot_, d);
+    CalcPositionKinematics(model_, state_.q, d);
+    CalcConstraints(model_, state_.t, d);
     if (model_.n_holonomic > 0) stats_.max_abs_phi = std::max(stats_.max_abs_phi, d.phi.lpNorm<Eigen::Infinity>());
     if (model_.n_constraints > 0) {
       auto phidot = proj_rhs_.tail(model_.n_constraints);  // scratch: no allocation
@@ -467,6 +501,8 @@ class GeneralizedAlpha final : public Integrator {
   Eigen::MatrixXd Kq_, Cv_, iteration_, proj_;
   Eigen::VectorXd rhs_, delta_, proj_rhs_;
   Eigen::PartialPivLU<Eigen::MatrixXd> lu_, proj_lu_;
+  Eigen::VectorXd proj_residual_, proj_update_;  // SolveProjection's scratch (nv + nc)
+  long projection_factorizations_ = 0;
   IntegratorStats stats_;
   long pipeline_evaluations_ = 0;
   double position_floor_ = 0;  // set by Residual
