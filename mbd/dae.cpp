@@ -11,6 +11,7 @@
 #include "mbd/dynamics.h"
 #include "mbd/evaluate.h"
 #include "mbd/force_elements.h"
+#include "mbd/gear_mesh.h"
 #include "mbd/kinematics.h"
 
 namespace orrery {
@@ -46,7 +47,10 @@ DaeSystem::DaeSystem(const Model& model)
   kkt_lu_ = Eigen::PartialPivLU<Eigen::MatrixXd>(nv_ + nc_);
   gamma_.setZero(nc_);
   zero_nv_.setZero(nv_);
+  any_element_tangents_ = !model.gear_meshes.empty();
   for (const auto& element : model.external_forces) any_element_tangents_ |= element->HasTangents();
+  mesh_row_.setZero(nv_);
+  mesh_phase_row_.setZero(nv_);
 }
 
 void DaeSystem::DynamicRows(double t, const Eigen::Ref<const Eigen::VectorXd>& q,
@@ -184,6 +188,7 @@ void DaeSystem::Tangents(double t, const Eigen::Ref<const Eigen::VectorXd>& q,
   CalcInverseDynamics(model_, vdot, data_);
   if (add_element_tangents) {
     CalcBodyJacobians(model_, data_);
+    AddGearMeshTangents(model_, data_, Kq.topRows(nv_), Cv, mesh_row_, mesh_phase_row_);
     for (size_t i = 0; i < model_.external_forces.size(); ++i) {
       const ExternalForceElement& element = *model_.external_forces[i];
       if (element.HasTangents())

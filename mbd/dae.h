@@ -60,8 +60,9 @@ class DaeSystem {
 
   // Tangent matrices at (t, q, v, vdot, lambda), by forward differences in velocity space:
   //   Kq ((nv + nc) x nv): d(r_v, r_lam)/d(dq) for q <- q (+) dq,   Cv (nv x nv): d r_v / d v.
-  // External elements with analytic tangents (external_force.h) are left out of the differences
-  // and add their own at the base point (unless set_element_tangents(false)).
+  // Elements with analytic tangents (lumped gear meshes, gear_mesh.h; external elements,
+  // external_force.h) are left out of the differences and add their own at the base point
+  // (unless set_element_tangents(false)).
   // Leaves data() at the base point with data().M computed.
   void Tangents(double t, const Eigen::Ref<const Eigen::VectorXd>& q,
                 const Eigen::Ref<const Eigen::VectorXd>& v,
@@ -102,9 +103,10 @@ class DaeSystem {
   Data data_;
   int nq_, nv_, nc_, nh_, n_;
   long residual_evaluations_ = 0;
-  bool any_element_tangents_ = false;  // some external element has analytic tangents
+  bool any_element_tangents_ = false;  // lumped meshes or an external element with analytic tangents
   bool use_element_tangents_ = true;
   // Scratch, sized once.
+  Eigen::VectorXd mesh_row_, mesh_phase_row_;  // AddGearMeshTangents' scratch rows (nv)
   Eigen::VectorXd qdot_, w_, q_pert_, v_pert_, dv_, rv0_, rl0_, rv1_, rl1_;
   Eigen::MatrixXd dq_dv_;   // nq x nv: d(q (+) dv)/d(dv) at dv = 0  (N for quaternion blocks)
   Eigen::MatrixXd dv_dq_;   // nv x nq: its left inverse (2 E(q) for quaternions)

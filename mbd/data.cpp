@@ -17,12 +17,10 @@ Data::Data(const Model& model) {
   I_W.assign(nb, SpatialInertia{});
   q_normalized = Eigen::VectorXd::Zero(model.nq);
   V_WB.assign(nb, Vec6::Zero());
-  // Body Jacobians only where an element's analytic tangents need them.
-  for (const auto& element : model.external_forces)
-    if (element->HasTangents()) {
-      J_WB.assign(nb, Eigen::Matrix<double, 6, Eigen::Dynamic>::Zero(6, model.nv));
-      break;
-    }
+  // Body Jacobians only where analytic tangents need them (lumped meshes, external elements).
+  bool tangents = !model.gear_meshes.empty();
+  for (const auto& element : model.external_forces) tangents |= element->HasTangents();
+  if (tangents) J_WB.assign(nb, Eigen::Matrix<double, 6, Eigen::Dynamic>::Zero(6, model.nv));
   c_J.assign(nj, Vec6::Zero());
   f_ext.assign(nb, Vec6::Zero());
   tau_applied = Eigen::VectorXd::Zero(model.nv);

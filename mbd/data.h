@@ -44,7 +44,8 @@ struct Data {
   std::vector<FlexibleBodyTerms> flex;  // n flexible bodies
 
   // --- CalcBodyJacobians (kinematics.cpp), on demand (DaeSystem::Tangents) ---
-  // nbodies x (6 x nv): V_WB = J_WB v; empty unless an external element has analytic tangents.
+  // nbodies x (6 x nv): V_WB = J_WB v; empty unless the model has lumped gear meshes or an
+  // external element with analytic tangents.
   std::vector<Eigen::Matrix<double, 6, Eigen::Dynamic>> J_WB;
 
   // --- CalcVelocityKinematics (kinematics.cpp) ---
@@ -68,7 +69,8 @@ struct Data {
   // by the element's Apply() at the end of CalcForceElements.
   std::vector<std::unique_ptr<ExternalForceWorkspace>> external;
   // Set by DaeSystem::Tangents while it takes finite differences: CalcForceElements then leaves
-  // out the external elements with analytic tangents (ExternalForceElement::HasTangents()).
+  // out the elements with analytic tangents (the lumped gear meshes, and the external elements
+  // whose ExternalForceElement::HasTangents() is true).
   bool skip_elements_with_tangents = false;
 
   // --- CalcInverseDynamics (dynamics.cpp) ---

@@ -136,8 +136,11 @@ void CalcForceElements(const Model& model, double t, const Eigen::Ref<const Eige
     AddFrameForce(model, data, s.frame_a, -f);
   }
 
-  // Lumped gear meshes: spring-damper on the engaged flank's line of action.
-  for (size_t i = 0; i < model.gear_meshes.size(); ++i) {
+  // Lumped gear meshes: spring-damper on the engaged flank's line of action (left out, with
+  // their outputs as they were, while DaeSystem::Tangents takes differences: they have analytic
+  // tangents, AddGearMeshTangents).
+  const size_t n_meshes = data.skip_elements_with_tangents ? 0 : model.gear_meshes.size();
+  for (size_t i = 0; i < n_meshes; ++i) {
     const GearMesh& mesh = model.gear_meshes[i];
     const GearMeshSpec& s = mesh.spec;
     const MeshEvaluation e = EvaluateGearMesh(model, mesh, data);

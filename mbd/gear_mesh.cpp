@@ -122,6 +122,27 @@ double TableAt(const std::vector<double>& table, int cycles, double psi) {
   return (1 - f) * table[i] + f * table[(i + 1) % n];
 }
 
+// Slope per cycle of the periodic linear interpolation of TableAt at psi.
+double TableSlopeAt(const std::vector<double>& table, int cycles, double psi) {
+  const int n = static_cast<int>(table.size());
+  double tau = std::fmod(psi, double(cycles));
+  if (tau < 0) tau += cycles;
+  const int i = std::min(static_cast<int>(tau / cycles * n), n - 1);
+  return (table[(i + 1) % n] - table[i]) * n / cycles;
+}
+
+// w += scale J_frame^T F: the row of the power F . V_frame (J_frame: the frame's body Jacobian,
+// plus the modal columns of a frame on a flexible body's node).
+void AddFrameRow(const Model& model, const Data& data, FrameIndex f, const Vec6& F, double scale,
+                 Eigen::Ref<Eigen::VectorXd> w) {
+  const Frame& frame = model.frames[f];
+  w.noalias() += scale * (data.J_WB[frame.body].transpose() * F);
+  if (frame.node >= 0) {
+    const FlexibleBody& fb = model.flexible_bodies[model.bodies[frame.body].flexible];
+    w.segment(fb.v_start, fb.nf).noalias() += scale * (data.J_frame_modal[f].transpose() * F);
+  }
+}
+
 }  // namespace
 
 double MeshStiffness(const GearMeshSpec& spec, double psi) {
@@ -135,6 +156,21 @@ double MeshTransmissionError(const GearMeshSpec& spec, double psi) {
     e += spec.ste_amplitudes[k] *
          std::cos(kTwoPi * double(k + 1) * psi + (k < spec.ste_phases.size() ? spec.ste_phases[k] : 0.0));
   return e;
+}
+
+double MeshStiffnessSlope(const GearMeshSpec& spec, double psi) {
+  if (spec.stiffness_table.empty()) return 0.0;
+  return TableSlopeAt(spec.stiffness_table, spec.table_cycles, psi);
+}
+
+double MeshTransmissionErrorSlope(const GearMeshSpec& spec, double psi) {
+  double slope = spec.ste_table_m.empty() ? 0.0 : TableSlopeAt(spec.ste_table_m, spec.ste_table_cycles, psi);
+  for (size_t k = 0; k < spec.ste_amplitudes.size(); ++k) {
+    const double omega = kTwoPi * double(k + 1);
+    slope -= spec.ste_amplitudes[k] * omega *
+             std::sin(omega * psi + (k < spec.ste_phases.size() ? spec.ste_phases[k] : 0.0));
+  }
+  return slope;
 }
 
 MeshEvaluation EvaluateGearMesh(const Model& model, const GearMesh& mesh, const Data& data) {
@@ -161,6 +197,37 @@ MeshEvaluation EvaluateGearMesh(const Model& model, const GearMesh& mesh, const 
   e.force = e.k * (e.delta - e.ste) + mesh.c * e.rate;
   if (two_sided) e.force = std::max(e.force, 0.0);  // teeth push, never pull
   return e;
+}
+
+
+void AddGearMeshTangents(const Model& model, const Data& data, Eigen::Ref<Eigen::MatrixXd> K,
+                         Eigen::Ref<Eigen::MatrixXd> C, Eigen::Ref<Eigen::VectorXd> w,
+                         Eigen::Ref<Eigen::VectorXd> w_psi) {
+  for (const GearMesh& mesh : model.gear_meshes) {
+    const GearMeshSpec& s = mesh.spec;
+    const MeshEvaluation e = EvaluateGearMesh(model, mesh, data);
+    if (e.side == 0 || (s.contact == GearMeshSpec::Contact::kTwoSided && !(e.force > 0))) continue;
+    const MeshState& st = e.state;
+    const Vec3& n = e.side > 0 ? st.n_drive_W : st.n_coast_W;
+    Vec6 spin;
+    spin << st.z_W, Vec3::Zero();
+    // Rate row of the engaged flank's compression.
+    w.setZero();
+    AddFrameRow(model, data, s.gear_a, ForceAtPoint(st.p_a_W, n), e.side, w);
+    AddFrameRow(model, data, s.gear_b, ForceAtPoint(st.p_b_W, n), -e.side, w);
+    AddFrameRow(model, data, s.reference, spin, -e.side * st.KSpin(n), w);
+    K.noalias() += e.k * (w * w.transpose());
+    C.noalias() += mesh.c * (w * w.transpose());
+    // Phase row: the stiffness and transmission error turn with the phase gear.
+    const double dfdpsi = MeshStiffnessSlope(s, e.psi) * (e.delta - e.ste) - e.k * MeshTransmissionErrorSlope(s, e.psi);
+    if (dfdpsi == 0) continue;
+    const bool gear_a = s.phase_gear == GearMeshSpec::PhaseGear::kA;
+    const double per_rad = gear_a ? s.teeth_a / kTwoPi : -mesh.geometry.sigma * s.teeth_b / kTwoPi;
+    w_psi.setZero();
+    AddFrameRow(model, data, gear_a ? s.gear_a : s.gear_b, spin, per_rad, w_psi);
+    AddFrameRow(model, data, s.reference, spin, -per_rad, w_psi);
+    K.noalias() += dfdpsi * (w * w_psi.transpose());
+  }
 }
 
 }  // namespace orrery

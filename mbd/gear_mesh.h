@@ -74,4 +74,25 @@ struct MeshEvaluation {
 };
 MeshEvaluation EvaluateGearMesh(const Model& model, const GearMesh& mesh, const Data& data);
 
+// Slopes of MeshStiffness and MeshTransmissionError in the mesh phase (N/m and m per cycle): the
+// slope of the table's segment at psi (the tables are piecewise linear) plus the harmonics'.
+double MeshStiffnessSlope(const GearMeshSpec& spec, double psi);
+double MeshTransmissionErrorSlope(const GearMeshSpec& spec, double psi);
+
+// Analytic tangents of every lumped mesh at the configuration and velocities in `data` (position
+// and velocity kinematics and the body Jacobians data.J_WB, CalcBodyJacobians), added as in
+// ExternalForceElement::AddTangents: K (nv x nv) += -dQ/d(dq), C (nv x nv) += -dQ/dv.
+// Math: the engaged flank's compression rate is delta-dot = w v with the row
+//   w = side (F_a^T J_a - F_b^T J_b - KSpin(n) [z; 0]^T J_C),  F_x = ForceAtPoint(p_x, n),
+// J_x the spatial Jacobians of the mesh's frames (world origin), and the mesh's generalized force
+// is Q = -f w^T with f = k(psi) (delta - ste(psi)) + c delta-dot, so
+//   K += w^T (k w + (k'(psi) (delta - ste) - k ste'(psi)) w_psi),   C += c w^T w,
+// w_psi = dpsi/d(dq) = (Z / 2 pi) [z; 0]^T (J_gear - J_C) for the phase gear (sign of the phase).
+// The turning of n and of the lever points (terms of order f times the lever's change) is left
+// out (they set Newton's convergence rate, not the solution); a two-sided mesh clamped at zero
+// force or apart adds nothing. w and w_psi are scratch rows (nv), so that nothing allocates.
+void AddGearMeshTangents(const Model& model, const Data& data, Eigen::Ref<Eigen::MatrixXd> K,
+                         Eigen::Ref<Eigen::MatrixXd> C, Eigen::Ref<Eigen::VectorXd> w,
+                         Eigen::Ref<Eigen::VectorXd> w_psi);
+
 }  // namespace orrery
