@@ -24,6 +24,8 @@
 //   orrery plot OUT.h5 (--signal PATH [--column C] [--t0 T] | --stress PATH) --png FILE
 //   orrery study STUDY.yaml [-o DIR] [-j N] [--retry-failed] [--mpi] [--dry-run] [--quiet]
 //   mpirun -n N orrery study STUDY.yaml ...
+//   orrery advise --study DIR [--study DIR ...] --output NAME --error BOUND [--absolute]
+//                 [--cost cpu|wall|memory] [--reference [STUDY:]RUN] [--json]
 //   orrery fault-study SCENE -o DIR [--end-time T] [--t0 T0] [--signal PATH] [--set k=v] [--force] [--no-plots] [--quiet]
 //   orrery --version
 //
@@ -55,6 +57,7 @@
 #include "tools/cli/run_command.h"
 #include "tools/cli/spectrum_command.h"
 #include "tools/cli/study_command.h"
+#include "tools/cli/advise_command.h"
 #include "tools/study/run_process.h"
 
 namespace {
@@ -194,6 +197,28 @@ struct StudyCli {
     if (!study->parsed()) return std::nullopt;
     args.err_is_terminal = isatty(STDERR_FILENO) == 1;
     return StudyCommand(args, std::cout, std::cerr);
+  }
+};
+
+// orrery advise: arguments, options, dispatch.
+struct AdviseCli {
+  AdviseArgs args;
+  CLI::App* advise = nullptr;
+
+  void Add(CLI::App& app) {
+    advise = app.add_subcommand("advise", "The cheapest measured setting of a study that meets an error bound on an output");
+    advise->add_option("--study", args.studies, "Study folder or its index.h5 (repeatable: the runs of all are compared)")->required();
+    advise->add_option("--output", args.output, "Output of the study (a column of its index)")->required();
+    advise->add_option("--error", args.error, "Error bound against the reference: a fraction (0.01) or percentage (1%), or with --absolute in the output's unit")->required();
+    advise->add_flag("--absolute", args.absolute, "The bound is in the output's unit");
+    advise->add_option("--cost", args.cost, "Cost to minimize: cpu (user + system time, default), wall, memory");
+    advise->add_option("--reference", args.reference, "The reference run, RUN or STUDY:RUN (default: the last run of the last study)");
+    advise->add_flag("--json", args.json, "Write JSON to stdout");
+  }
+
+  std::optional<int> Dispatch() {
+    if (!advise->parsed()) return std::nullopt;
+    return AdviseCommand(args, std::cout, std::cerr);
   }
 };
 
@@ -413,6 +438,8 @@ int Main(int argc, char** argv) {
   signal_commands.Add(app);
   StudyCli study;
   study.Add(app);
+  AdviseCli advise;
+  advise.Add(app);
 
   // Parse: help and version go to stdout, any other problem is one line on stderr
   try {
@@ -424,7 +451,7 @@ int Main(int argc, char** argv) {
     const std::vector<std::string> stray = app.remaining();
     if (app.get_subcommands().empty() && !stray.empty() && !stray.front().empty())
       reason = stray.front().front() == '-' ? "unknown option '" + stray.front() + "'"
-                                            : "unknown command '" + stray.front() + "' (expected run, inspect, kinematics, modes, fe-modes, reduce, mesh-info, mesh-stiffness, spectrum, compare, octave, plot, study or fault-study)";
+                                            : "unknown command '" + stray.front() + "' (expected run, inspect, kinematics, modes, fe-modes, reduce, mesh-info, mesh-stiffness, spectrum, compare, octave, plot, study, advise or fault-study)";
     ReportError(std::cerr, reason + "; see orrery --help");
     return kExitUsage;
   }
@@ -434,6 +461,7 @@ int Main(int argc, char** argv) {
   if (const std::optional<int> code = bodies.Dispatch()) return *code;
   if (const std::optional<int> code = signal_commands.Dispatch()) return *code;
   if (const std::optional<int> code = study.Dispatch()) return *code;
+  if (const std::optional<int> code = advise.Dispatch()) return *code;
   ReportError(std::cerr, "no command; see orrery --help");
   return kExitUsage;
 }
