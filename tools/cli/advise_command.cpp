@@ -25,9 +25,11 @@ double ParseBound(const AdviseArgs& a) {
   const auto r = std::from_chars(text.data(), text.data() + text.size(), x);
   if (text.empty() || r.ec != std::errc() || r.ptr != text.data() + text.size() ||
       !std::isfinite(x) || x <= 0)
-    throw std::invalid_argument("--error " + a.error + ": the bound must be a positive number (0.01, 1%)");
+    throw std::invalid_argument("--error " + a.error +
+                                ": the bound must be a positive number (0.01, 1%)");
   if (percent && a.absolute)
-    throw std::invalid_argument("--error " + a.error + ": a percentage is a relative bound; drop --absolute");
+    throw std::invalid_argument("--error " + a.error +
+                                ": a percentage is a relative bound; drop --absolute");
   return percent ? x / 100 : x;
 }
 
@@ -44,9 +46,7 @@ std::string Num(double x) {
   return b;
 }
 
-std::string ErrorText(double e, bool relative) {
-  return relative ? Num(100 * e) + " %" : Num(e);
-}
+std::string ErrorText(double e, bool relative) { return relative ? Num(100 * e) + " %" : Num(e); }
 
 std::string Line(const MeasuredSetting& m, const AdviseArgs& a, const std::string& unit) {
   return m.study + " run " + std::to_string(m.run) + " (" + m.parameters + "): " + a.output +
@@ -61,7 +61,7 @@ void Setting(JsonWriter& w, const MeasuredSetting& m) {
   w.Key("error").Number(m.error).Key("cost").Number(m.cost).EndObject();
 }
 
-void WriteJson(std::ostream& out, const AdviseArgs& a, const AdviceRequest& q, const Advice& v) {
+void WriteJson(std::ostream& out, const AdviceRequest& q, const Advice& v) {
   JsonWriter w(out);
   w.BeginObject().Key("output").String(q.output).Key("unit").String(v.unit);
   w.Key("cost").String(q.cost).Key("bound").Number(q.error_bound).Key("relative").Bool(q.relative);
@@ -75,7 +75,6 @@ void WriteJson(std::ostream& out, const AdviseArgs& a, const AdviceRequest& q, c
     if (m.on_front) Setting(w, m);
   w.EndArray().EndObject();
   out << "\n";
-  (void)a;
 }
 
 void WriteText(std::ostream& out, const AdviseArgs& a, const AdviceRequest& q, const Advice& v) {
@@ -86,8 +85,9 @@ void WriteText(std::ostream& out, const AdviseArgs& a, const AdviceRequest& q, c
         << ": the reference itself (its own error is that of its convergence, not measured)\n";
   else
     out << "advice     " << Line(v.settings[v.chosen], a, v.unit) << " (bound " << bound << ")\n";
-  out << "front      " << a.cost << " cost against error, cheapest first ("
-      << v.settings.size() << " runs measured" << (v.skipped ? ", " + std::to_string(v.skipped) + " not usable" : "") << "):\n";
+  out << "front      " << a.cost << " cost against error, cheapest first (" << v.settings.size()
+      << " runs measured" << (v.skipped ? ", " + std::to_string(v.skipped) + " not usable" : "")
+      << "):\n";
   for (const MeasuredSetting& m : v.settings)
     if (m.on_front)
       out << "  " << Num(m.cost) << (a.cost == "memory" ? " MiB" : " s") << "  error "
@@ -116,7 +116,7 @@ int AdviseCommand(const AdviseArgs& a, std::ostream& out, std::ostream& err) {
     return kExitFailure;
   }
   if (a.json)
-    WriteJson(out, a, q, v);
+    WriteJson(out, q, v);
   else
     WriteText(out, a, q, v);
   return kExitSuccess;

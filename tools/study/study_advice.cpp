@@ -15,11 +15,11 @@ namespace fs = std::filesystem;
 
 // One study's index, as far as advice needs it
 struct IndexColumns {
-  std::string label;                        // the folder's name
-  std::vector<std::string> status;          // per run
-  std::vector<std::string> parameters;      // per run: "key=value ..."
-  std::vector<double> output, cost;         // per run
-  std::string unit;                         // the output's unit
+  std::string label;                    // the folder's name
+  std::vector<std::string> status;      // per run
+  std::vector<std::string> parameters;  // per run: "key=value ..."
+  std::vector<double> output, cost;     // per run
+  std::string unit;                     // the output's unit
 };
 
 std::string ShortestText(double x) {
@@ -85,8 +85,7 @@ IndexColumns ReadIndex(const std::string& study, const AdviceRequest& q) {
 // The reference as (study position, run); "" is the last run of the last study
 std::pair<std::size_t, int> ParseReference(const std::string& text,
                                            const std::vector<IndexColumns>& indexes) {
-  if (text.empty())
-    return {indexes.size() - 1, static_cast<int>(indexes.back().status.size()) - 1};
+  if (text.empty()) return {indexes.size() - 1, static_cast<int>(indexes.back().status.size()) - 1};
   std::size_t study = indexes.size() - 1;
   std::string run_text = text;
   if (const std::size_t colon = text.rfind(':'); colon != std::string::npos) {

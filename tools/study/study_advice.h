@@ -37,9 +37,9 @@ struct MeasuredSetting {
 struct AdviceRequest {
   // Study folders (holding index.h5) or index.h5 files; the runs of all are compared
   std::vector<std::string> studies;
-  std::string output;              // an output name of every study
-  double error_bound = 0;          // > 0: fraction (relative) or the output's unit (absolute)
-  bool relative = true;            // relative error |x - x_ref| / |x_ref|
+  std::string output;               // an output name of every study
+  double error_bound = 0;           // > 0: fraction (relative) or the output's unit (absolute)
+  bool relative = true;             // relative error |x - x_ref| / |x_ref|
   std::string cost = "cpu_time_s";  // cpu_time_s | wall_time_s | peak_memory_mib
   // The reference: "RUN" (a run of the last study), "STUDY:RUN" (STUDY: a folder's name among
   // `studies`); "" for the last run of the last study

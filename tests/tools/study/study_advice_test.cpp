@@ -112,7 +112,8 @@ TEST_F(StudyAdviceTest, RefusesBadArgumentsInOneLine) {
   AdviceRequest q = Request(0.01);
   q.reference = "5";
   EXPECT_NE(message(q).find("--reference: synthetic run 5 is not usable (status failed"),
-            std::string::npos) << message(q);
+            std::string::npos)
+      << message(q);
   q.reference = "";  // the last run (5), failed
   EXPECT_NE(message(q).find("run 5 is not usable"), std::string::npos);
   q.reference = "7";
@@ -122,7 +123,8 @@ TEST_F(StudyAdviceTest, RefusesBadArgumentsInOneLine) {
   q = Request(0.01);
   q.output = "zero";
   EXPECT_NE(message(q).find("is 0, so a relative error has no meaning; use --absolute"),
-            std::string::npos) << message(q);
+            std::string::npos)
+      << message(q);
   q = Request(0.01);
   q.output = "torque";
   EXPECT_NE(message(q).find("--output torque: not an output of"), std::string::npos);
@@ -137,19 +139,23 @@ TEST_F(StudyAdviceTest, RefusesBadArgumentsInOneLine) {
   EXPECT_NE(message(q).find("no study index"), std::string::npos);
 
   // Through the program: exit 2, one line
-  for (const std::string& args : {std::string("--error 1 --output force"),  // no --study
-                                  "--study " + Path("synthetic") + " --output force --error 1x",
-                                  "--study " + Path("synthetic") + " --output force --error 1% --absolute",
-                                  "--study " + Path("synthetic") + " --output force --error 1% --cost joules"}) {
+  for (const std::string& args :
+       {std::string("--error 1 --output force"),  // no --study
+        "--study " + Path("synthetic") + " --output force --error 1x",
+        "--study " + Path("synthetic") + " --output force --error 1% --absolute",
+        "--study " + Path("synthetic") + " --output force --error 1% --cost joules"}) {
     const CommandResult r = Advise(args);
     EXPECT_EQ(r.status, 2) << args;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
     EXPECT_EQ(r.err.rfind("orrery: error: ", 0), 0u) << r.err;
   }
-  const CommandResult r = Advise("--study " + Path("synthetic") + " --output force --error 2% --reference 4");
+  const CommandResult r =
+      Advise("--study " + Path("synthetic") + " --output force --error 2% --reference 4");
   ASSERT_EQ(r.status, 0) << r.err;
-  EXPECT_NE(r.out.find("advice     synthetic run 1 (solver.step=5e-04 solver.integrator=b): force = 101 N, error 1 %, cpu 2 s (bound 2 %)"),
-            std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("advice     synthetic run 1 (solver.step=5e-04 solver.integrator=b): force "
+                       "= 101 N, error 1 %, cpu 2 s (bound 2 %)"),
+            std::string::npos)
+      << r.out;
 }
 
 // The quick study (six runs of seed 002's ramp, about 3 s of CPU), advised on the peak mesh force
@@ -170,7 +176,8 @@ TEST_F(StudyAdviceTest, AdviceOnTheQuickStudyIsTheCheapestRowWithinTheBound) {
   for (double bound : {0.5, 0.1, 0.03, 0.01, 1e-9}) {
     int best = -1;
     for (int r = 1; r <= 6; ++r) {
-      const bool within = std::abs(std::stod(rows[r][value]) - reference) <= bound * std::abs(reference);
+      const bool within =
+          std::abs(std::stod(rows[r][value]) - reference) <= bound * std::abs(reference);
       const double c = std::stod(rows[r][cost]);
       if (within && (best < 0 || c < std::stod(rows[best][cost]))) best = r;
     }

@@ -27,16 +27,20 @@ TEST_F(TradeoffPlotTest, WritesTheTableBetweenTheMarkersAndThePlots) {
         "0,ok,ida,1e-04,1e-04,101,2,1,30,0,,0,h,runs/run_00000.h5\n"
         "1,ok,ida,1e-06,1e-04,99.5,3,2,30,0,,0,h,runs/run_00001.h5\n"
         "2,ok,ida,1e-09,5e-05,100,9,4,31,0,,0,h,runs/run_00002.h5\n");
-  const std::string doc = Write("doc.md", "# T\n<!-- tradeoff-table:start -->\nold\n"
-                                          "<!-- tradeoff-table:end -->\nafter\n");
+  const std::string doc = Write("doc.md",
+                                "# T\n<!-- tradeoff-table:start -->\nold\n"
+                                "<!-- tradeoff-table:end -->\nafter\n");
   const CommandResult r = Plot(doc);
   ASSERT_EQ(r.status, 0) << r.err;
   const std::string text = ReadFile(doc);
   EXPECT_EQ(text.find("old"), std::string::npos);
   EXPECT_NE(text.find("| lumped TVMS | 0: IDA, rtol 1e-04, out 1e-04 | 1 | 2 | 30 | 1 % |"),
-            std::string::npos) << text;
-  EXPECT_NE(text.find("| lumped TVMS | 1: IDA, rtol 1e-06, out 1e-04 **default** | 2 | 3 | 30 | 0.5 % |"),
-            std::string::npos) << text;
+            std::string::npos)
+      << text;
+  EXPECT_NE(
+      text.find("| lumped TVMS | 1: IDA, rtol 1e-06, out 1e-04 **default** | 2 | 3 | 30 | 0.5 % |"),
+      std::string::npos)
+      << text;
   EXPECT_NE(text.find("(reference) | 4 | 9 | 31 | 100 |"), std::string::npos) << text;
   EXPECT_NE(text.find("seed003_contact_healthy: not run"), std::string::npos);
   EXPECT_NE(text.find("after\n"), std::string::npos);
@@ -44,8 +48,9 @@ TEST_F(TradeoffPlotTest, WritesTheTableBetweenTheMarkersAndThePlots) {
 
   const CommandResult bad = Plot(Write("plain.md", "# no markers\n"));
   EXPECT_EQ(bad.status, 2);
-  EXPECT_EQ(bad.err, "orrery plot: error: --doc " + Path("plain.md") +
-                         ": no <!-- tradeoff-table:start --> ... <!-- tradeoff-table:end --> markers\n");
+  EXPECT_EQ(bad.err,
+            "orrery plot: error: --doc " + Path("plain.md") +
+                ": no <!-- tradeoff-table:start --> ... <!-- tradeoff-table:end --> markers\n");
 }
 
 }  // namespace
