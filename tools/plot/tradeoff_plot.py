@@ -58,6 +58,7 @@ SHORT = {"gear_train.dynamics.flexible_bodies[S.planet1].reduce_input": "modes",
          "gear_train.dynamics.dofs": "dofs", "solver.integrator": "", "solver.rtol": "rtol",
          "solver.step": "h", "solver.rho_inf": "rho", "output.interval": "out"}
 MARKERS = {"lumped TVMS": "o", "rigid contact": "s", "flexible planet": "^", "lumped": "o"}
+COLORS = {"lumped TVMS": "C0", "rigid contact": "C1", "flexible planet": "C2", "lumped": "C0"}
 START, END = "<!-- tradeoff-table:start -->", "<!-- tradeoff-table:end -->"
 
 
@@ -245,7 +246,7 @@ def plot_scenario(plt, key, title, studies, outputs, scenario_ref, images):
                 points.append((c, e)), labels.append((s, i))
                 if i == s.default:
                     ax.plot([c], [e], "o", ms=12, mfc="none", mec="red", zorder=4)
-            ax.plot(xs, ys, MARKERS.get(s.label, "o"), label=s.label, alpha=0.8)
+            ax.plot(xs, ys, MARKERS.get(s.label, "o"), color=COLORS.get(s.label, "C0"), label=s.label, alpha=0.8)
         ax.set_title(o, fontsize=10)
         if not points:
             ax.text(0.5, 0.5, "no finished run", ha="center", va="center", transform=ax.transAxes)
