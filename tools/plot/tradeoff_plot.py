@@ -46,7 +46,9 @@ CONVERGENCE = {
     "seed003_lumped_broken_tooth": [(5, 6, "IDA rtol 1e-8 to 1e-9 (0.1 ms output)"), (13, 14, "IDA rtol 1e-6 to 1e-9 (0.05 ms output)"), (3, 13, "output 0.1 to 0.05 ms (IDA 1e-6)")],
     "seed003_contact_healthy": [(3, 5, "step 5 to 2.5 us (100 facets)"), (5, 6, "step 2.5 to 1.25 us (100 facets)"), (4, 5, "facets 40 to 100 (2.5 us)")],
     "seed003_contact_broken_tooth": [(1, 2, "step 5 to 2.5 us (40 facets)"), (2, 3, "facets 40 to 100 (2.5 us)")],
-    "seed003_flexible_healthy": [(5, 6, "modes 50 to 100 (5 us)"), (3, 4, "step 5 to 2.5 us (24 modes)"), (2, 3, "step 10 to 5 us (24 modes)")],
+    "seed003_flexible_healthy": [(5, 6, "modes 50 to 100 (5 us)"), (3, 4, "step 5 to 2.5 us (24 modes)"), (2, 3, "step 10 to 5 us (24 modes)"),
+                                 (6, "seed003_flexible_healthy_refinement:0", "step 5 to 2.5 us (100 modes)"),
+                                 (6, "seed003_flexible_healthy_refinement:1", "modes 100 to 200 (5 us)")],
     "seed003_flexible_broken_tooth": [(1, 3, "modes 24 to 50 (5 us)"), (1, 2, "step 5 to 2.5 us (24 modes)")],
     "seed002_alpha1_ramp": [(14, 15, "IDA rtol 1e-8 to 1e-9 (1 ms output)"), (18, 19, "IDA rtol 1e-6 to 1e-9 (0.5 ms output)"), (12, 18, "output 1 to 0.5 ms (IDA 1e-6)")],
 }
@@ -184,17 +186,34 @@ def defaults_table(s, outputs):
             + "; ".join(cells) + " |"]
 
 
-def convergence_table(s, outputs):
+def convergence_table(s, outputs, folder):
     """Each convergence pair of the study: every output's relative change from run a to run b."""
     lines = []
     for a, b, what in CONVERGENCE.get(s.name, []):
-        if max(a, b) >= len(s.rows) or any(s.rows[i]["status"] not in ("ok", "output_failed") for i in (a, b)):
+        ra, rb = row_of(s, a, folder), row_of(s, b, folder)
+        if ra is None or rb is None:
             lines.append(f"| {s.name} | {what} (runs {a}, {b}) | not run |")
             continue
-        cells = [f"{o} {fmt_err(rel_error(number(s.rows[a][o]), number(s.rows[b][o])))}"
-                 for o in outputs if o in s.rows[a]]
+        cells = [f"{o} {fmt_err(rel_error(number(ra[o]), number(rb[o])))}" for o in outputs if o in ra and o in rb]
         lines.append(f"| {s.name} | {what} (runs {a} to {b}) | " + "; ".join(cells) + " |")
     return lines
+
+
+def row_of(s, ref, folder):
+    """Run `ref` of study s (an int), or "STUDY:RUN" of another study's index.csv in folder; None
+    when it has not run."""
+    rows = s.rows
+    if isinstance(ref, str):
+        name, run = ref.split(":")
+        try:
+            with open(os.path.join(folder, name, "index.csv"), newline="") as f:
+                rows = list(csv.DictReader(f))
+        except OSError:
+            return None
+        ref = int(run)
+    if ref >= len(rows) or rows[ref]["status"] not in ("ok", "output_failed"):
+        return None
+    return rows[ref]
 
 
 def study_table(s, outputs, scenario_ref):
@@ -319,7 +338,7 @@ def main():
     table.append("| study | refinement | change per output |")
     table.append("|---|---|---|")
     for s in all_studies:
-        table += convergence_table(s, [o for o in s.columns if o in s.outputs_cache])
+        table += convergence_table(s, [o for o in s.columns if o in s.outputs_cache], a.studies)
     table.append("\n**Where the defaults sit** (each study's default run, each output's error against "
                  "the study's reference; off the front: a run beats it clearly, as accurate at 80 % of its "
                  "CPU time or half as wrong within 120 % of it; the most accurate such run is named).\n")
