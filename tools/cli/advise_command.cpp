@@ -50,7 +50,7 @@ std::string ErrorText(double e, bool relative) { return relative ? Num(100 * e) 
 
 std::string Line(const MeasuredSetting& m, const AdviseArgs& a, const std::string& unit) {
   return m.study + " run " + std::to_string(m.run) + " (" + m.parameters + "): " + a.output +
-         " = " + Num(m.value) + (unit.empty() ? "" : " " + unit) + ", error " +
+         " = " + Num(m.value) + (unit.empty() || unit == "1" ? "" : " " + unit) + ", error " +
          ErrorText(m.error, !a.absolute) + ", " + a.cost + " " + Num(m.cost) +
          (a.cost == "memory" ? " MiB" : " s");
 }
