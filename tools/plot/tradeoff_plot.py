@@ -280,7 +280,7 @@ def plot_scenario(plt, key, title, studies, outputs, scenario_ref, images):
             ax.legend(fontsize=7)
     for k in range(n, rows * cols):
         axes[k // cols][k % cols].axis("off")
-    fig.suptitle(f"{title}: error against the reference, red circle = engine default "
+    fig.suptitle(f"{title}: error against the reference, red ring = the scene's own setting "
                  f"(errors below 1e-7 drawn at 1e-7)", fontsize=10)
     fig.tight_layout()
     path = os.path.join(images, f"tradeoff_{key}.png")
