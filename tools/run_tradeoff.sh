@@ -4,7 +4,7 @@
 # then tools/plot/tradeoff_plot.py, which writes docs/images/tradeoff_*.png and the table of
 # docs/tradeoff.md (between its "tradeoff-table" markers).
 #
-#   bash tools/run_tradeoff.sh                 # all of it (about 25 min of CPU in all)
+#   bash tools/run_tradeoff.sh                 # all of it (37 min of CPU, ~20 min on 2 idle cores)
 #   JOBS=1 bash tools/run_tradeoff.sh          # one run at a time (default 2)
 #   bash tools/run_tradeoff.sh --plots-only    # tables and plots from the studies already run
 #
