@@ -2,7 +2,6 @@
 
 #include <cstdio>
 #include <exception>
-#include <optional>
 #include <stdexcept>
 
 #include "models/flexible_gear_mesh.h"
@@ -39,8 +38,7 @@ int FlexibleMeshStiffnessCommand(const MeshStiffnessArgs& args, std::ostream& ou
     o.fe.rim_divisions *= fe_level, o.fe.face_divisions *= fe_level;
     if (!faults.empty()) {
       // Healthy and faulty over the first fault's engagement, against the TVMS.
-      const gears::MeshSweepRange range = FaultEngagement(pair, faults);
-      auto level = [&](const MeshFaults& f) {
+      const auto level = [&](const MeshFaults& f, const gears::MeshSweepRange& range) {
         gears::FlexibleGearMeshOptions fo = o;
         fo.faults1 = f.gear1, fo.faults2 = f.gear2;
         std::vector<double> k;
@@ -48,18 +46,9 @@ int FlexibleMeshStiffnessCommand(const MeshStiffnessArgs& args, std::ostream& ou
           k.push_back(p.stiffness_n_per_m);
         return k;
       };
-      std::optional<JsonWriter> w;
-      if (args.json) {
-        w.emplace(out);
-        w->BeginObject().Key("scene").String(scene.name).Key("mesh").String(args.mesh);
-        w->Key("load_n").Number(args.load_n);
-      } else {
-        out << "scene " << scene.name << ", mesh " << args.mesh << ", load " << args.load_n
-            << " N along the line of action, flexible gears (hex20)\n";
-      }
-      WriteFaultReport("flexible FE contact", pair, tvms_options, faults, args.load_n, range, args.points, level,
-                       w ? &*w : nullptr, out);
-      if (w) w->EndObject();
+      WriteFaultSweep({.scene = scene.name, .mesh = args.mesh, .surfaces = "flexible gears (hex20)", .load_n = args.load_n,
+                       .points = args.points, .json = args.json},
+                      "flexible FE contact", pair, tvms_options, faults, level, out);
       return kExitSuccess;
     }
     const gears::FlexibleMeshSweep sweep =

@@ -2,7 +2,6 @@
 
 #include <cstdio>
 #include <exception>
-#include <optional>
 #include <stdexcept>
 
 #include "models/gear_contact.h"
@@ -52,8 +51,7 @@ int MeshStiffnessCommand(const MeshStiffnessArgs& args, std::ostream& out, std::
     options.material = tvms_options.material1;
     if (!faults.empty()) {
       // Healthy and faulty over the first fault's engagement, against the TVMS.
-      const gears::MeshSweepRange range = FaultEngagement(pair, faults);
-      auto level = [&](const MeshFaults& f) {
+      const auto level = [&](const MeshFaults& f, const gears::MeshSweepRange& range) {
         gears::GearContactOptions o = options;
         o.faults1 = f.gear1, o.faults2 = f.gear2;
         std::vector<double> k;
@@ -61,18 +59,9 @@ int MeshStiffnessCommand(const MeshStiffnessArgs& args, std::ostream& out, std::
           k.push_back(p.stiffness_n_per_m);
         return k;
       };
-      std::optional<JsonWriter> w;
-      if (args.json) {
-        w.emplace(out);
-        w->BeginObject().Key("scene").String(scene.name).Key("mesh").String(args.mesh);
-        w->Key("load_n").Number(args.load_n);
-      } else {
-        out << "scene " << scene.name << ", mesh " << args.mesh << ", load " << args.load_n
-            << " N along the line of action, rigid tooth contact\n";
-      }
-      WriteFaultReport("rigid contact", pair, tvms_options, faults, args.load_n, range, args.points, level,
-                       w ? &*w : nullptr, out);
-      if (w) w->EndObject();
+      WriteFaultSweep({.scene = scene.name, .mesh = args.mesh, .surfaces = "rigid tooth contact", .load_n = args.load_n,
+                       .points = args.points, .json = args.json},
+                      "rigid contact", pair, tvms_options, faults, level, out);
       return kExitSuccess;
     }
     // Swept over one mesh period.

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <stdexcept>
 
 #include "import/scene.h"
@@ -167,6 +168,26 @@ void WriteFaultReport(const std::string& level, const gears::GearPair& pair, con
                   100 * (d.mean_drop - d.tvms_mean_drop));
     out << line;
   }
+}
+
+void WriteFaultSweep(const FaultSweepHead& head, const std::string& level, const gears::GearPair& pair,
+                     const gears::TvmsOptions& tvms_options, const MeshFaults& faults,
+                     const std::function<std::vector<double>(const MeshFaults&, const gears::MeshSweepRange&)>& sweep,
+                     std::ostream& out) {
+  const gears::MeshSweepRange range = FaultEngagement(pair, faults);
+  const auto level_sweep = [&](const MeshFaults& f) { return sweep(f, range); };
+  std::optional<JsonWriter> w;
+  if (head.json) {
+    w.emplace(out);
+    w->BeginObject().Key("scene").String(head.scene).Key("mesh").String(head.mesh);
+    w->Key("load_n").Number(head.load_n);
+  } else {
+    out << "scene " << head.scene << ", mesh " << head.mesh << ", load " << head.load_n
+        << " N along the line of action, " << head.surfaces << "\n";
+  }
+  WriteFaultReport(level, pair, tvms_options, faults, head.load_n, range, head.points, level_sweep,
+                   w ? &*w : nullptr, out);
+  if (w) w->EndObject();
 }
 
 }  // namespace orrery::cli

@@ -68,4 +68,18 @@ void WriteFaultReport(const std::string& level, const gears::GearPair& pair, con
                       const std::function<std::vector<double>(const MeshFaults&)>& sweep, JsonWriter* json,
                       std::ostream& out);
 
+// The `orrery mesh-stiffness --fault` output of one level: its head (scene, mesh, load; the text
+// head names the level's `surfaces`), then WriteFaultReport over the first fault's engagement, as
+// one JSON object (json) or text.
+struct FaultSweepHead {
+  std::string scene, mesh, surfaces;
+  double load_n = 0;
+  int points = 0;
+  bool json = false;
+};
+void WriteFaultSweep(const FaultSweepHead& head, const std::string& level, const gears::GearPair& pair,
+                     const gears::TvmsOptions& tvms_options, const MeshFaults& faults,
+                     const std::function<std::vector<double>(const MeshFaults&, const gears::MeshSweepRange&)>& sweep,
+                     std::ostream& out);
+
 }  // namespace orrery::cli
