@@ -15,9 +15,7 @@
 #include <vector>
 
 #include "import/scene.h"
-#include "mbd/data.h"
-#include "mbd/evaluate.h"
-#include "mbd/linearization.h"
+#include "tests/common/model_fingerprint.h"
 
 namespace orrery {
 namespace {
@@ -96,28 +94,14 @@ std::string SceneText(const std::string& dofs, const Values& v) {
   return s.str();
 }
 
-// What the model is: its linearization at the start and its generalized forces at rest (t = 0.1 s).
-Eigen::VectorXd Fingerprint(const Scene& scene) {
-  const Model& model = *scene.model;
-  const State start = State::Initial(model);
-  const LinearModel lin = Linearize(model, start);
-  Data data(model);
-  EvaluateDynamics(model, 0.1, start.q, start.v, Eigen::VectorXd::Zero(model.nv), data);
-  std::vector<double> f(lin.M.data(), lin.M.data() + lin.M.size());
-  f.insert(f.end(), lin.K.data(), lin.K.data() + lin.K.size());
-  f.insert(f.end(), lin.D.data(), lin.D.data() + lin.D.size());
-  f.insert(f.end(), data.tau_id.data(), data.tau_id.data() + data.tau_id.size());
-  return Eigen::Map<const Eigen::VectorXd>(f.data(), static_cast<Eigen::Index>(f.size()));
-}
-
 TEST(LumpedStageReader, EveryNumericKeyChangesTheModel) {
   for (const std::string dofs : {"torsional", "planar", "spatial"}) {
     const Values base = SceneValues(dofs);
-    const Eigen::VectorXd reference = Fingerprint(LoadSceneFromString(SceneText(dofs, base), "base.yaml"));
+    const Eigen::VectorXd reference = test_support::ModelFingerprint(LoadSceneFromString(SceneText(dofs, base), "base.yaml"));
     for (const auto& [key, value] : base) {
       Values changed = base;
       changed[key] = 1.3 * value;
-      const Eigen::VectorXd f = Fingerprint(LoadSceneFromString(SceneText(dofs, changed), "changed.yaml"));
+      const Eigen::VectorXd f = test_support::ModelFingerprint(LoadSceneFromString(SceneText(dofs, changed), "changed.yaml"));
       ASSERT_EQ(f.size(), reference.size()) << dofs << ": " << key;
       EXPECT_GT((f - reference).norm(), 1e-12 * reference.norm()) << "dofs " << dofs << ": " << key
                                                                    << " is read and changes nothing";

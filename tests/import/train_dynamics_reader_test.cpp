@@ -16,9 +16,7 @@
 #include <vector>
 
 #include "import/scene.h"
-#include "mbd/data.h"
-#include "mbd/evaluate.h"
-#include "mbd/linearization.h"
+#include "tests/common/model_fingerprint.h"
 
 namespace orrery {
 namespace {
@@ -59,19 +57,6 @@ std::string SceneText(const std::map<std::string, double>& values) {
   return s.str();
 }
 
-Eigen::VectorXd Fingerprint(const Scene& scene) {
-  const Model& model = *scene.model;
-  const State start = State::Initial(model);
-  const LinearModel lin = Linearize(model, start);
-  Data data(model);
-  EvaluateDynamics(model, 0.1, start.q, start.v, Eigen::VectorXd::Zero(model.nv), data);
-  std::vector<double> f(lin.M.data(), lin.M.data() + lin.M.size());
-  f.insert(f.end(), lin.K.data(), lin.K.data() + lin.K.size());
-  f.insert(f.end(), lin.D.data(), lin.D.data() + lin.D.size());
-  f.insert(f.end(), data.tau_id.data(), data.tau_id.data() + data.tau_id.size());
-  return Eigen::Map<const Eigen::VectorXd>(f.data(), static_cast<Eigen::Index>(f.size()));
-}
-
 // Each value 1.3 times its base must change the model; the planet's and the housing's moments stay
 // a real mass distribution either way (I_polar <= 2 I_transverse).
 TEST(TrainDynamicsReader, EveryNumericDynamicsKeyChangesTheModel) {
@@ -88,11 +73,11 @@ TEST(TrainDynamicsReader, EveryNumericDynamicsKeyChangesTheModel) {
       {"housing.transverse_inertia", 1.5}, {"housing.mount_radial_stiffness", 1e8},
       {"housing.mount_axial_stiffness", 2e8}, {"housing.mount_torsional_stiffness", 1e7},
       {"housing.mount_tilt_stiffness", 3e7}, {"housing.mount_damping_ratio", 0.02}};
-  const Eigen::VectorXd reference = Fingerprint(LoadSceneFromString(SceneText(base), "base.yaml"));
+  const Eigen::VectorXd reference = test_support::ModelFingerprint(LoadSceneFromString(SceneText(base), "base.yaml"));
   for (const auto& [key, value] : base) {
     std::map<std::string, double> changed = base;
     changed[key] = 1.3 * value;
-    const Eigen::VectorXd f = Fingerprint(LoadSceneFromString(SceneText(changed), "changed.yaml"));
+    const Eigen::VectorXd f = test_support::ModelFingerprint(LoadSceneFromString(SceneText(changed), "changed.yaml"));
     ASSERT_EQ(f.size(), reference.size()) << key;
     EXPECT_GT((f - reference).norm(), 1e-12 * reference.norm()) << key << " is read and changes nothing";
   }
