@@ -27,12 +27,12 @@ from orrery_plot import fail, pyplot  # noqa: E402
 SCENARIOS = [
     ("seed003_healthy", "Seed 003, healthy", [
         ("seed003_lumped_healthy", "lumped TVMS", {"solver.integrator": "ida", "solver.rtol": "1e-06", "output.interval": "1e-04"}),
-        ("seed003_contact_healthy", "rigid contact", {"solver.step": "5e-06", "gear_train.dynamics.tooth_contact.involute_intervals": "40"}),
+        ("seed003_contact_healthy", "rigid contact", {"solver.step": "1e-05", "gear_train.dynamics.tooth_contact.involute_intervals": "40"}),
         ("seed003_flexible_healthy", "flexible planet", {"solver.step": "5e-06", "gear_train.dynamics.flexible_bodies[S.planet1].reduce_input": "../bodies/seed003_planet.yaml"}),
     ]),
     ("seed003_broken_tooth", "Seed 003, planet 1 tooth broken", [
         ("seed003_lumped_broken_tooth", "lumped TVMS", {"solver.integrator": "ida", "solver.rtol": "1e-06", "output.interval": "1e-04"}),
-        ("seed003_contact_broken_tooth", "rigid contact", {"solver.step": "5e-06", "gear_train.dynamics.tooth_contact.involute_intervals": "40"}),
+        ("seed003_contact_broken_tooth", "rigid contact", {"solver.step": "1e-05", "gear_train.dynamics.tooth_contact.involute_intervals": "40"}),
         ("seed003_flexible_broken_tooth", "flexible planet", {"solver.step": "5e-06", "gear_train.dynamics.flexible_bodies[S.planet1].reduce_input": "../bodies/seed003_planet.yaml"}),
     ]),
     ("seed002_ramp", "Seed 002, speed ramp", [
