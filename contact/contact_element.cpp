@@ -37,6 +37,9 @@ ContactElement::ContactElement(ContactElementSpec spec) : spec_(std::move(spec))
                                 std::to_string(spec_.record_points));
   try {
     ValidateContactLaw(spec_.law);
+    health_checks_ = PenetrationChecks(0.5 * (spec_.surface_a->margin_m() + spec_.surface_b->margin_m()),
+                                       0.5 * (spec_.surface_a->slack_m() + spec_.surface_b->slack_m()),
+                                       spec_.penetration_limit);
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(what + e.what());
   }
@@ -182,12 +185,10 @@ void ContactElement::GetOutputs(const ExternalForceWorkspace& workspace, double*
                       values + 4);
 }
 
-std::vector<ElementHealthCheck> ContactElement::HealthChecks() const {
-  return {PenetrationCheck(0.5 * (spec_.surface_a->margin_m() + spec_.surface_b->margin_m()))};
-}
+std::vector<ElementHealthCheck> ContactElement::HealthChecks() const { return health_checks_; }
 
 void ContactElement::GetHealthValues(const ExternalForceWorkspace& workspace, double* values) const {
-  values[0] = static_cast<const ContactWorkspace&>(workspace).max_penetration;
+  values[0] = values[1] = static_cast<const ContactWorkspace&>(workspace).max_penetration;
 }
 
 }  // namespace orrery::contact

@@ -37,7 +37,11 @@
 // "penetration", the largest penetration of the last evaluation against the gap distance
 // d = (margin_A + margin_B) / 2: a penalty contact calibrated for micrometres that sinks deeper
 // than the distance its search lists (a step that moved the surfaces through each other, a mesh
-// load far above the calibration) gives forces outside the law's range: a warning.
+// load far above the calibration) gives forces outside the law's range: a warning;
+// "penetration_limit", the same against spec.penetration_limit (default d + s, s = (slack_A +
+// slack_B) / 2; a gear pair: half the thinner tooth, models/gear_contact.h): the surfaces have
+// passed through each other further than their gaps can stand for: the run stops
+// (contact_outputs.h).
 //
 // Usage:
 //   auto plane = std::make_shared<const ContactSurface>(std::vector{plane_mesh}, 1e-3);
@@ -81,6 +85,9 @@ struct ContactElementSpec {
   std::shared_ptr<const ContactMonitor> monitor;
   // > 0: the outputs also hold this many contact points per row (contact_point_record.h).
   int record_points = 0;
+  // The penetration beyond which the gaps no longer stand for the surfaces: the run stops there
+  // (contact_outputs.h PenetrationChecks; default: the search distance plus the slack).
+  PenetrationLimit penetration_limit;
 };
 
 // Mutable state of one element in one Data: the search caches and the last evaluation.
@@ -111,8 +118,8 @@ class ContactWorkspace final : public ExternalForceWorkspace {
 
 class ContactElement final : public ExternalForceElement, public ElementHealthReporter {
  public:
-  // Throws std::invalid_argument for missing surfaces, the same body on both sides, or an
-  // invalid law. Body indices are checked against the model in MakeWorkspace().
+  // Throws std::invalid_argument for missing surfaces, the same body on both sides, an
+  // invalid law or penetration limit. Body indices are checked against the model in MakeWorkspace().
   explicit ContactElement(ContactElementSpec spec);
 
   const std::string& name() const override { return spec_.name; }
@@ -147,6 +154,7 @@ class ContactElement final : public ExternalForceElement, public ElementHealthRe
 
   ContactElementSpec spec_;
   std::vector<OutputDescription> outputs_;
+  std::vector<ElementHealthCheck> health_checks_;
 };
 
 }  // namespace orrery::contact

@@ -1,6 +1,9 @@
 #include "contact/contact_outputs.h"
 
 #include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
 #include <limits>
 
 namespace orrery::contact {
@@ -27,10 +30,25 @@ void WriteContactOutputs(const ContactMonitor* monitor, const ContactMonitorStat
   if (record_points > 0) points.Write(record_points, values, values + 3 * record_points);
 }
 
-ElementHealthCheck PenetrationCheck(double gap_distance_m) {
-  return {.name = "penetration", .unit = "m", .limit = gap_distance_m, .stops = false,
-          .cause = "penetration beyond the contact margin (the penalty law is calibrated for far less; "
-                   "a step or a load that drove the surfaces through each other)"};
+std::vector<ElementHealthCheck> PenetrationChecks(double gap_distance_m, double slack_m,
+                                                  const PenetrationLimit& limit) {
+  if (!(limit.depth_m >= 0) || !std::isfinite(limit.depth_m))
+    throw std::invalid_argument("contact element: penetration limit " + std::to_string(limit.depth_m) +
+                                " m must be a finite number >= 0");
+  ElementHealthCheck warn{.name = "penetration", .unit = "m", .limit = gap_distance_m, .stops = false,
+                          .cause = "penetration beyond the contact margin (the penalty law is calibrated for far "
+                                   "less; a step or a load that drove the surfaces through each other)"};
+  // The stop: the element's own bound, or where the search stops listing the nodes
+  ElementHealthCheck stop{.name = "penetration_limit", .unit = "m", .stops = true};
+  if (limit.depth_m > 0) {
+    stop.limit = limit.depth_m;
+    stop.cause = limit.reason;
+  } else {
+    stop.limit = gap_distance_m + slack_m;
+    stop.cause = "the penetration is beyond the contact's search distance plus its slack, where the gaps no "
+                 "longer stand for the surfaces (the contact is too soft for its load, or the step too large)";
+  }
+  return {warn, stop};
 }
 
 }  // namespace orrery::contact

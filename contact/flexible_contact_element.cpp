@@ -9,6 +9,14 @@
 #include "mbd/data.h"
 
 namespace orrery::contact {
+namespace {
+
+// The slack of one side's search (contact_surface.h, flexible_contact_surface.h).
+double SideSlack(const ContactSide& side) {
+  return side.flexible ? side.flexible->spec().slack_m : side.rigid->slack_m();
+}
+
+}  // namespace
 
 ContactSideBuffers::ContactSideBuffers(const ContactSide& side)
     : vertices(side.surface().vertices()),
@@ -61,6 +69,8 @@ FlexibleContactElement::FlexibleContactElement(FlexibleContactElementSpec spec)
                                 std::to_string(spec_.record_points));
   try {
     ValidateContactLaw(spec_.law);
+    health_checks_ = PenetrationChecks(0.5 * (spec_.a.gap_margin_m() + spec_.b.gap_margin_m()),
+                                       0.5 * (SideSlack(spec_.a) + SideSlack(spec_.b)), spec_.penetration_limit);
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(what + e.what());
   }
@@ -335,13 +345,11 @@ void FlexibleContactElement::GetOutputs(const ExternalForceWorkspace& workspace,
                       values + 6);
 }
 
-std::vector<ElementHealthCheck> FlexibleContactElement::HealthChecks() const {
-  return {PenetrationCheck(0.5 * (spec_.a.gap_margin_m() + spec_.b.gap_margin_m()))};
-}
+std::vector<ElementHealthCheck> FlexibleContactElement::HealthChecks() const { return health_checks_; }
 
 void FlexibleContactElement::GetHealthValues(const ExternalForceWorkspace& workspace,
                                              double* values) const {
-  values[0] = static_cast<const FlexibleContactWorkspace&>(workspace).max_penetration;
+  values[0] = values[1] = static_cast<const FlexibleContactWorkspace&>(workspace).max_penetration;
 }
 
 }  // namespace orrery::contact

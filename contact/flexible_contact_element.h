@@ -44,7 +44,8 @@
 // contact_point_record.h.
 // Health (mbd/element_health.h): "penetration", the largest penetration of the last evaluation
 // against the gap distance d = (g_A + g_B) / 2 (as the rigid element's, contact_element.h): a
-// warning.
+// warning; "penetration_limit", the same against spec.penetration_limit (default d + s, s the
+// sides' mean slack): a stop.
 //
 // Usage:
 //   auto block = std::make_shared<const FlexibleContactSurface>(modes, FlexibleContactSurfaceSpec{});
@@ -100,6 +101,9 @@ struct FlexibleContactElementSpec {
   std::shared_ptr<const ContactMonitor> monitor;
   // > 0: the outputs also hold this many contact points per row (contact_point_record.h).
   int record_points = 0;
+  // The penetration beyond which the gaps no longer stand for the surfaces: the run stops there
+  // (contact_outputs.h PenetrationChecks; default: the gap distance plus the slack).
+  PenetrationLimit penetration_limit;
 };
 
 // The state of one side for Evaluate(): pose and spatial velocity (world origin) of the body
@@ -211,6 +215,7 @@ class FlexibleContactElement final : public ExternalForceElement, public Element
 
   FlexibleContactElementSpec spec_;
   std::vector<OutputDescription> outputs_;
+  std::vector<ElementHealthCheck> health_checks_;
 };
 
 }  // namespace orrery::contact

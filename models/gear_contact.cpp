@@ -183,6 +183,16 @@ gears::GearPair WithNormalBacklash(const gears::GearPair& pair, double normal_ba
   return thinned(guess * (normal_backlash_m - j0) / (j1 - j0));
 }
 
+contact::PenetrationLimit GearPenetrationLimit(const gears::GearPair& pair) {
+  const double s1 = pair.gear1().ToothThickness(pair.gear1().reference_radius_m());
+  const double s2 = pair.gear2().ToothThickness(pair.gear2().reference_radius_m());
+  const double depth = 0.5 * std::min(s1, s2);
+  return {.depth_m = depth,
+          .reason = "the teeth have passed through each other (the limit is half the thinner tooth's thickness at "
+                    "its reference circle, beyond which the gaps turn to the tooth's other flank): the contact is "
+                    "too soft for its load, or the step too large"};
+}
+
 ContactElementSpec MakeGearContactSpec(const std::string& name, const gears::GearPair& given_pair,
                                        BodyIndex body1, BodyIndex body2,
                                        const GearContactOptions& options) {
@@ -216,6 +226,7 @@ ContactElementSpec MakeGearContactSpec(const std::string& name, const gears::Gea
                    .teeth1 = pair.gear1().teeth(), .teeth2 = pair.gear2().teeth(),
                    .internal = pair.internal()});
   spec.record_points = options.record_points;
+  spec.penetration_limit = GearPenetrationLimit(pair);
   return spec;
 }
 

@@ -329,6 +329,7 @@ void AddFlexibleContact(TrainAssembly& a, const TrainMesh& m, int g1, int g2, in
                    .base_radius2_m = e.base_radius2_m, .teeth1 = pair.gear1().teeth(),
                    .teeth2 = pair.gear2().teeth(), .internal = m.kind == MeshKind::kInternal});
   spec.record_points = go.record_points;
+  spec.penetration_limit = GearPenetrationLimit(pair);
   a.b.AddExternalForce(std::make_shared<FlexibleContactElement>(std::move(spec)));
 }
 
