@@ -197,7 +197,7 @@ const std::vector<std::pair<std::string, StudyOutputKind>>& OutputTypes() {
 }
 
 std::vector<std::string> OutputKeys(StudyOutputKind kind) {
-  std::vector<std::string> keys{"name", "type", "from", "to"};
+  std::vector<std::string> keys{"name", "type", "from", "from_fraction", "to"};
   const auto add = [&](std::initializer_list<const char*> more) {
     keys.insert(keys.end(), more.begin(), more.end());
   };
@@ -319,6 +319,12 @@ StudyOutput ReadOutput(const Context& ctx, const Item& item) {
   // Time window
   o.from_s = m.Number("from", o.from_s);
   o.to_s = m.Number("to", o.to_s);
+  if (const auto f = m.Find("from_fraction")) {
+    if (m.Has("from")) ctx.Fail(*f, "give either from or from_fraction, not both");
+    o.from_fraction = ToNumber(ctx, *f);
+    if (!(o.from_fraction >= 0 && o.from_fraction < 1))
+      ctx.Fail(*f, "from_fraction must be in [0, 1), got " + f->node.Scalar());
+  }
   if (m.Has("from") && m.Has("to") && !(o.from_s < o.to_s))
     ctx.Fail(*m.Find("to"), "the window needs from < to, got from " + Num(o.from_s) + " s, to " +
                                 Num(o.to_s) + " s");

@@ -111,6 +111,9 @@ struct StudyOutput {
   std::string column;   // 0-based index or name from the dataset's "columns"; "" for the first
   double from_s = -std::numeric_limits<double>::infinity();  // time window [from, to]
   double to_s = std::numeric_limits<double>::infinity();
+  // >= 0 (instead of from_s): the window starts this fraction of the way through the run's
+  // recorded time, t0 + f (t_end - t0) (runs of different lengths: their second half is 0.5).
+  double from_fraction = -1;
 
   // Spectral outputs (amplitude, sideband_energy_ratio)
   std::string window = "hann";  // hann | flattop | rect

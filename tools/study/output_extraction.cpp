@@ -38,6 +38,12 @@ std::string ColumnUnit(const Hdf5Reader& file, const std::string& path, int colu
              : unit;
 }
 
+// The window's start (s): from_s, or from_fraction of the way through the recorded time
+double WindowStart(const StudyOutput& o, const std::vector<double>& time) {
+  if (o.from_fraction < 0 || time.empty()) return o.from_s;
+  return time.front() + o.from_fraction * (time.back() - time.front());
+}
+
 // The column's values at the rows whose time lies in the window (any sampling)
 std::vector<double> WindowValues(const Hdf5Reader& file, const StudyOutput& o, int forced_column,
                                  std::string* unit) {
@@ -53,12 +59,13 @@ std::vector<double> WindowValues(const Hdf5Reader& file, const StudyOutput& o, i
   if (c >= cols) Fail(file, o.dataset, "no column " + std::to_string(c));
   *unit = ColumnUnit(file, o.dataset, c, cols);
   std::vector<double> x;
+  const double from_s = WindowStart(o, time);
   for (std::size_t i = 0; i < time.size(); ++i)
-    if (time[i] >= o.from_s && time[i] <= o.to_s)
+    if (time[i] >= from_s && time[i] <= o.to_s)
       x.push_back(data(static_cast<Eigen::Index>(i), c));
   if (x.empty()) {
     std::ostringstream msg;
-    msg << "no rows in the window [" << o.from_s << ", " << o.to_s << "] s";
+    msg << "no rows in the window [" << from_s << ", " << o.to_s << "] s";
     if (!time.empty())
       msg << " (the run recorded " << time.front() << " to " << time.back() << " s)";
     Fail(file, o.dataset, msg.str());
@@ -90,7 +97,8 @@ double Statistic(StudyOutputKind kind, const std::vector<double>& x) {
 
 // The record from `from` to `to`, uniformly sampled
 RecordedSignal Record(const Hdf5Reader& file, const StudyOutput& o) {
-  RecordedSignal s = ReadSignal(file, o.dataset, o.column, o.from_s);
+  const double from_s = o.from_fraction < 0 ? o.from_s : WindowStart(o, file.ReadVector("/time"));
+  RecordedSignal s = ReadSignal(file, o.dataset, o.column, from_s);
   const auto end = std::upper_bound(s.time_s.begin(), s.time_s.end(), o.to_s);
   const auto n = static_cast<std::size_t>(end - s.time_s.begin());
   if (n < static_cast<std::size_t>(kMinSignalSamples))
