@@ -146,6 +146,33 @@ double BlockHeight(const Scene& s, const State& state) {
   return data.X_WB[s.block].p.y();
 }
 
+TEST(ContactElementTest, PenetrationWarnsBeyondTheMarginAndStopsBeyondItsLimit) {
+  // Default limit: the search distance plus the slack (contact_outputs.h)
+  const auto a = std::make_shared<const ContactSurface>(std::vector{Grid(-0.01, -0.01, 2, 2, 0.01, false)}, 1e-3, 4e-3);
+  const auto b = std::make_shared<const ContactSurface>(std::vector{Grid(-0.01, -0.01, 2, 2, 0.01, true)}, 3e-3, 2e-3);
+  ContactElementSpec spec{.name = "c", .body_a = 1, .body_b = kWorldBody, .surface_a = a, .surface_b = b,
+                          .law = {.stiffness_per_area = 1e9}};
+  const std::vector<ElementHealthCheck> checks = ContactElement(spec).HealthChecks();
+  ASSERT_EQ(checks.size(), 2u);
+  EXPECT_FALSE(checks[0].stops);
+  EXPECT_DOUBLE_EQ(checks[0].limit, 2e-3);
+  EXPECT_EQ(checks[1].name, "penetration_limit");
+  EXPECT_TRUE(checks[1].stops);
+  EXPECT_DOUBLE_EQ(checks[1].limit, 2e-3 + 3e-3);
+  // A given limit, with its reason; a negative one is refused naming the element
+  spec.penetration_limit = {.depth_m = 7e-3, .reason = "half the part"};
+  EXPECT_DOUBLE_EQ(ContactElement(spec).HealthChecks()[1].limit, 7e-3);
+  EXPECT_EQ(ContactElement(spec).HealthChecks()[1].cause, "half the part");
+  spec.penetration_limit.depth_m = -1;
+  try {
+    ContactElement refused(spec);
+    ADD_FAILURE() << "a negative penetration limit was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("ContactElement 'c': penetration limit"), std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(ContactElementTest, StaticPenetrationIsWeightOverPenaltyStiffness) {
   for (double exponent : {1.0, 1.5}) {
     ContactLaw law{.stiffness_per_area = exponent == 1.0 ? 1e7 : 1e9, .exponent = exponent,

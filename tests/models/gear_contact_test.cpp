@@ -71,5 +71,31 @@ TEST(GearContactTest, PenaltyCalibrationFollowsTheLineContactClosedForm) {
   EXPECT_NEAR(c.reference_deflection_m * c.single_pair_stiffness_n_per_m, 1429, 1e-9 * 1429);
 }
 
+TEST(GearContactTest, PenetrationLimitIsHalfTheThinnerToothAtTheReferenceCircle) {
+  // Unshifted, unthinned teeth are pi m / 2 thick at the reference circle (ISO 21771): the stop
+  // lies at pi m / 4, and the element carries it as a stopping check beside the margin's warning.
+  const gears::GearPair pair = Seed001SunPlanet();
+  const contact::PenetrationLimit limit = GearPenetrationLimit(pair);
+  EXPECT_NEAR(limit.depth_m, 3.14159265358979323846 * 1.5e-3 / 4, 1e-9);
+  EXPECT_NE(limit.reason.find("the teeth have passed through each other"), std::string::npos);
+  const ContactElement element(MakeGearContactSpec("pair", pair, 1, 2, GearContactOptions{}));
+  const std::vector<ElementHealthCheck> checks = element.HealthChecks();
+  ASSERT_EQ(checks.size(), 2u);
+  EXPECT_EQ(checks[0].name, "penetration");
+  EXPECT_FALSE(checks[0].stops);
+  EXPECT_DOUBLE_EQ(checks[0].limit, GearContactOptions{}.margin_m);
+  EXPECT_EQ(checks[1].name, "penetration_limit");
+  EXPECT_TRUE(checks[1].stops);
+  EXPECT_DOUBLE_EQ(checks[1].limit, limit.depth_m);
+  // Thinned for a normal backlash j_n shared half and half: each tooth loses (j_n / 2) / cos(alpha)
+  // of its transverse thickness (spur, at the standard centre distance), the limit a quarter of
+  // j_n / cos(alpha)
+  GearContactOptions thinned;
+  thinned.normal_backlash_m = 100e-6;
+  const ContactElement loose(MakeGearContactSpec("loose", pair, 1, 2, thinned));
+  const double alpha = 21.3 * 3.14159265358979323846 / 180;
+  EXPECT_NEAR(loose.HealthChecks()[1].limit, limit.depth_m - 100e-6 / (4 * std::cos(alpha)), 1e-7);
+}
+
 }  // namespace
 }  // namespace orrery::gears
