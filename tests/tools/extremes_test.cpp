@@ -6,9 +6,16 @@
 //     periods, IDA and generalized-alpha: the end state within 1e-2 x0 of x0 (closed form);
 //   - damping: critical damping (c = 2 sqrt(k m)) and none: x(t) = x0 (1 + w t) exp(-w t);
 //   - step: w h = 10 > pi: without numerical damping the run warns naming the step and the
-//     stiffest mode, --strict stops at t = 0; with rho_inf 0.9 the lost energy warns;
+//     stiffest mode, --strict stops at t = 0; with rho_inf 0.9 the lost energy warns; at
+//     w h = 0.5, 3 and 10 the end state is the generalized-alpha recurrence's (Chung & Hulbert
+//     1993) to the Newton tolerance, far as it is from the continuous closed form;
+//   - seed 003 lumped at a 1 ms generalized-alpha step (omega_max h = 62) meets Willis; in tooth
+//     contact at a 20 ms step Newton stops naming the time and the joint;
 //   - planet mass 1e-3 kg and speed 30,000 r/min: kinematic ratios (Willis; slider position);
+//     1 r/min over 0.2 s: Willis over the settled second half;
 //   - mesh stiffness 1e6 N/m under seed 003's load: stops naming the mesh (its teeth ratchet);
+//     tooth contact at 1e6 N/m: stops naming the contact when the teeth have passed half the
+//     thinner tooth (3.13 mm), the result file read up to then;
 //   - the parallelogram four-bar through its singular position: IDA passes on the parallelogram
 //     branch (rocker = crank); an output row at the singular time, or generalized-alpha, stops
 //     naming the time and the closure row that loses its rank;
@@ -25,6 +32,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <string>
+#include <utility>
 
 #include <Eigen/Core>
 
@@ -137,6 +145,83 @@ TEST(Extremes, AStepBeyondTheStabilityLimitWarnsOrStops) {
   }
 }
 
+// The generalized-alpha recurrence (Chung & Hulbert 1993, J. Appl. Mech. 60:371; the
+// pseudo-acceleration form of Arnold & Bruls 2007, the same amplification matrix on linear
+// problems) for x'' + w^2 x = 0 from (x0, 0), a_0 = x''_0, over n steps of h, solved exactly:
+//   (1 - am) a_1 + am a_0 = (1 - af) xdd_1 + af xdd_0,  v_1 = v_0 + h ((1 - g) a_0 + g a_1),
+//   x_1 = x_0 + h v_0 + h^2 ((1/2 - b) a_0 + b a_1),  xdd_1 = -w^2 x_1.
+// Returns {x, v} at the end.
+std::pair<double, double> AlphaOscillator(double w, double rho, double h, int n) {
+  const double am = (2 * rho - 1) / (rho + 1), af = rho / (rho + 1), g = 0.5 + af - am;
+  const double b = 0.25 * (g + 0.5) * (g + 0.5), r = (1 - af) / (1 - am);
+  double x = kX0, v = 0, xdd = -w * w * x, a = xdd;
+  for (int k = 0; k < n; ++k) {
+    const double p = (af * xdd - am * a) / (1 - am);
+    const double vp = v + h * (1 - g) * a + h * g * p, xp = x + h * v + h * h * ((0.5 - b) * a + b * p);
+    const double xdd1 = -w * w * xp / (1 + w * w * h * h * b * r);
+    a = p + r * xdd1, v = vp + h * g * r * xdd1, x = xp + h * h * b * r * xdd1, xdd = xdd1;
+  }
+  return {x, v};
+}
+
+TEST(Extremes, AnyStepDoesWhatItsSchemePredicts) {
+  // 20 steps of w h = 0.5, 3 and 10 (rho_inf 0.9): the end state is the recurrence's to 20 Newton
+  // tolerances (1e-8 each) of x0, while the continuous closed form is off by O(1) at the larger
+  // steps (the period error the tradeoff study measures).
+  const double w = 1000;
+  for (const double wh : {0.5, 3.0, 10.0}) {
+    const double h = wh / w, end = 20 * h;
+    const std::string out = Out("alpha" + std::to_string(static_cast<int>(10 * wh)));
+    const auto [text, status] = RunCommand(kOrrery + " run " + Scene("oscillator.yaml") +
+                                           " --quiet --integrator generalized_alpha --set solver.rho_inf=0.9 -o " +
+                                           out + " --set solver.step=" + Num(h) + " --set solver.end_time=" +
+                                           Num(end) + " --set output.interval=" + Num(h));
+    ASSERT_EQ(status, 0) << text;
+    ASSERT_EQ(Hdf5Reader(out).ReadMatrix("/time").rows(), 21);
+    const auto [x, v] = AlphaOscillator(w, 0.9, h, 20);
+    EXPECT_NEAR(Last(out, "/joints/slide/q"), x, 20 * 1e-8 * kX0) << wh;
+    EXPECT_NEAR(Last(out, "/joints/slide/v"), v, 20 * 1e-8 * kX0 * w) << wh;
+    if (wh > 1) {
+      EXPECT_GT(std::abs(x - kX0 * std::cos(w * end)), 0.1 * kX0) << wh;
+    }
+  }
+}
+
+TEST(Extremes, StepsFarTooLargeForTheGearsMeetWillisOrStop) {
+  {
+    // Lumped meshes at 1 ms (omega_max h = 62, damped by rho_inf 0.9): Willis over the second half
+    const std::string out = Out("lumped_1ms");
+    const auto [text, status] = RunCommand(kOrrery + " run " + Scene("seed003_lumped_healthy.yaml") +
+                                           " --quiet --integrator generalized_alpha --end-time 0.05"
+                                           " --set solver.step=1e-3 --set output.interval=1e-3 -o " + out);
+    ASSERT_EQ(status, 0) << text;
+    EXPECT_NEAR(MeanFrom(out, "/joints/S.carrier/v", 0.025), kWillis, 1e-2 * kWillis);
+  }
+  {
+    // Tooth contact at 20 ms: Newton fails through 8 halvings and stops naming time and joint
+    const std::string out = Out("contact_20ms");
+    const auto [text, status] = RunCommand(kOrrery + " run " + Scene("seed003_contact_healthy.yaml") +
+                                           " --end-time 0.05 --set solver.step=2e-2 --set output.interval=2e-2 -o " +
+                                           out);
+    EXPECT_EQ(status, 1) << text;
+    EXPECT_NE(text.find("Newton did not converge at t = 0.00015625 s"), std::string::npos) << text;
+    EXPECT_NE(text.find("joint 'S."), std::string::npos) << text;
+    EXPECT_EQ(Hdf5Reader(out).ReadMatrix("/time").rows(), 1);
+  }
+}
+
+TEST(Extremes, OneRpmMeetsWillisOverTheSettledSecondHalf) {
+  // The suddenly applied 6000 N m leaves a torsional transient of a fixed size in rad/s: at
+  // 0.069 rad/s it weighs 8 % over 0.01-0.02 s, 2.6e-3 over 0.1-0.2 s.
+  const std::string out = Out("one_rpm");
+  const auto [text, status] = RunCommand(kOrrery + " run " + Scene("seed003_lumped_healthy.yaml") +
+                                         " --quiet --end-time 0.2 --set output.interval=2e-5"
+                                         " --set 'gear_train.input_speeds=[0.10471976, -0.012992525]' -o " + out);
+  ASSERT_EQ(status, 0) << text;
+  const double willis = (50 * 0.10471976 + 22 * -0.012992525) / 72;
+  EXPECT_NEAR(MeanFrom(out, "/joints/S.carrier/v", 0.1), willis, 1e-2 * willis);
+}
+
 TEST(Extremes, PlanetMassOf1e3AndOneGramKeepWillisSpeed) {
   for (const double m : {1e-3, 1e3}) {
     const std::string out = Out(m < 1 ? "mass_light" : "mass_heavy");
@@ -174,6 +259,29 @@ TEST(Extremes, AMeshTooSoftForItsLoadStopsNamingTheMesh) {
   const Eigen::MatrixXd t = Hdf5Reader(out).ReadMatrix("/time");
   EXPECT_GT(t.rows(), 1);
   EXPECT_TRUE(t.allFinite());
+}
+
+TEST(Extremes, AToothContactTooSoftForItsLoadStopsNamingTheContact) {
+  // 1e6 N/m, 100 times softer than ISO's c' b: the load needs ~15 mm of approach and the teeth
+  // pass through each other; the contact stops when its penetration passes half the thinner
+  // tooth (the sun's, thinned for 20 um of backlash: 3.13 mm; models/gear_contact.h).
+  const std::string out = Out("soft_contact");
+  const auto [text, status] =
+      RunCommand(kOrrery + " run " + Scene("seed003_contact_healthy.yaml") +
+                 " --end-time 0.002 --set gear_train.dynamics.tooth_contact.single_pair_stiffness=1e6 -o " + out);
+  EXPECT_EQ(status, 1) << text;
+  EXPECT_NE(text.find("run stopped: t = 0.0011 s: element 'S.sun-planet#1': penetration_limit = "), std::string::npos)
+      << text;
+  EXPECT_NE(text.find("exceeds 0.00313 m: the teeth have passed through each other"), std::string::npos) << text;
+  EXPECT_NE(text.find("holds 12 rows (t = 0 to 0.0011 s)"), std::string::npos) << text;
+  // The file up to then: the penetration below the limit until the last row, beyond it there
+  const Hdf5Reader r(out);
+  const Eigen::MatrixXd t = r.ReadMatrix("/time"), p = r.ReadMatrix("/external/S.sun-planet#1/max_penetration");
+  ASSERT_EQ(t.rows(), 12);
+  EXPECT_NEAR(t(11, 0), 0.0011, 1e-12);
+  EXPECT_LT(p(10, 0), 3.13e-3);
+  EXPECT_GT(p(11, 0), 3.13e-3);
+  EXPECT_DOUBLE_EQ(r.ReadNumberAttribute("/health", "stopped"), 1);
 }
 
 TEST(Extremes, FourBarThroughItsSingularPosition) {
