@@ -141,6 +141,13 @@ TEST(StudyFileTest, ErrorsNameFileLineAndKey) {
   EXPECT_EQ(
       ErrorOf(head + "axes:\n  - {key: a.b, uniform: [0, 1]}\n"),
       "s.yaml:3: axes[0].uniform: key not allowed here: random values belong in a 'random:' entry");
+  // A window from a fraction of the run: in [0, 1), not with from
+  const std::string out = "outputs:\n  - {name: m, type: mean, dataset: /x, ";
+  EXPECT_EQ(ParseStudyFile(head + out + "from_fraction: 0.5}\n", "s.yaml").outputs[0].from_fraction, 0.5);
+  EXPECT_EQ(ErrorOf(head + out + "from_fraction: 1}\n"),
+            "s.yaml:3: outputs[m].from_fraction: from_fraction must be in [0, 1), got 1");
+  EXPECT_EQ(ErrorOf(head + out + "from: 0.1, from_fraction: 0.5}\n"),
+            "s.yaml:3: outputs[m].from_fraction: give either from or from_fraction, not both");
   // Empty axes
   EXPECT_EQ(ErrorOf(head + "axes:\n  - {key: a.b, values: []}\n"),
             "s.yaml:3: axes[0].values: an axis needs at least one value, got an empty list");

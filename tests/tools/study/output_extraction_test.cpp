@@ -101,6 +101,17 @@ class OutputExtractionTest : public ::testing::Test {
   fs::path dir_;
 };
 
+TEST_F(OutputExtractionTest, AWindowFromAFractionOfTheRun) {
+  // The ramp runs t = 0 .. 1 (x = i - 40 at t = i / 100): the second half is rows 50 .. 100,
+  // x = 10 .. 60, mean 35; and a fraction of 0 is the whole record (mean of -40 .. 60: 10)
+  const std::string path = RampFile();
+  StudyOutput o = Output(StudyOutputKind::kMean, "/ramp");
+  o.from_fraction = 0.5;
+  EXPECT_NEAR(Extract(path, o), 35, 1e-12);
+  o.from_fraction = 0;
+  EXPECT_NEAR(Extract(path, o), 10, 1e-12);
+}
+
 TEST_F(OutputExtractionTest, StatisticsOverATimeWindow) {
   const std::string path = RampFile();
   // Rows 20 .. 50 (t in [0.195, 0.505]): x = j for j = -20 .. 10
