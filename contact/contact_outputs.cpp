@@ -33,7 +33,7 @@ void WriteContactOutputs(const ContactMonitor* monitor, const ContactMonitorStat
 std::vector<ElementHealthCheck> PenetrationChecks(double gap_distance_m, double slack_m,
                                                   const PenetrationLimit& limit) {
   if (!(limit.depth_m >= 0) || !std::isfinite(limit.depth_m))
-    throw std::invalid_argument("contact element: penetration limit " + std::to_string(limit.depth_m) +
+    throw std::invalid_argument("penetration limit " + std::to_string(limit.depth_m) +
                                 " m must be a finite number >= 0");
   ElementHealthCheck warn{.name = "penetration", .unit = "m", .limit = gap_distance_m, .stops = false,
                           .cause = "penetration beyond the contact margin (the penalty law is calibrated for far "

@@ -12,9 +12,11 @@
 // /health/elements/<element>/<check> (largest value, its time, the limit).
 //
 // Reporters: the contact elements (contact/contact_element.h, flexible_contact_element.h):
-//   HealthChecks():   {{"penetration", "m", d, false, "penetration beyond the contact margin ..."}}
-//                     with d = (margin_A + margin_B) / 2 the gap distance of their search;
-//   GetHealthValues(ws, v): v[0] = ws.max_penetration of the last evaluation.
+//   HealthChecks():   {{"penetration", "m", d, false, "penetration beyond the contact margin ..."},
+//                      {"penetration_limit", "m", limit, true, ...}} with d = (margin_A +
+//                     margin_B) / 2 the gap distance of their search and limit the depth their
+//                     gaps can stand for (contact/contact_outputs.h PenetrationChecks);
+//   GetHealthValues(ws, v): v[0] = v[1] = ws.max_penetration of the last evaluation.
 #include <string>
 #include <vector>
 

@@ -43,7 +43,8 @@
 //       tolerance), which bounds what the solver promises.
 //       Warning; names the constraint row.
 //   <element check>        (output rows) checks of force elements (element_health.h): tooth
-//       contact's penetration against its margin (contact/contact_element.h), a warning.
+//       contact's penetration against its margin (contact/contact_element.h), a warning, and
+//       against the depth its gaps can stand for (half the thinner tooth for gear pairs), a stop.
 // A check warns once per element (its first time, then the count and the worst value and time).
 // With `strict`, the first warning stops the run.
 //
