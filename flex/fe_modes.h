@@ -1,21 +1,29 @@
 #pragma once
 // Lowest natural modes of an FE model: K phi = w^2 M phi, for the lowest N eigenvalues.
 //
-// Method: Spectra's SymGEigsShiftSolver in shift-invert mode (implicitly restarted Lanczos on
-// (K - sigma M)^-1 M, eigenvalues nu = 1 / (w^2 - sigma)) with SparseLdltShiftInvert
-// (CHOLMOD's supernodal Cholesky of K - sigma M, or a sparse LDL^T where that matrix is not
-// positive definite). The default shift is negative,
+// Method: shift-invert (Ericsson & Ruhe 1980): eigenvalues nu = 1 / (w^2 - sigma) of
+// (K - sigma M)^-1 M, through one sparse factorization of K - sigma M (ShiftedFactor,
+// sparse_ldlt_shift_invert.h: CHOLMOD's supernodal Cholesky, or a sparse LDL^T where that matrix
+// is not positive definite), by
+//   - the shifted block Lanczos of block_lanczos.h (default): each step solves a block of 8
+//     right-hand sides at once, which costs about 2.3 single solves on a 91k-DOF hex20 block;
+//   - or Spectra's SymGEigsShiftSolver (implicitly restarted Lanczos, one solve per vector), the
+//     method before the block Lanczos, kept as its oracle (FeModesOptions::solver).
+// The default shift is negative,
 //   sigma = -1e-6 * trace(K) / trace(M),
 // i.e. a millionth of the mesh's mean diagonal ratio (about its highest eigenvalue), so
 // K - sigma M is positive definite also for a free-free mesh (6 zero eigenvalues) with a
 // condition number near 1e6, and the zero eigenvalues are found first (nu = 1 / |sigma|).
-// Fixed DOFs are eliminated (rows and columns removed) before the solve.
+// Fixed DOFs are eliminated (rows and columns removed) before the solve; only the upper
+// triangles of K - sigma M and M are formed for the free DOFs (K - sigma M only while it is
+// factorized), so the memory is that of the factor, M and the Krylov basis.
 // Rigid-body modes: eigenvalues with |w^2| <= rigid_body_tolerance * max(largest computed |w^2|,
 // |sigma|) are reported as exactly 0 (their computed values are rounding noise of order
 // eps * cond * |sigma|); with the default tolerance 1e-6 a structure whose first flexible mode is
 // below 1e-3 times the highest requested frequency would be misread, so ask for enough modes.
 // Check: no eigenvalue below the shift was skipped (a Cholesky factorization succeeding proves
 // it; the LDL^T fallback counts them by its inertia).
+// Mode shapes are M-normalized; their signs are the solver's (arbitrary, but repeatable).
 //
 // Usage:
 //   FeSystem sys = AssembleFeSystem(mesh);
@@ -28,16 +36,26 @@
 #include <Eigen/SparseCore>
 
 #include "flex/fe_assembly.h"
+#include "flex/sparse_ldlt_shift_invert.h"
 
 namespace orrery::flex {
+
+enum class EigenSolver {
+  kBlockLanczos,  // block_lanczos.h
+  kSpectra,       // Spectra's SymGEigsShiftSolver (the oracle)
+};
 
 struct FeModesOptions {
   int num_modes = 10;
   double shift = 0;                    // (rad/s)^2; used when use_shift is set
   bool use_shift = false;              // false: the default negative shift above
-  double tolerance = 1e-10;            // Spectra's relative tolerance on the Ritz values
-  int max_iterations = 1000;           // Lanczos restarts
-  int lanczos_vectors = 0;             // Spectra's ncv; 0: max(2 N + 1, N + 20), at most n
+  double tolerance = 1e-10;            // relative residual of the Ritz pairs (both solvers' test)
+  int max_iterations = 1000;           // restarts
+  // Block Lanczos: basis columns before a restart (0: BlockLanczosOptions' default);
+  // Spectra: its ncv (0: max(2 N + 1, N + 20)); at most n either way.
+  int lanczos_vectors = 0;
+  int block_size = 0;                  // block Lanczos; 0: BlockLanczosOptions' default (8)
+  EigenSolver solver = EigenSolver::kBlockLanczos;
   double rigid_body_tolerance = 1e-6;  // see above
 };
 
@@ -49,18 +67,35 @@ struct FeModes {
   std::vector<int> free_dofs;          // DOFs of the reduced problem (CalcFeModes)
   int num_rigid_body_modes = 0;
   double shift = 0;                    // (rad/s)^2
-  int iterations = 0, operations = 0;  // Spectra's restarts and operator applications
+  int iterations = 0;                  // restarts
+  int operations = 0;                  // right-hand sides solved (operator applications)
+  int block_solves = 0;                // solves (each of up to block_size right-hand sides)
   long factor_nonzeros = 0;            // nonzeros of L
   double factorize_seconds = 0, solve_seconds = 0;
 };
 
-// Modes of K x = lambda M x (both symmetric, M positive definite). Throws std::invalid_argument
-// if N < 1 or N >= n, std::runtime_error if the factorization fails or Lanczos does not converge.
+// Modes of K x = lambda M x (both symmetric, M positive definite; only their upper triangles are
+// read, rows sorted in each column). Throws std::invalid_argument if N < 1 or N >= n,
+// std::runtime_error if the factorization fails or Lanczos does not converge.
 FeModes SolveLowestModes(const Eigen::SparseMatrix<double>& K, const Eigen::SparseMatrix<double>& M,
+                         const FeModesOptions& options);
+
+// The same through a factorization of K - sigma M made by the caller (sigma = factor.shift();
+// options.shift and use_shift are not used), e.g. the Craig-Bampton reduction's factor of K_ii
+// at sigma = 0, which also gives its constraint modes. Does not check for eigenvalues below the
+// shift (factor.num_eigenvalues_below_shift() tells).
+FeModes SolveLowestModes(const ShiftedFactor& factor, const Eigen::SparseMatrix<double>& M,
                          const FeModesOptions& options);
 
 // Modes of an assembled system with `fixed_dofs` (any order, duplicates allowed) held at zero.
 FeModes CalcFeModes(const FeSystem& system, std::span<const int> fixed_dofs, const FeModesOptions& options);
+// The same, releasing the system's K and M once the free-DOF matrices are made (peak memory: the
+// factor, the free-DOF upper triangles of K - sigma M and M; `orrery fe-modes` uses it).
+FeModes CalcFeModes(FeSystem&& system, std::span<const int> fixed_dofs, const FeModesOptions& options);
+
+// The rows and columns of the free DOFs (map[d] = new index, -1 for a removed DOF; ascending
+// among the kept) of a symmetric matrix, upper triangle only. A: compressed, rows sorted.
+Eigen::SparseMatrix<double> RestrictUpper(const Eigen::SparseMatrix<double>& A, const std::vector<int>& map);
 
 // Frequency (Hz) of an eigenvalue w^2: sign(w^2) sqrt(|w^2|) / 2 pi.
 double EigenvalueToHz(double w2);

@@ -273,9 +273,14 @@ FlexibleBodyModes MakeFlexibleBodyModes(const FeMesh& mesh, const FeSystem& syst
 
   // Geometric stiffness of the six unit inertial load cases, body held at the reference master
   if (options.geometric_stiffness) {
-    const Eigen::MatrixXd F = InertialLoadCases(mesh, system, p_ref);
-    const Eigen::MatrixXd U = SolveStaticsHeldAtInterface(mesh, system, interfaces, cb.reference_interface, F);
-    r.geometric_stiffness = ProjectGeometricStiffness(mesh, U, Phi);
+    // The reduction's own solution when it carries one (from its factorization), else a solve
+    if (cb.inertial_load_statics.rows() == 3 * nn && cb.inertial_load_statics.cols() == 6) {
+      r.geometric_stiffness = ProjectGeometricStiffness(mesh, cb.inertial_load_statics, Phi);
+    } else {
+      const Eigen::MatrixXd F = InertialLoadCases(mesh, system, p_ref);
+      const Eigen::MatrixXd U = SolveStaticsHeldAtInterface(mesh, system, interfaces, cb.reference_interface, F);
+      r.geometric_stiffness = ProjectGeometricStiffness(mesh, U, Phi);
+    }
   }
   return r;
 }

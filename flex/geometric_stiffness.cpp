@@ -231,7 +231,7 @@ Eigen::MatrixXd SolveStaticsHeldAtInterface(const FeMesh& mesh, const FeSystem& 
                              "' held is not positive definite: the interface does not hold the body");
   const Eigen::MatrixXd B = Tt * F;
   Eigen::MatrixXd X(B.rows(), B.cols());
-  for (int c = 0; c < B.cols(); ++c) chol.solve(B.col(c).data(), X.col(c).data());
+  if (B.cols() > 0) chol.solve(B.data(), X.data(), static_cast<int>(B.cols()));  // all columns at once
   return T * X;
 }
 

@@ -6,33 +6,62 @@
 
 namespace orrery::flex {
 
-SparseLdltShiftInvert::SparseLdltShiftInvert(const Eigen::SparseMatrix<double>& A,
-                                             const Eigen::SparseMatrix<double>& B, ShiftInvertMethod method)
-    : A_(A), B_(B), method_(method) {
+Eigen::SparseMatrix<double> UpperShifted(const Eigen::SparseMatrix<double>& A, const Eigen::SparseMatrix<double>& B,
+                                         double sigma) {
   if (A.rows() != A.cols() || B.rows() != B.cols() || A.rows() != B.rows())
-    throw std::invalid_argument("SparseLdltShiftInvert: A and B must be square and of equal size");
+    throw std::invalid_argument("UpperShifted: A and B must be square and of equal size");
+  if (!A.isCompressed() || !B.isCompressed()) throw std::invalid_argument("UpperShifted: A and B must be compressed");
+  const int n = static_cast<int>(A.rows());
+  const int *ap = A.outerIndexPtr(), *ai = A.innerIndexPtr(), *bp = B.outerIndexPtr(), *bi = B.innerIndexPtr();
+  const double *ax = A.valuePtr(), *bx = B.valuePtr();
+  // Column c: merge the rows <= c of A and B (both ascending), twice: count, then fill
+  Eigen::SparseMatrix<double> S(n, n);
+  int* sp = S.outerIndexPtr();
+  for (int pass = 0; pass < 2; ++pass) {
+    int nz = 0;
+    for (int c = 0; c < n; ++c) {
+      if (pass == 1) sp[c] = nz;
+      int i = ap[c], j = bp[c];
+      const int ie = ap[c + 1], je = bp[c + 1];
+      int last = -1;
+      while ((i < ie && ai[i] <= c) || (j < je && bi[j] <= c)) {
+        const int ra = i < ie && ai[i] <= c ? ai[i] : n, rb = j < je && bi[j] <= c ? bi[j] : n;
+        const int r = std::min(ra, rb);
+        if (r <= last) throw std::invalid_argument("UpperShifted: rows must be sorted in each column");
+        last = r;
+        double v = 0;
+        if (ra == r) v += ax[i++];
+        if (rb == r) v -= sigma * bx[j++];
+        if (pass == 1) {
+          S.innerIndexPtr()[nz] = r;
+          S.valuePtr()[nz] = v;
+        }
+        ++nz;
+      }
+    }
+    if (pass == 0) S.resizeNonZeros(nz);
+    else sp[n] = nz;
+  }
+  return S;
 }
 
-void SparseLdltShiftInvert::set_shift(double sigma) {
-  // Same pattern for every sigma (the sum keeps explicit zeros), as both symbolic analyses need
-  const Eigen::SparseMatrix<double> S = A_ - sigma * B_;
-  if (method_ != ShiftInvertMethod::kLdlt) {
-    if (!cholesky_) cholesky_ = std::make_unique<CholmodCholesky>();
-    if (cholesky_->factorize(S)) {
-      uses_cholesky_ = true;
-      negative_pivots_ = 0;
-      sigma_ = sigma;
-      return;
-    }
-    if (method_ == ShiftInvertMethod::kCholesky)
+void ShiftedFactor::Factorize(const Eigen::SparseMatrix<double>& S, double sigma, ShiftInvertMethod method) {
+  if (S.rows() != S.cols()) throw std::invalid_argument("ShiftedFactor: matrix must be square");
+  if (n_ != 0 && S.rows() != n_)
+    throw std::invalid_argument("ShiftedFactor: size " + std::to_string(S.rows()) + " differs from the analysed " +
+                                std::to_string(n_));
+  if (method != ShiftInvertMethod::kLdlt) {
+    if (FactorizeIfPositiveDefinite(S, sigma)) return;
+    if (method == ShiftInvertMethod::kCholesky)
       throw std::runtime_error("K - sigma M is not positive definite at sigma = " + std::to_string(sigma) +
                                " (Cholesky requested; the shift must lie below the lowest eigenvalue)");
   }
-  uses_cholesky_ = false;
-  // The pattern of A - sigma B does not depend on sigma: analyse once
-  if (!analyzed_) {
+  n_ = S.rows();
+  factorized_ = uses_cholesky_ = false;
+  // The pattern does not depend on sigma (UpperShifted): analyse once
+  if (!ldlt_analyzed_) {
     ldlt_.analyzePattern(S);
-    analyzed_ = true;
+    ldlt_analyzed_ = true;
   }
   ldlt_.factorize(S);
   if (ldlt_.info() != Eigen::Success)
@@ -46,20 +75,45 @@ void SparseLdltShiftInvert::set_shift(double sigma) {
     if (d(i) < 0) ++negative_pivots_;
   }
   sigma_ = sigma;
+  factorized_ = true;
 }
 
-void SparseLdltShiftInvert::perform_op(const double* x_in, double* y_out) const {
-  Eigen::Map<const Eigen::VectorXd> x(x_in, rows());
-  Eigen::Map<Eigen::VectorXd> y(y_out, rows());
-  if (uses_cholesky_)
-    cholesky_->solve(x_in, y_out);
-  else
-    y = ldlt_.solve(x);
+bool ShiftedFactor::FactorizeIfPositiveDefinite(const Eigen::SparseMatrix<double>& S, double sigma) {
+  if (S.rows() != S.cols()) throw std::invalid_argument("ShiftedFactor: matrix must be square");
+  if (n_ != 0 && S.rows() != n_)
+    throw std::invalid_argument("ShiftedFactor: size " + std::to_string(S.rows()) + " differs from the analysed " +
+                                std::to_string(n_));
+  n_ = S.rows();
+  if (!cholesky_) cholesky_ = std::make_unique<CholmodCholesky>();
+  factorized_ = uses_cholesky_ = cholesky_->factorize(S);
+  negative_pivots_ = 0;
+  sigma_ = sigma;
+  return factorized_;
 }
 
-Eigen::Index SparseLdltShiftInvert::factor_nonzeros() const {
+void ShiftedFactor::Solve(const double* B, double* X, int columns) const {
+  if (!factorized_) throw std::logic_error("ShiftedFactor::Solve without a successful Factorize()");
+  if (uses_cholesky_) {
+    cholesky_->solve(B, X, columns);
+    return;
+  }
+  const Eigen::Map<const Eigen::MatrixXd> b(B, n_, columns);
+  Eigen::Map<Eigen::MatrixXd> x(X, n_, columns);
+  x = ldlt_.solve(b);
+}
+
+Eigen::Index ShiftedFactor::factor_nonzeros() const {
   if (uses_cholesky_) return cholesky_->factor_nonzeros();
-  return analyzed_ ? ldlt_.matrixL().nestedExpression().nonZeros() : 0;
+  return ldlt_analyzed_ ? ldlt_.matrixL().nestedExpression().nonZeros() : 0;
 }
+
+SparseLdltShiftInvert::SparseLdltShiftInvert(const Eigen::SparseMatrix<double>& A,
+                                             const Eigen::SparseMatrix<double>& B, ShiftInvertMethod method)
+    : A_(A), B_(B), method_(method) {
+  if (A.rows() != A.cols() || B.rows() != B.cols() || A.rows() != B.rows())
+    throw std::invalid_argument("SparseLdltShiftInvert: A and B must be square and of equal size");
+}
+
+void SparseLdltShiftInvert::set_shift(double sigma) { factor_.Factorize(UpperShifted(A_, B_, sigma), sigma, method_); }
 
 }  // namespace orrery::flex

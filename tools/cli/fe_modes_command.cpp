@@ -40,8 +40,8 @@ int FeModesCommand(const FeModesArgs& args, std::ostream& out, std::ostream& err
       const std::vector<int>& nodes = mesh.NodeSet(set);
       fixed_nodes.insert(fixed_nodes.end(), nodes.begin(), nodes.end());
     }
-    const flex::FeSystem system = flex::AssembleFeSystem(mesh);
-    modes = flex::CalcFeModes(system, flex::NodeDofs(fixed_nodes), {.num_modes = args.num_modes});
+    // The system goes to the solver, which releases K and M once the free-DOF matrices are made
+    modes = flex::CalcFeModes(flex::AssembleFeSystem(mesh), flex::NodeDofs(fixed_nodes), {.num_modes = args.num_modes});
   } catch (const std::exception& e) {
     ReportError(err, e.what());
     return kExitFailure;
