@@ -1,5 +1,6 @@
 #include "flex/fe_modes.h"
 
+#include <Eigen/Eigenvalues>
 #include <Spectra/MatOp/SparseSymMatProd.h>
 #include <Spectra/SymGEigsShiftSolver.h>
 
@@ -70,7 +71,29 @@ void SolveWithSpectra(const ShiftedFactor& f, const Eigen::SparseMatrix<double>&
   r.shapes = eigs.eigenvectors();
 }
 
-// The same by the block Lanczos.
+// Purification of converged Ritz vectors Y (Ericsson & Ruhe 1980, sec. 3): one more application
+// of the operator, Z = (K - sigma M)^-1 M Y, damps a stiff mode j's share of a Ritz vector by
+// (lambda_i - sigma) / (lambda_j - sigma): the rounding the large-|theta| pairs (rigid-body modes
+// at a negative shift) leave in the basis would otherwise show as residuals
+// (lambda_j - lambda_i) M x_j. Then Rayleigh-Ritz on span(Z) for the pencil (K - sigma M, M)
+// without K: Z^T (K - sigma M) Z = Z^T M Y. One solve of nev right-hand sides.
+void Purify(const ShiftedFactor& f, const Eigen::SparseMatrix<double>& M, const Eigen::MatrixXd& Y, FeModes& r) {
+  const auto Mu = M.selfadjointView<Eigen::Upper>();
+  const Eigen::Index n = Y.rows(), k = Y.cols();
+  Eigen::MatrixXd MY(n, k), Z(n, k);
+  MY.noalias() = Mu * Y;
+  f.Solve(MY.data(), Z.data(), static_cast<int>(k));
+  const Eigen::MatrixXd H = Z.transpose() * MY;
+  MY.noalias() = Mu * Z;  // now M Z
+  const Eigen::MatrixXd G = Z.transpose() * MY;
+  const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> es(0.5 * (H + H.transpose()),
+                                                                    0.5 * (G + G.transpose()));
+  if (es.info() != Eigen::Success) throw std::runtime_error("eigen solve: Rayleigh-Ritz of the purified vectors failed");
+  r.eigenvalues = f.shift() + es.eigenvalues().array();
+  r.shapes.noalias() = Z * es.eigenvectors();
+}
+
+// The same by the block Lanczos, its Ritz vectors purified.
 void SolveWithBlockLanczos(const ShiftedFactor& f, const Eigen::SparseMatrix<double>& M, const FeModesOptions& o,
                            FeModes& r) {
   const BlockLanczosResult b = SolveBlockLanczos([&](const double* B, double* X, int k) { f.Solve(B, X, k); }, M,
@@ -82,10 +105,9 @@ void SolveWithBlockLanczos(const ShiftedFactor& f, const Eigen::SparseMatrix<dou
                              std::to_string(b.restarts) +
                              " restarts (raise the number of Lanczos vectors or iterations)");
   r.iterations = b.restarts;
-  r.operations = b.columns;
-  r.block_solves = b.block_solves;
-  r.eigenvalues = f.shift() + b.theta.cwiseInverse().array();
-  r.shapes = b.vectors;
+  r.operations = b.columns + o.num_modes;
+  r.block_solves = b.block_solves + 1;
+  Purify(f, M, b.vectors, r);
 }
 
 // Ascending order, rigid-body modes to zero, frequencies.
