@@ -7,8 +7,8 @@
 //   1. static constraint modes  Psi = -K_ii^-1 K_ib  (one sparse Cholesky of K_ii, one solve of
 //      its 6 n_if columns);
 //   2. fixed-interface normal modes  K_ii phi = w^2 M_ii phi  (SolveLowestModes: shift-invert
-//      block Lanczos through the same factorization, sigma = 0), kept by count and optionally by
-//      a cutoff frequency;
+//      Lanczos through the same factorization, sigma = 0), kept by count and optionally by a
+//      cutoff frequency;
 //   3. basis  T_cb = [[I, 0], [Psi, Phi]],  K_cb = T_cb^T K_q T_cb,  M_cb = T_cb^T M_q T_cb;
 //   4. body frame on the reference interface r: the rigid motions of the body are the columns
 //      R = [Gamma_1; ...; Gamma_n; 0] (Gamma_j = [[I, -skew(p_j - p_r)], [0, I]]: the master

@@ -172,10 +172,15 @@ FeModes ModesOfFreeDofs(const FeSystem& system, FeSystem* release, std::span<con
   ShiftedFactor f;
   double sigma = 0, factorize_seconds = 0;
   {
-    const Eigen::SparseMatrix<double> Kf = RestrictUpper(system.K, map);
-    if (release) release->K = release->M = Eigen::SparseMatrix<double>();
-    sigma = options.use_shift ? options.shift : DefaultShift(Kf, Mf);
-    factorize_seconds = Factorize(UpperShifted(Kf, Mf, sigma), sigma, options, f);
+    // Only S = K_f - sigma M_f (and M_f) stay while CHOLMOD works: K_f goes once S is formed
+    Eigen::SparseMatrix<double> S;
+    {
+      const Eigen::SparseMatrix<double> Kf = RestrictUpper(system.K, map);
+      if (release) release->K = release->M = Eigen::SparseMatrix<double>();
+      sigma = options.use_shift ? options.shift : DefaultShift(Kf, Mf);
+      S = UpperShifted(Kf, Mf, sigma);
+    }
+    factorize_seconds = Factorize(S, sigma, options, f);
   }
   FeModes r = SolveLowestModes(f, Mf, options);
   r.factorize_seconds = factorize_seconds;

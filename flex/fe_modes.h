@@ -5,10 +5,13 @@
 // (K - sigma M)^-1 M, through one sparse factorization of K - sigma M (ShiftedFactor,
 // sparse_ldlt_shift_invert.h: CHOLMOD's supernodal Cholesky, or a sparse LDL^T where that matrix
 // is not positive definite), by
-//   - the shifted block Lanczos of block_lanczos.h (default): each step solves a block of 8
-//     right-hand sides at once, which costs about 2.3 single solves on a 91k-DOF hex20 block;
-//   - or Spectra's SymGEigsShiftSolver (implicitly restarted Lanczos, one solve per vector), the
-//     method before the block Lanczos, kept as its oracle (FeModesOptions::solver).
+//   - Spectra's SymGEigsShiftSolver (default): implicitly restarted Lanczos, one solve per vector;
+//   - or the shifted block Lanczos of block_lanczos.h (FeModesOptions::solver): a block of b
+//     right-hand sides per solve (8 cost about 2.5 single solves on a 91k-DOF hex20 block), but
+//     it needs 2 to 3 times the vectors for 30 modes (clamped hex20 block 91k DOF: 224 against
+//     110; 37k-DOF planet held at its bore: 534 against 178), so it is no faster there and slower
+//     on clustered spectra (docs/performance.md, FE rows). Its Ritz vectors are purified (one more
+//     solve, Rayleigh-Ritz) before they are returned.
 // The default shift is negative,
 //   sigma = -1e-6 * trace(K) / trace(M),
 // i.e. a millionth of the mesh's mean diagonal ratio (about its highest eigenvalue), so
@@ -41,8 +44,8 @@
 namespace orrery::flex {
 
 enum class EigenSolver {
-  kBlockLanczos,  // block_lanczos.h
-  kSpectra,       // Spectra's SymGEigsShiftSolver (the oracle)
+  kSpectra,       // Spectra's SymGEigsShiftSolver (default)
+  kBlockLanczos,  // block_lanczos.h, Ritz vectors purified (measured slower, see below)
 };
 
 struct FeModesOptions {
@@ -55,7 +58,7 @@ struct FeModesOptions {
   // Spectra: its ncv (0: max(2 N + 1, N + 20)); at most n either way.
   int lanczos_vectors = 0;
   int block_size = 0;                  // block Lanczos; 0: BlockLanczosOptions' default (8)
-  EigenSolver solver = EigenSolver::kBlockLanczos;
+  EigenSolver solver = EigenSolver::kSpectra;
   double rigid_body_tolerance = 1e-6;  // see above
 };
 

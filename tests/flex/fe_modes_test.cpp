@@ -41,11 +41,13 @@ namespace {
 constexpr double kE = 210e9, kRho = 7850, kL = 1.0, kA = 0.1;
 
 TEST(FeModesTest, LanczosMatchesDenseSolverOnFreeMesh) {
-  for (ElementType t : {ElementType::kHex20, ElementType::kTet10}) {
+  for (ElementType t : {ElementType::kHex20, ElementType::kTet10})
+  for (EigenSolver solver : {EigenSolver::kSpectra, EigenSolver::kBlockLanczos}) {
     FeMesh mesh = MakeBoxMesh({.size_m = {0.3, 0.1, 0.05}, .divisions = {3, 1, 1}, .type = t});
     mesh.AssignMaterialToAll({.name = "STEEL", .youngs_modulus_pa = kE, .poissons_ratio = 0.3, .density_kg_m3 = kRho});
     const FeSystem sys = AssembleFeSystem(mesh);
-    const FeModes modes = CalcFeModes(sys, {}, {.num_modes = 12});
+    const FeModes modes = CalcFeModes(sys, {}, {.num_modes = 12, .solver = solver});
+    SCOPED_TRACE(solver == EigenSolver::kSpectra ? "Spectra" : "block Lanczos");
     // Dense oracle
     const Eigen::MatrixXd K(sys.K), M(sys.M);
     Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> dense(K, M);

@@ -17,12 +17,15 @@
 //       `orrery reduce` writes), in a forked child: wall time per stage and peak resident set.
 //
 //   fe_benchmark [--only=fe|cb] [--divisions=NX,NY,NZ] [--modes=30] [--work-dir=DIR] [--orrery=PATH]
-//                [--keep]
+//                [--keep] [--dump=FILE]
+// --dump writes the reduced planet's frequencies, K, M and geometric stiffness matrices (17 digits)
+// for a before/after comparison; --keep keeps the work directory (block.inp, the logs, block.dat).
 // CPU time is the better measure on a loaded machine (wall time includes waiting for a core);
 // both are printed. Without ccx on PATH the comparison is skipped with a message naming the
 // Debian package (calculix-ccx).
 #include <sys/resource.h>
 #include <sys/wait.h>
+#include <time.h>
 #include <fcntl.h>
 #include <unistd.h>
 
@@ -195,30 +198,61 @@ flex::FeMesh Planet100k() {
                                         .rim_divisions = 3, .face_divisions = 7});
 }
 
-// In the child: the stages, one line each, to `out`.
-void ReducePlanet(int modes, std::FILE* out) {
+// CPU time of this process so far (user + system, all threads), s.
+double ProcessCpuSeconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
+
+// The reduced body's numbers for a before/after comparison, full precision: frequencies, then
+// K, M and the six geometric stiffness matrices row by row.
+void DumpReduction(const flex::CraigBamptonModel& cb, const FlexibleBodyModes& body, const std::filesystem::path& file) {
+  std::ofstream f(file);
+  f.precision(17);
+  f << "frequencies_hz";
+  for (double hz : cb.frequencies_hz) f << ' ' << hz;
+  f << '\n';
+  auto matrix = [&](const char* name, const Eigen::MatrixXd& A) {
+    f << name << ' ' << A.rows() << ' ' << A.cols();
+    for (Eigen::Index i = 0; i < A.rows(); ++i)
+      for (Eigen::Index j = 0; j < A.cols(); ++j) f << ' ' << A(i, j);
+    f << '\n';
+  };
+  matrix("K", cb.K);
+  matrix("M", cb.M);
+  for (const Eigen::MatrixXd& g : body.geometric_stiffness) matrix("G", g);
+}
+
+// In the child: the stages, one line each, to `out` (wall and CPU time of each).
+void ReducePlanet(int modes, std::FILE* out, const std::filesystem::path& dump) {
   Clock::time_point t = Clock::now();
+  double c = ProcessCpuSeconds();
   const flex::FeMesh mesh = Planet100k();
   const flex::FeSystem sys = flex::AssembleFeSystem(mesh);
-  const double t_setup = Seconds(t, Clock::now());
+  const double t_setup = Seconds(t, Clock::now()), c_setup = ProcessCpuSeconds() - c;
   const std::vector<flex::FeInterface> ifs = {flex::MakeInterface(mesh, "BORE", flex::InterfaceKind::kRbe2)};
   t = Clock::now();
+  c = ProcessCpuSeconds();
   const flex::CraigBamptonModel cb = flex::ReduceCraigBampton(mesh, sys, ifs, {.num_modes = modes});
-  const double t_cb = Seconds(t, Clock::now());
+  const double t_cb = Seconds(t, Clock::now()), c_cb = ProcessCpuSeconds() - c;
   t = Clock::now();
+  c = ProcessCpuSeconds();
   const FlexibleBodyModes body =
       flex::MakeFlexibleBodyModes(mesh, sys, cb, ifs, {.stress_modes = true, .geometric_stiffness = true});
-  const double t_body = Seconds(t, Clock::now());
+  const double t_body = Seconds(t, Clock::now()), c_body = ProcessCpuSeconds() - c;
   double g_norm = 0;
   for (const Eigen::MatrixXd& g : body.geometric_stiffness) g_norm += g.squaredNorm();
   std::fprintf(out, "  %d nodes, %d DOF; first elastic %.6f Hz, last %.6f Hz; |G| %.9g\n", mesh.num_nodes(),
                3 * mesh.num_nodes(), cb.frequencies_hz[cb.num_rigid], cb.frequencies_hz.back(), std::sqrt(g_norm));
-  std::fprintf(out, "  wall: mesh + assembly %.2f s, ReduceCraigBampton %.2f s, MakeFlexibleBodyModes (stress modes, "
-                    "geometric stiffness) %.2f s\n",
-               t_setup, t_cb, t_body);
+  std::fprintf(out, "  mesh + assembly      wall %7.2f s  cpu %7.2f s\n", t_setup, c_setup);
+  std::fprintf(out, "  ReduceCraigBampton   wall %7.2f s  cpu %7.2f s\n", t_cb, c_cb);
+  std::fprintf(out, "  MakeFlexibleBodyModes (stress modes, geometric stiffness) wall %7.2f s  cpu %7.2f s\n", t_body,
+               c_body);
+  if (!dump.empty()) DumpReduction(cb, body, dump);
 }
 
-int CraigBamptonPlanet(int modes) {
+int CraigBamptonPlanet(int modes, const std::filesystem::path& dump) {
   std::printf("Craig-Bampton: seed 001 planet, hex20 100k DOF, bore RBE2, %d modes\n", modes);
   std::fflush(stdout);
   const Clock::time_point start = Clock::now();
@@ -226,7 +260,7 @@ int CraigBamptonPlanet(int modes) {
   if (pid < 0) throw std::runtime_error(std::string("fork: ") + std::strerror(errno));
   if (pid == 0) {
     try {
-      ReducePlanet(modes, stdout);
+      ReducePlanet(modes, stdout, dump);
     } catch (const std::exception& e) {
       std::fprintf(stdout, "  failed: %s\n", e.what());
       std::fflush(stdout);
@@ -248,6 +282,7 @@ int main(int argc, char** argv) {
   std::array<int, 3> divisions{66, 10, 10};
   int modes = 30;
   bool keep = false;
+  std::filesystem::path dump;  // --dump=FILE: the reduction's matrices (DumpReduction)
   std::filesystem::path work = std::filesystem::temp_directory_path() / ("orrery_fe_benchmark_" + std::to_string(getpid()));
   std::filesystem::path orrery = std::filesystem::read_symlink("/proc/self/exe").parent_path() / "orrery";
   for (int i = 1; i < argc; ++i) {
@@ -260,6 +295,7 @@ int main(int argc, char** argv) {
     else if (a.starts_with("--work-dir=")) work = a.substr(11);
     else if (a.starts_with("--orrery=")) orrery = a.substr(9);
     else if (a == "--keep") keep = true;
+    else if (a.starts_with("--dump=")) dump = a.substr(7);
     else {
       std::fprintf(stderr, "fe_benchmark: unknown argument '%s' (see the top of fe_benchmark.cpp)\n", argv[i]);
       return 2;
@@ -272,7 +308,7 @@ int main(int argc, char** argv) {
   int rc = 0;
   try {
     if (only.empty() || only == "fe") rc |= orrery::FeModesAgainstCcx(divisions, modes, work, orrery);
-    if (only.empty() || only == "cb") rc |= orrery::CraigBamptonPlanet(modes);
+    if (only.empty() || only == "cb") rc |= orrery::CraigBamptonPlanet(modes, dump);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "fe_benchmark: %s\n", e.what());
     rc = 1;
