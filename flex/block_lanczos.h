@@ -9,7 +9,7 @@
 //   Op = (K - sigma M)^-1 M is self-adjoint in the M inner product, with eigenvalues
 //   theta = 1 / (lambda - sigma): the lambda nearest sigma have the largest |theta|.
 //   A basis V (n x m, V^T M V = I) grows by a block P of b columns per step: W = Op P is one
-//   solve with b right-hand sides (a supernodal solve of 8 columns costs about 2.3 single ones,
+//   solve with b right-hand sides (a supernodal solve of 8 columns costs about 2.5 single ones,
 //   cholmod_factor.h), W is M-orthogonalized against V twice (classical Gram-Schmidt), giving the
 //   projection T = V^T M Op V (m x m, symmetric) column block by column block, and W = Q R with
 //   Q^T M Q = I (SVQB, Stathopoulos & Wu, SIAM J. Sci. Comput. 23 (2002) 2165-2182; directions
