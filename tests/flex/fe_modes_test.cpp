@@ -28,6 +28,8 @@
 
 #include <Eigen/Eigenvalues>
 #include <cmath>
+#include <utility>
+#include <vector>
 #include <numbers>
 #include <unsupported/Eigen/MatrixFunctions>
 
@@ -40,9 +42,13 @@ namespace {
 
 constexpr double kE = 210e9, kRho = 7850, kL = 1.0, kA = 0.1;
 
+// Both eigen solvers (Spectra's, the default, and the block Lanczos with purified Ritz vectors):
+// the block Lanczos' unpurified vectors missed the residual bound by up to 3.7x here.
 TEST(FeModesTest, LanczosMatchesDenseSolverOnFreeMesh) {
-  for (ElementType t : {ElementType::kHex20, ElementType::kTet10})
-  for (EigenSolver solver : {EigenSolver::kSpectra, EigenSolver::kBlockLanczos}) {
+  const std::vector<std::pair<ElementType, EigenSolver>> cases = {
+      {ElementType::kHex20, EigenSolver::kSpectra}, {ElementType::kTet10, EigenSolver::kSpectra},
+      {ElementType::kHex20, EigenSolver::kBlockLanczos}, {ElementType::kTet10, EigenSolver::kBlockLanczos}};
+  for (const auto& [t, solver] : cases) {
     FeMesh mesh = MakeBoxMesh({.size_m = {0.3, 0.1, 0.05}, .divisions = {3, 1, 1}, .type = t});
     mesh.AssignMaterialToAll({.name = "STEEL", .youngs_modulus_pa = kE, .poissons_ratio = 0.3, .density_kg_m3 = kRho});
     const FeSystem sys = AssembleFeSystem(mesh);
