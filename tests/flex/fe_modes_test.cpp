@@ -28,9 +28,9 @@
 
 #include <Eigen/Eigenvalues>
 #include <cmath>
+#include <numbers>
 #include <utility>
 #include <vector>
-#include <numbers>
 #include <unsupported/Eigen/MatrixFunctions>
 
 #include "flex/box_mesher.h"
