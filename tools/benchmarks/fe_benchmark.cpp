@@ -23,6 +23,7 @@
 // CPU time is the better measure on a loaded machine (wall time includes waiting for a core);
 // both are printed. Without ccx on PATH the comparison is skipped with a message naming the
 // Debian package (calculix-ccx).
+#include <dlfcn.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <time.h>
@@ -136,6 +137,16 @@ void PrintCost(const char* name, const ChildCost& c) {
   std::printf("  %-22s wall %8.2f s   cpu %8.2f s   peak %8.1f MiB   exit %d\n", name, c.wall_s, c.cpu_s, c.peak_mib,
               c.status);
   std::fflush(stdout);
+}
+
+// The OpenBLAS kernel set this process (and so its children, same library and environment) runs:
+// OpenBLAS falls back to generic kernels on a CPU model it does not know (docs/performance.md).
+void PrintBlasCore() {
+  using CoreName = char* (*)();
+  const auto name = reinterpret_cast<CoreName>(dlsym(RTLD_DEFAULT, "openblas_get_corename"));
+  const char* env = std::getenv("OPENBLAS_CORETYPE");
+  std::printf("BLAS: %s%s%s\n", name ? "OpenBLAS, kernels " : "not OpenBLAS (no openblas_get_corename)",
+              name ? name() : "", env ? (std::string(" (OPENBLAS_CORETYPE=") + env + ")").c_str() : "");
 }
 
 // ---- (1) fe-modes against ccx ------------------------------------------------------------
@@ -301,10 +312,15 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
+  if (!only.empty() && only != "fe" && only != "cb") {
+    std::fprintf(stderr, "fe_benchmark: --only takes fe or cb, got '%s'\n", only.c_str());
+    return 2;
+  }
   if (*std::min_element(divisions.begin(), divisions.end()) < 1 || modes < 1) {
     std::fprintf(stderr, "fe_benchmark: --divisions takes NX,NY,NZ >= 1 and --modes N >= 1\n");
     return 2;
   }
+  orrery::PrintBlasCore();
   int rc = 0;
   try {
     if (only.empty() || only == "fe") rc |= orrery::FeModesAgainstCcx(divisions, modes, work, orrery);
