@@ -12,9 +12,12 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
+#include "flex/blas_kernels.h"
 #include "flex/box_mesher.h"
 #include "flex/cholmod_factor.h"
 #include "flex/fe_assembly.h"
@@ -167,3 +170,27 @@ TEST(CholmodFactorTest, FactorizeAndSolve) {
 
 }  // namespace
 }  // namespace orrery::flex
+
+// The BLAS note of `orrery fe-modes` / `orrery reduce` (flex/blas_kernels.h): it names a kernel
+// set only when OpenBLAS runs a generic one, and never once the user has chosen one.
+TEST(BlasKernels, AdviceOnlyForGenericOpenBlasKernelsAndNeverOnceTheUserChose) {
+  const std::string name = orrery::flex::BlasKernelName();
+  const std::string advice = orrery::flex::BlasKernelAdvice();
+  const bool generic = name == "Prescott" || name == "Core2" || name == "Nehalem";
+  if (!generic) {
+    EXPECT_TRUE(advice.empty()) << name << ": " << advice;
+  }
+  if (!advice.empty()) {
+    EXPECT_NE(advice.find("'" + name + "'"), std::string::npos) << advice;
+    EXPECT_NE(advice.find("OPENBLAS_CORETYPE="), std::string::npos) << advice;
+  }
+  const char* before = std::getenv("OPENBLAS_CORETYPE");
+  const std::string saved = before ? before : "";
+  setenv("OPENBLAS_CORETYPE", "Haswell", 1);
+  EXPECT_EQ(orrery::flex::BlasKernelAdvice(), "");
+  if (before) {
+    setenv("OPENBLAS_CORETYPE", saved.c_str(), 1);
+  } else {
+    unsetenv("OPENBLAS_CORETYPE");
+  }
+}

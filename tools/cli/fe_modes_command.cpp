@@ -4,6 +4,7 @@
 #include <exception>
 #include <filesystem>
 
+#include "flex/blas_kernels.h"
 #include "flex/fe_assembly.h"
 #include "flex/fe_modes.h"
 #include "flex/inp_file.h"
@@ -40,6 +41,8 @@ int FeModesCommand(const FeModesArgs& args, std::ostream& out, std::ostream& err
       const std::vector<int>& nodes = mesh.NodeSet(set);
       fixed_nodes.insert(fixed_nodes.end(), nodes.begin(), nodes.end());
     }
+    // The factorization's BLAS kernels: one note when OpenBLAS runs its generic ones
+    if (const std::string advice = flex::BlasKernelAdvice(); !advice.empty()) err << "orrery: note: " << advice << "\n";
     // The system goes to the solver, which releases K and M once the free-DOF matrices are made
     modes = flex::CalcFeModes(flex::AssembleFeSystem(mesh), flex::NodeDofs(fixed_nodes), {.num_modes = args.num_modes});
   } catch (const std::exception& e) {

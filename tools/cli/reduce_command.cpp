@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "flex/craig_bampton.h"
+#include "flex/blas_kernels.h"
 #include "flex/fe_assembly.h"
 #include "flex/fe_interface.h"
 #include "flex/fe_modes.h"
@@ -164,6 +165,8 @@ int ReduceCommand(const ReduceArgs& args, std::ostream& out, std::ostream& err) 
     job = yaml ? GearJob(args.input_path) : PartJob(args);
     t_mesh = Since(start);
     for (const std::string& w : job.warnings) err << "orrery: warning: " << w << "\n";
+    // The factorization's BLAS kernels: one note when OpenBLAS runs its generic ones
+    if (const std::string advice = flex::BlasKernelAdvice(); !advice.empty()) err << "orrery: note: " << advice << "\n";
     // Assembly (or the given matrices), reduction and what the engine needs
     Reduction reduction =
         job.system ? ReduceAssembledBody(job.mesh, std::move(*job.system), job.interfaces, job.cb_options, job.outputs,
