@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace orrery::contact {
 
@@ -9,6 +10,9 @@ namespace {
 
 // Face changes a walk may take before the node is searched exactly instead.
 constexpr int kMaxWalkSteps = 32;
+
+// The far distance of a search, in walk reaches d + s (header).
+constexpr double kFarReaches = 5;
 
 // Odometer reading (m) at which the odometers start again from zero with every node seeded
 // anew: a diverging Newton iterate can add 1e130 m in one call (or a NaN), after which the
@@ -75,13 +79,28 @@ bool Walk(const Geometry& g, const Vec3& p, ClosestFace* current, long* steps) {
 }  // namespace
 
 TrackedGaps::Pass::Pass(const ContactSurface& node_surface)
-    : face(node_surface.num_vertices(), -1),
+    : face(node_surface.num_vertices(), kUnseeded),
       reach(node_surface.num_vertices(), 0.0),
       distance(node_surface.num_vertices(), 0.0),
       odometer_reach(node_surface.num_vertices(), 0.0),
       stamp(node_surface.num_vertices(), 0.0),
       stamp_position(node_surface.num_vertices(), Vec3::Zero()),
-      stamp_face_deformation(node_surface.num_vertices(), 0.0) {}
+      stamp_face_deformation(node_surface.num_vertices(), 0.0) {
+  const auto& start = node_surface.part_vertex_start();
+  part_block_start.assign(start.size(), 0);
+  for (size_t part = 0; part + 1 < start.size(); ++part)
+    part_block_start[part + 1] =
+        part_block_start[part] + (start[part + 1] - start[part] + kBlock - 1) / kBlock;
+  block_wake.assign(part_block_start.back(), -std::numeric_limits<double>::infinity());
+}
+
+void TrackedGaps::UpdateBlockWake(Pass& pass, int block, int v0, int v1) {
+  double wake = std::numeric_limits<double>::infinity();
+  for (int v = v0; v < v1; ++v)
+    wake = pass.face[v] == kUnseeded ? -std::numeric_limits<double>::infinity()
+                            : std::min(wake, pass.stamp[v] + pass.odometer_reach[v]);
+  pass.block_wake[block] = wake;
+}
 
 TrackedGaps::TrackedGaps(const ContactSurface& surface_a, const ContactSurface& surface_b)
     : a_(surface_a), b_(surface_b), search_(surface_a, surface_b), pass_a_(surface_a),
@@ -103,21 +122,25 @@ TrackedGaps::TrackedGaps(const ContactSurface& surface_a, const ContactSurface& 
 
 void TrackedGaps::Reset() {
   for (Pass* pass : {&pass_a_, &pass_b_}) {
-    std::fill(pass->face.begin(), pass->face.end(), -1);
+    std::fill(pass->face.begin(), pass->face.end(), kUnseeded);
     std::fill(pass->reach.begin(), pass->reach.end(), 0.0);
     std::fill(pass->odometer_reach.begin(), pass->odometer_reach.end(), 0.0);
     std::fill(pass->stamp.begin(), pass->stamp.end(), 0.0);
     std::fill(pass->stamp_face_deformation.begin(), pass->stamp_face_deformation.end(), 0.0);
+    std::fill(pass->block_wake.begin(), pass->block_wake.end(),
+              -std::numeric_limits<double>::infinity());
   }
 }
 
 void TrackedGaps::ResetPart(Pass& pass, const ContactSurface& node_surface, int part) {
   for (int v = node_surface.part_vertex_start()[part];
        v < node_surface.part_vertex_start()[part + 1]; ++v) {
-    pass.face[v] = -1;
+    pass.face[v] = kUnseeded;
     pass.reach[v] = 0;
     pass.odometer_reach[v] = 0;
   }
+  for (int block = pass.part_block_start[part]; block < pass.part_block_start[part + 1]; ++block)
+    pass.block_wake[block] = -std::numeric_limits<double>::infinity();
 }
 
 double TrackedGaps::PartMotion(int part_b, const Transform& X_AB0,
@@ -253,6 +276,7 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const std::vector<
   gaps->clear();
   const ContactSurface& face_surface = faces.s;
   const double walk_reach = d + search_.slack_m();
+  const double far_m = kFarReaches * walk_reach;
   // The tracked parts of the node surface in increasing order, each with its partners (the face
   // surface's parts paired with it): tracked_ is sorted by A's part; B's parts are gathered.
   by_part_.clear();
@@ -265,75 +289,93 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const std::vector<
     for (; k < by_part_.size() && by_part_[k].first == part; ++k)
       partners_.push_back(by_part_[k].second);
     const double odometer = odometers[part];
+    const int v_begin = node_surface.part_vertex_start()[part];
     const int v_end = node_surface.part_vertex_start()[part + 1];
-    for (int v = node_surface.part_vertex_start()[part]; v < v_end; ++v) {
-      // Asleep: the surfaces have not moved far enough for this node to touch, by the part's
-      // odometer, or else by the node's own displacement in the face frame since its stamp. A
-      // node without a face is always evaluated.
-      if (pass.face[v] >= 0 && pass.odometer_reach[v] > odometer - pass.stamp[v]) continue;
-      const Vec3 p = X_FN * nodes[v];
-      if (pass.reach[v] > 0) {
-        const double moved = (p - pass.stamp_position[v]).norm() + face_deformation_odometer_m -
-                             pass.stamp_face_deformation[v];
-        if (moved < pass.reach[v]) {
-          // Still out of reach: the odometer may now advance by what is left before a look.
-          pass.odometer_reach[v] = pass.reach[v] - moved;
+    for (int block = pass.part_block_start[part], v0 = v_begin; v0 < v_end; ++block, v0 += kBlock) {
+      // The whole block asleep by the odometer (the node test below, with room for the rounding
+      // of the sum: odometers stay below 1 m).
+      if (odometer < pass.block_wake[block] - 1e-12) continue;
+      const int v1 = std::min(v0 + kBlock, v_end);
+      for (int v = v0; v < v1; ++v) {
+        // Asleep: the surfaces have not moved far enough for this node to touch, by the part's
+        // odometer, or else by the node's own displacement in the face frame since its stamp. A
+        // node not yet seeded is always evaluated.
+        if (pass.face[v] != kUnseeded && pass.odometer_reach[v] > odometer - pass.stamp[v])
+          continue;
+        const Vec3 p = X_FN * nodes[v];
+        if (pass.reach[v] > 0) {
+          const double moved = (p - pass.stamp_position[v]).norm() + face_deformation_odometer_m -
+                               pass.stamp_face_deformation[v];
+          if (moved < pass.reach[v]) {
+            // Still out of reach: the odometer may now advance by what is left before a look.
+            pass.odometer_reach[v] = pass.reach[v] - moved;
+            pass.stamp[v] = odometer;
+            continue;
+          }
+        }
+        ClosestFace best;
+        bool search = pass.face[v] < 0 || pass.distance[v] > walk_reach;
+        if (pass.face[v] >= 0) {
+          best = OnFace(faces, pass.face[v], p);
+          // A walk that ends on its part's rim next to another part may belong in that part.
+          if (!search)
+            search = !Walk(faces, p, &best, &stats_.walk_steps) ||
+                     OnSharedRim(face_surface, best);
+          // Inside the other body the distance has a local minimum on every face the node lies
+          // under (a tip corner: flank and tip): deeper than the face's inner reach, the closest
+          // needs the search, bounded by the walk's distance.
+          if (!search && (p - best.point.point).dot(faces.n[best.face]) <
+                             -face_surface.face_inner_reach()[best.face])
+            search = true;
+        }
+        if (search) {
+          // A node without a face (not seeded, or far at its last search) is searched only
+          // within the far distance: beyond it the descent stops at the hierarchies' top boxes.
+          if (pass.face[v] < 0) best.d2 = far_m * far_m;
+          for (const int part_f : partners_)
+            FindClosestFaceInPart(
+                face_surface, part_f, p, &best, faces.v,
+                face_part_deformation_m ? (*face_part_deformation_m)[part_f] : face_deformation_m);
+          ++stats_.seeded_nodes;
+          ++stats_.seeds;
+        }
+        // No face: the node's position is not finite (a diverging Newton iterate), and it
+        // starts again at the next evaluation; or it is farther than the far distance from
+        // every face of its partners, and sleeps until it may have come within it.
+        if (best.face < 0) {
+          const bool far = p.allFinite();
+          pass.face[v] = far ? kFar : kUnseeded;
+          pass.reach[v] = pass.odometer_reach[v] = far ? far_m : 0.0;
+          pass.distance[v] = far_m;
           pass.stamp[v] = odometer;
+          pass.stamp_position[v] = p;
+          pass.stamp_face_deformation[v] = face_deformation_odometer_m;
           continue;
         }
+        ++stats_.evaluated_nodes;
+        ++stats_.node_evaluations;
+        NodeGap g = NodeGapFromClosest(face_surface, best.face, faces.n[best.face], p,
+                                       best.point.point, best.point.feature);
+        pass.face[v] = best.face;
+        pass.stamp[v] = odometer;
+        pass.stamp_position[v] = p;
+        pass.stamp_face_deformation[v] = face_deformation_odometer_m;
+        // Reach: the motion before the node can press. Off the surface (beyond the rim) its
+        // sideways distance must first come within the face's rim fade f (signed_gap.h), by at
+        // least s - f; on it, its gap must close.
+        pass.reach[v] = !g.on_surface ? std::max(0.0, g.rim_offset_m - g.rim_fade_m)
+                        : g.gap > 0     ? g.gap
+                                        : 0.0;
+        pass.odometer_reach[v] = pass.reach[v];
+        pass.distance[v] = std::sqrt(best.d2);
+        if (best.d2 > d * d && !(g.gap < 0 && g.on_surface)) continue;
+        g.node = v;
+        g.p_W = X_WF * p;
+        g.q_W = X_WF * best.point.point;
+        g.n_W = X_WF.R * faces.n[g.face];
+        gaps->push_back(g);
       }
-      ClosestFace best;
-      bool search = pass.face[v] < 0 || pass.distance[v] > walk_reach;
-      if (pass.face[v] >= 0) {
-        best = OnFace(faces, pass.face[v], p);
-        // A walk that ends on its part's rim next to another part may belong in that part.
-        if (!search)
-          search = !Walk(faces, p, &best, &stats_.walk_steps) ||
-                   OnSharedRim(face_surface, best);
-        // Inside the other body the distance has a local minimum on every face the node lies
-        // under (a tip corner: flank and tip): deeper than the face's inner reach, the closest
-        // needs the search, bounded by the walk's distance.
-        if (!search && (p - best.point.point).dot(faces.n[best.face]) <
-                           -face_surface.face_inner_reach()[best.face])
-          search = true;
-      }
-      if (search) {
-        for (const int part_f : partners_)
-          FindClosestFaceInPart(
-              face_surface, part_f, p, &best, faces.v,
-              face_part_deformation_m ? (*face_part_deformation_m)[part_f] : face_deformation_m);
-        ++stats_.seeded_nodes;
-        ++stats_.seeds;
-      }
-      // No face: the node's position is not finite (a diverging Newton iterate); it starts
-      // again at the next evaluation.
-      if (best.face < 0) {
-        pass.face[v] = -1;
-        pass.reach[v] = pass.odometer_reach[v] = 0;
-        continue;
-      }
-      ++stats_.evaluated_nodes;
-      ++stats_.node_evaluations;
-      NodeGap g = NodeGapFromClosest(face_surface, best.face, faces.n[best.face], p,
-                                     best.point.point, best.point.feature);
-      pass.face[v] = best.face;
-      pass.stamp[v] = odometer;
-      pass.stamp_position[v] = p;
-      pass.stamp_face_deformation[v] = face_deformation_odometer_m;
-      // Reach: the motion before the node can press. Off the surface (beyond the rim) its
-      // sideways distance must first come within the face's rim fade f (signed_gap.h), by at
-      // least s - f; on it, its gap must close.
-      pass.reach[v] = !g.on_surface ? std::max(0.0, g.rim_offset_m - g.rim_fade_m)
-                      : g.gap > 0     ? g.gap
-                                      : 0.0;
-      pass.odometer_reach[v] = pass.reach[v];
-      pass.distance[v] = std::sqrt(best.d2);
-      if (best.d2 > d * d && !(g.gap < 0 && g.on_surface)) continue;
-      g.node = v;
-      g.p_W = X_WF * p;
-      g.q_W = X_WF * best.point.point;
-      g.n_W = X_WF.R * faces.n[g.face];
-      gaps->push_back(g);
+      UpdateBlockWake(pass, block, v0, v1);
     }
   }
 }

@@ -137,14 +137,25 @@ class TrackedGaps {
   // vertices.
   struct Pass {
     explicit Pass(const ContactSurface& node_surface);
-    std::vector<int> face;        // tracked closest face (-1: none)
+    std::vector<int> face;        // tracked closest face, or kUnseeded, or kFar
     std::vector<double> reach;    // D of the header (m)
     std::vector<double> distance; // to the closest face at the last evaluation (m)
     std::vector<double> odometer_reach;  // what the odometer may advance from stamp unseen (m)
     std::vector<double> stamp;    // odometer at the last evaluation or look (m)
     std::vector<Vec3> stamp_position;  // the node in the face frame at the last evaluation
     std::vector<double> stamp_face_deformation;  // the pass's face deformation odometer then
+    // Blocks of kBlock consecutive nodes of one part (a part's first block starts at its first
+    // node): the smallest stamp + odometer_reach of the block's nodes (-inf while one has no
+    // face), so that a block whose nodes all sleep by the odometer is passed in one test.
+    std::vector<int> part_block_start;  // #parts + 1
+    std::vector<double> block_wake;     // per block (m)
   };
+  static constexpr int kBlock = 16;
+  // Pass::face without a face: not seeded yet (always evaluated); farther than the far distance
+  // from every face of the node's partners at its last search (sleeps on that reach).
+  static constexpr int kUnseeded = -1, kFar = -2;
+  // The smallest odometer reading at which a node of block `block` (nodes [v0, v1)) may wake.
+  static void UpdateBlockWake(Pass& pass, int block, int v0, int v1);
   void ResetPart(Pass& pass, const ContactSurface& node_surface, int part);
   void RunPass(const ContactSurface& node_surface, const std::vector<Vec3>& nodes,
                const Geometry& faces, double face_deformation_m,
