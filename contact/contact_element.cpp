@@ -160,19 +160,29 @@ void ContactElement::AddTangents(const Model& model, const Data& data,
   ws.tangents.Scatter(model, data, a, b, K, C);
 }
 
-void ContactElement::Apply(const Model& /*model*/, double /*t*/, Data& data,
-                           ExternalForceWorkspace& workspace) const {
+void ContactElement::Compute(const Model& /*model*/, double /*t*/, const Data& data,
+                             ExternalForceWorkspace& workspace) const {
   auto& ws = static_cast<ContactWorkspace&>(workspace);
   const BodyIndex a = spec_.body_a, b = spec_.body_b;
   UpdateGaps(data.X_WB[a], data.X_WB[b], ws);
-  Vec6 f_A, f_B;
-  double energy = 0, power = 0;
-  CalcForces(data.V_WB[a], data.V_WB[b], ws, &f_A, &f_B, &energy, &power);
+  CalcForces(data.V_WB[a], data.V_WB[b], ws, &ws.f_A, &ws.f_B, &ws.energy,
+             &ws.power_dissipated);
+}
+
+void ContactElement::AddTo(const Model& /*model*/, const ExternalForceWorkspace& workspace,
+                           Data& data) const {
+  const auto& ws = static_cast<const ContactWorkspace&>(workspace);
   // The world takes no forces.
-  if (a != kWorldBody) data.f_ext[a] += f_A;
-  if (b != kWorldBody) data.f_ext[b] += f_B;
-  data.potential_energy += energy;
-  data.power_dissipated += power;
+  if (spec_.body_a != kWorldBody) data.f_ext[spec_.body_a] += ws.f_A;
+  if (spec_.body_b != kWorldBody) data.f_ext[spec_.body_b] += ws.f_B;
+  data.potential_energy += ws.energy;
+  data.power_dissipated += ws.power_dissipated;
+}
+
+void ContactElement::Apply(const Model& model, double t, Data& data,
+                           ExternalForceWorkspace& workspace) const {
+  Compute(model, t, data, workspace);
+  AddTo(model, workspace, data);
 }
 
 void ContactElement::GetOutputs(const ExternalForceWorkspace& workspace, double* values) const {

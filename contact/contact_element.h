@@ -109,6 +109,10 @@ class ContactWorkspace final : public ExternalForceWorkspace {
   ContactTangents tangents;              // AddTangents()
   std::unique_ptr<ContactMonitorState> monitor;  // spec.monitor's state of the last Apply()
   ContactPointRecord points;             // spec.record_points: the last Apply()'s points
+  // Results of the last Compute(), added to Data by AddTo(): spatial forces on A and B (world
+  // origin), elastic energy (J) and dissipated power (W).
+  Vec6 f_A = Vec6::Zero(), f_B = Vec6::Zero();
+  double energy = 0, power_dissipated = 0;
   // Outputs of the last Apply().
   double normal_force = 0, friction_force = 0, max_penetration = 0;
   int contact_points = 0;
@@ -127,6 +131,12 @@ class ContactElement final : public ExternalForceElement, public ElementHealthRe
   std::unique_ptr<ExternalForceWorkspace> MakeWorkspace(const Model& model) const override;
   void Apply(const Model& model, double t, Data& data,
              ExternalForceWorkspace& workspace) const override;
+  // Apply() = Compute() (gaps and forces into the workspace) + AddTo() (external_force.h).
+  bool SplitsApply() const override { return true; }
+  void Compute(const Model& model, double t, const Data& data,
+               ExternalForceWorkspace& workspace) const override;
+  void AddTo(const Model& model, const ExternalForceWorkspace& workspace,
+             Data& data) const override;
   const std::vector<OutputDescription>& outputs() const override { return outputs_; }
   void GetOutputs(const ExternalForceWorkspace& workspace, double* values) const override;
   // Health (the header): the penetration against the gap distance.

@@ -21,6 +21,7 @@ double SideSlack(const ContactSide& side) {
 ContactSideBuffers::ContactSideBuffers(const ContactSide& side)
     : vertices(side.surface().vertices()),
       normals(side.surface().face_normals()),
+      normal_stamp(side.surface().num_triangles(), -1),
       node_force(side.surface().num_vertices(), Vec3::Zero()) {
   const int nv = side.surface().num_vertices();
   const int nf = side.flexible ? side.flexible->nf() : 0;
@@ -177,9 +178,11 @@ void FlexibleContactElement::Evaluate(const ContactSideState& a, const ContactSi
       // The exact change of the parts deformed at the last evaluation too (a part new to the
       // tracked set has its nodes and partners started again): far tighter than the modal
       // bound sum |dq_k| c_k, which wakes every node when high modes ring.
-      side->flexible->DeformParts(*buf->q_f, *parts, &buf->vertices, &buf->normals,
+      // The normals are made on first read by the tracked gaps (tracked_gaps.h, TrackedSide).
+      side->flexible->DeformParts(*buf->q_f, *parts, &buf->vertices, /*normals=*/nullptr,
                                   &buf->part_deformation, &buf->part_change,
                                   &buf->base_displacement);
+      ++buf->normal_epoch;
       double change = 0;
       for (const int part : *parts)
         if (buf->part_current[part]) change = std::max(change, buf->part_change[part]);
@@ -195,12 +198,16 @@ void FlexibleContactElement::Evaluate(const ContactSideState& a, const ContactSi
   ws.searched = false;
   if (spec_.gap_method == ContactGapMethod::kTracked) {
     // Deformed gaps both ways, tracked node by node (tracked_gaps.h).
-    auto side = [](const ContactSideBuffers& buf) {
+    auto side = [](ContactSideBuffers& buf) {
+      const bool lazy = buf.q_f != nullptr;  // deformed: normals made on first read
       return TrackedGaps::TrackedSide{.vertices = &buf.vertices,
                                       .normals = &buf.normals,
                                       .deformation_m = buf.deformation_bound,
                                       .deformation_change_m = buf.deformation_change,
-                                      .part_deformation_m = &buf.part_deformation};
+                                      .part_deformation_m = &buf.part_deformation,
+                                      .lazy_normals = lazy ? &buf.normals : nullptr,
+                                      .normal_stamp = lazy ? &buf.normal_stamp : nullptr,
+                                      .normal_epoch = buf.normal_epoch};
     };
     ws.tracked.ComputeGaps(a.X_WB, b.X_WB, side(ws.side_a), side(ws.side_b), d, &ws.gaps_a,
                            &ws.gaps_b);
@@ -291,24 +298,34 @@ ContactSideState FlexibleContactElement::SideState(const Model& model, const Dat
   return s;
 }
 
-void FlexibleContactElement::Apply(const Model& model, double /*t*/, Data& data,
-                                   ExternalForceWorkspace& workspace) const {
+void FlexibleContactElement::Compute(const Model& model, double /*t*/, const Data& data,
+                                     ExternalForceWorkspace& workspace) const {
   auto& ws = static_cast<FlexibleContactWorkspace&>(workspace);
-  const ContactSideState a = SideState(model, data, spec_.a), b = SideState(model, data, spec_.b);
-  Evaluate(a, b, ws);
-  // Scatter: spatial forces on the bodies (the world takes none), modal forces on the modes.
-  auto scatter = [&](const ContactSide& side, const ContactSideState& st,
-                     const ContactSideBuffers& buf) {
+  Evaluate(SideState(model, data, spec_.a), SideState(model, data, spec_.b), ws);
+}
+
+void FlexibleContactElement::AddTo(const Model& model, const ExternalForceWorkspace& workspace,
+                                   Data& data) const {
+  const auto& ws = static_cast<const FlexibleContactWorkspace&>(workspace);
+  // Spatial forces on the bodies (the world takes none), modal forces on the modes of the
+  // flexible sides that have modal coordinates (those Evaluate() deformed).
+  auto scatter = [&](const ContactSide& side, const ContactSideBuffers& buf) {
     if (side.body == kWorldBody) return;
     data.f_ext[side.body] += buf.f_W;
-    if (!st.q_f) return;
+    if (!buf.q_f) return;
     const FlexibleBody& f = model.flexible_bodies[model.bodies[side.body].flexible];
     data.tau_applied.segment(f.v_start, f.nf) += buf.modal_force;
   };
-  scatter(spec_.a, a, ws.side_a);
-  scatter(spec_.b, b, ws.side_b);
+  scatter(spec_.a, ws.side_a);
+  scatter(spec_.b, ws.side_b);
   data.potential_energy += ws.energy;
   data.power_dissipated += ws.power_dissipated;
+}
+
+void FlexibleContactElement::Apply(const Model& model, double t, Data& data,
+                                   ExternalForceWorkspace& workspace) const {
+  Compute(model, t, data, workspace);
+  AddTo(model, workspace, data);
 }
 
 void FlexibleContactElement::AddTangents(const Model& model, const Data& data,

@@ -121,7 +121,9 @@ struct ContactSideBuffers {
   // #V: deformed vertices (B); the undeformed ones for a rigid side. With tracked gaps only the
   // tracked parts' are current (the others keep older positions and are not read).
   std::vector<Vec3> vertices;
-  std::vector<Vec3> normals;    // #T: deformed face normals (B)
+  std::vector<Vec3> normals;    // #T: deformed face normals (B); with tracked gaps made lazily
+  std::vector<long> normal_stamp;  // #T: normal_epoch at which normals[face] was made (tracked)
+  long normal_epoch = 0;           // advanced by every tracked deformation
   Eigen::VectorXd displacement; // 3 #V: Phi q_f (flexible, candidate pairs)
   std::vector<Vec3> node_force; // #V: contact force on each vertex, body frame (N)
   Vec6 f_W = Vec6::Zero();      // spatial force on the body, world origin
@@ -180,6 +182,12 @@ class FlexibleContactElement final : public ExternalForceElement, public Element
   std::unique_ptr<ExternalForceWorkspace> MakeWorkspace(const Model& model) const override;
   void Apply(const Model& model, double t, Data& data,
              ExternalForceWorkspace& workspace) const override;
+  // Apply() = Compute() (Evaluate() into the workspace) + AddTo() (external_force.h).
+  bool SplitsApply() const override { return true; }
+  void Compute(const Model& model, double t, const Data& data,
+               ExternalForceWorkspace& workspace) const override;
+  void AddTo(const Model& model, const ExternalForceWorkspace& workspace,
+             Data& data) const override;
   const std::vector<OutputDescription>& outputs() const override { return outputs_; }
   void GetOutputs(const ExternalForceWorkspace& workspace, double* values) const override;
   // Health (the header): the penetration against the gap distance.

@@ -257,6 +257,7 @@ void FlexibleContactSurface::DeformParts(const Eigen::Ref<const Eigen::VectorXd>
     }
     (*displacement_max)[part] = std::sqrt(u2);
     (*change_max)[part] = std::sqrt(c2);
+    if (!normals) continue;
     const auto& v = *vertices;
     for (int t = s.part_triangle_start()[part]; t < s.part_triangle_start()[part + 1]; ++t) {
       const auto& tri = tris[t];

@@ -102,7 +102,8 @@ class FlexibleContactSurface {
   // which streams the shapes of the FE nodes instead of those of the (several times more)
   // vertices: the cost of a flexible contact evaluation is mostly this product.
   // Per listed part j also: (*displacement_max)[j] = max |Phi_P q_f| and (*change_max)[j] =
-  // max |new - old position| over its vertices (#parts entries each).
+  // max |new - old position| over its vertices (#parts entries each). normals == nullptr: the
+  // normals are left alone (the tracked gaps make those they read, tracked_gaps.h).
   void DeformParts(const Eigen::Ref<const Eigen::VectorXd>& q_f, const std::vector<int>& parts,
                    std::vector<Vec3>* vertices, std::vector<Vec3>* normals,
                    std::vector<double>* displacement_max, std::vector<double>* change_max,

@@ -65,7 +65,7 @@ bool Walk(const Geometry& g, const Vec3& p, ClosestFace* current, long* steps) {
     // Settled: a node below its face also tries the faces two edges away (where facets of
     // different length meet, such as at the start of the involute, the distance along the
     // profile can dip again one face further on).
-    if (best.face == current->face && (p - current->point.point).dot(g.n[current->face]) < 0)
+    if (best.face == current->face && (p - current->point.point).dot(g.Normal(current->face)) < 0)
       for (const int neighbor : s.face_neighbors()[current->face])
         if (neighbor >= 0)
           for (const int second : s.face_neighbors()[neighbor]) consider(second);
@@ -255,10 +255,14 @@ void TrackedGaps::ComputeGaps(const Transform& X_WA, const Transform& X_WB,
   face_deformation_b_ += side_a.deformation_change_m;
   RestartIfSaturated();
   stats_.evaluated_nodes = stats_.seeded_nodes = 0;
-  RunPass(a_, *side_a.vertices, {b_, *side_b.vertices, *side_b.normals}, side_b.deformation_m,
+  auto geometry = [](const ContactSurface& s, const TrackedSide& side) {
+    return Geometry{.s = s, .v = *side.vertices, .n = *side.normals, .lazy_n = side.lazy_normals,
+                    .stamp = side.normal_stamp, .epoch = side.normal_epoch};
+  };
+  RunPass(a_, *side_a.vertices, geometry(b_, side_b), side_b.deformation_m,
           side_b.part_deformation_m, face_deformation_a_, gap_distance_m, X_WB.Inverse() * X_WA, X_WB,
           /*nodes_are_a=*/true, odometer_a_, pass_a_, gaps_a);
-  RunPass(b_, *side_b.vertices, {a_, *side_a.vertices, *side_a.normals}, side_a.deformation_m,
+  RunPass(b_, *side_b.vertices, geometry(a_, side_a), side_a.deformation_m,
           side_a.part_deformation_m, face_deformation_b_, gap_distance_m, X_AB, X_WA, /*nodes_are_a=*/false, odometer_b_,
           pass_b_, gaps_b);
   stats_.tracked_pairs = static_cast<int>(tracked_.size());
@@ -324,7 +328,7 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const std::vector<
           // Inside the other body the distance has a local minimum on every face the node lies
           // under (a tip corner: flank and tip): deeper than the face's inner reach, the closest
           // needs the search, bounded by the walk's distance.
-          if (!search && (p - best.point.point).dot(faces.n[best.face]) <
+          if (!search && (p - best.point.point).dot(faces.Normal(best.face)) <
                              -face_surface.face_inner_reach()[best.face])
             search = true;
         }
@@ -354,7 +358,7 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const std::vector<
         }
         ++stats_.evaluated_nodes;
         ++stats_.node_evaluations;
-        NodeGap g = NodeGapFromClosest(face_surface, best.face, faces.n[best.face], p,
+        NodeGap g = NodeGapFromClosest(face_surface, best.face, faces.Normal(best.face), p,
                                        best.point.point, best.point.feature);
         pass.face[v] = best.face;
         pass.stamp[v] = odometer;
@@ -372,7 +376,7 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const std::vector<
         g.node = v;
         g.p_W = X_WF * p;
         g.q_W = X_WF * best.point.point;
-        g.n_W = X_WF.R * faces.n[g.face];
+        g.n_W = X_WF.R * faces.Normal(g.face);
         gaps->push_back(g);
       }
       UpdateBlockWake(pass, block, v0, v1);

@@ -45,6 +45,14 @@
 //     (contact_surface.h; inside the other body the distance has a local minimum on every face
 //     the node lies under, such as flank and tip at a tip corner), is searched exactly in the paired parts' FCL hierarchies
 //     (FindClosestFaceInPart), the face it had giving the first bound.
+// The sleep test is also taken for blocks of 16 consecutive nodes of a part at once (the
+// block's smallest wake-up reading), which passes a sleeping block in one comparison. A node
+// without a face (not seeded yet, or far) is searched only within the far distance
+// 5 (d + s): a node farther than that from every face of its partners keeps no face and sleeps
+// on that reach (its distance is at least that), so that the nodes of a tooth entering the mesh
+// zone far from the other tooth's flanks (its back flank, tip and root) are not searched down to
+// a face millimetres away. Only a node already deeper than the far distance inside the other
+// body when its tooth enters would be missed.
 // The gap then follows signed_gap.h (NodeGapFromClosest), and the node is listed when its
 // distance is within d (as the candidate-pair path lists it) or when it penetrates, however
 // deep: the search is exact, so unlike candidate pairs a penetration beyond the margin (a step
@@ -105,6 +113,14 @@ class TrackedGaps {
     // Optional, #parts: the largest displacement of each tracked part's vertices (tighter than
     // deformation_m for the hierarchy bounds).
     const std::vector<double>* part_deformation_m = nullptr;
+    // Optional, lazy normals: *normals is not current; a face's normal is made from the
+    // vertices into (*lazy_normals)[face] when a pass first reads it with (*normal_stamp)[face]
+    // != normal_epoch (the caller advances the epoch when the vertices change). A deformed
+    // tooth's passes read the normals of the few faces their awake nodes end on, not the
+    // thousands of the tracked parts.
+    std::vector<Vec3>* lazy_normals = nullptr;
+    std::vector<long>* normal_stamp = nullptr;  // #T
+    long normal_epoch = 0;
   };
   void Update(const Transform& X_WA, const Transform& X_WB, const TrackedSide& a,
               const TrackedSide& b, double gap_distance_m, std::vector<NodeGap>* gaps_a,
@@ -122,11 +138,25 @@ class TrackedGaps {
   // Forget every node's face and distance (the next Update() seeds them all).
   void Reset();
 
-  // A surface as the passes use it: its topology, and its vertices and normals (own or deformed).
+  // A surface as the passes use it: its topology, and its vertices and normals (own or deformed;
+  // lazy normals as TrackedSide's, made on first read).
   struct Geometry {
     const ContactSurface& s;
     const std::vector<Vec3>& v;  // #V
     const std::vector<Vec3>& n;  // #T
+    std::vector<Vec3>* lazy_n = nullptr;
+    std::vector<long>* stamp = nullptr;
+    long epoch = 0;
+    const Vec3& Normal(int face) const {
+      if (!lazy_n) return n[face];
+      if ((*stamp)[face] != epoch) {
+        const auto& t = s.triangles()[face];
+        const Vec3 c = (v[t[1]] - v[t[0]]).cross(v[t[2]] - v[t[0]]);
+        (*lazy_n)[face] = c * (1.0 / c.norm());  // as FlexibleContactSurface::DeformParts
+        (*stamp)[face] = epoch;
+      }
+      return (*lazy_n)[face];
+    }
   };
 
   double search_distance_m() const { return search_.search_distance_m(); }

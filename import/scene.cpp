@@ -611,7 +611,7 @@ void Loader::ReadSolver(const MapReader& root, Scene& scene) {
                     {"integrator", "end_time", "rtol", "atol", "atol_multiplier", "max_step",
                      "initial_step", "max_order", "max_steps_per_output", "step", "rho_inf",
                      "alpha_m", "alpha_f", "beta", "gamma", "max_newton_iterations",
-                     "newton_tolerance", "max_step_halvings", "matrix_refresh_rate"});
+                     "newton_tolerance", "max_step_halvings", "matrix_refresh_rate", "threads"});
   SimulationOptions& sim = scene.simulation;
   IntegratorOptions& o = sim.integrator;
   // A number with a condition, reported at its key.
@@ -660,6 +660,11 @@ void Loader::ReadSolver(const MapReader& root, Scene& scene) {
   o.max_step_halvings = m.Int("max_step_halvings", o.max_step_halvings);
   if (o.max_step_halvings < 0 || o.max_step_halvings > 20)
     ctx_.Fail(*m.Find("max_step_halvings"), "must be in [0, 20]");
+  // Threads for the tooth contacts of one evaluation (0 or absent: OMP_NUM_THREADS, else 1).
+  o.threads = m.Int("threads", o.threads);
+  if (o.threads < 0 || o.threads > 4096)
+    ctx_.Fail(*m.Find("threads"), "must be in [0, 4096] (0: OMP_NUM_THREADS, else 1), got " +
+                                      std::to_string(o.threads));
 }
 
 void Loader::ReadOutput(const MapReader& root, Scene& scene) {

@@ -64,6 +64,7 @@ Data::Data(const Model& model) {
     flex[i].qf_dot = Eigen::VectorXd::Zero(n);
   }
   for (const auto& element : model.external_forces) external.push_back(element->MakeWorkspace(model));
+  external_errors.resize(model.external_forces.size());
   sensor_values = Eigen::VectorXd::Zero(model.n_sensor_channels);
   int element_values = 0;
   for (const Sensor& s : model.sensors) element_values = std::max(element_values, s.element_values);

@@ -2,6 +2,7 @@
 // Workspace of the step pipeline: every intermediate result, sized once from the model.
 // Each field says which function fills it and its size; nothing here allocates after
 // construction.
+#include <exception>
 #include <memory>
 #include <vector>
 
@@ -72,6 +73,12 @@ struct Data {
   // out the elements with analytic tangents (the lumped gear meshes, and the external elements
   // whose ExternalForceElement::HasTangents() is true).
   bool skip_elements_with_tangents = false;
+  // Threads over which CalcForceElements spreads the external elements whose SplitsApply() is
+  // true (set once by the integrator from IntegratorOptions::threads; 1: all on the caller's).
+  int threads = 1;
+  // One per external element: an exception its Compute() threw on a worker thread, rethrown by
+  // CalcForceElements in element order after the parallel loop.
+  std::vector<std::exception_ptr> external_errors;
 
   // --- CalcInverseDynamics (dynamics.cpp) ---
   std::vector<Vec6> A_WB;             // nbodies: body spatial accelerations (gravity included

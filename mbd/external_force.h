@@ -53,6 +53,19 @@ class ExternalForceElement {
   virtual void Apply(const Model& model, double t, Data& data,
                      ExternalForceWorkspace& workspace) const = 0;
 
+  // Apply() in two halves, so that the elements of one evaluation can be computed on several
+  // threads (Data::threads, force_elements.cpp): Compute() does Apply()'s work into the
+  // workspace alone, reading data (kinematics, modal coordinates) and writing nothing else, and
+  // AddTo() adds the workspace's results to data. The loop calls AddTo() on one thread in element
+  // order, so a run writes the same numbers to the last bit whatever the thread count; Apply()
+  // must be Compute() then AddTo(). An element whose SplitsApply() is false (the default) is
+  // applied by Apply() in that serial loop.
+  virtual bool SplitsApply() const { return false; }
+  virtual void Compute(const Model& /*model*/, double /*t*/, const Data& /*data*/,
+                       ExternalForceWorkspace& /*workspace*/) const {}
+  virtual void AddTo(const Model& /*model*/, const ExternalForceWorkspace& /*workspace*/,
+                     Data& /*data*/) const {}
+
   // Analytic tangents. false: the element is left to DaeSystem::Tangents' finite differences
   // and AddTangents() is never called. true: AddTangents() adds, at the state of the element's
   // last Apply() (which DaeSystem::Tangents makes the base point),

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <stdexcept>
+#include <utility>
 
 #include "mbd/flexible_dynamics.h"
 #include "mbd/gear_mesh.h"
@@ -170,12 +172,42 @@ void CalcForceElements(const Model& model, double t, const Eigen::Ref<const Eige
   data.potential_energy = energy + elastic;
   data.power_applied = applied;
   data.power_dissipated = dissipated + modal_dissipated;
+  CalcExternalForces(model, t, data);
+}
+
+void CalcExternalForces(const Model& model, double t, Data& data) {
   // Elements defined outside mbd/ (contact/) add to the same accumulators (those with analytic
   // tangents not while DaeSystem::Tangents takes differences).
-  for (size_t i = 0; i < model.external_forces.size(); ++i) {
+  const int n = static_cast<int>(model.external_forces.size());
+  auto skipped = [&](int i) {
+    return data.skip_elements_with_tangents && model.external_forces[i]->HasTangents();
+  };
+  // With threads: the elements that split their Apply() compute into their own workspaces in
+  // parallel (dynamic schedule: a flexible contact costs several rigid ones).
+  const int threads = std::min(data.threads, n);
+  if (threads > 1) {
+    const Data& input = data;
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
+    for (int i = 0; i < n; ++i) {
+      const ExternalForceElement& element = *model.external_forces[i];
+      if (skipped(i) || !element.SplitsApply()) continue;
+      try {
+        element.Compute(model, t, input, *data.external[i]);
+      } catch (...) {
+        data.external_errors[i] = std::current_exception();
+      }
+    }
+    for (std::exception_ptr& error : data.external_errors)
+      if (error) std::rethrow_exception(std::exchange(error, nullptr));
+  }
+  // Then, in element order on this thread, the results are added (or the element applied).
+  for (int i = 0; i < n; ++i) {
+    if (skipped(i)) continue;
     const ExternalForceElement& element = *model.external_forces[i];
-    if (data.skip_elements_with_tangents && element.HasTangents()) continue;
-    element.Apply(model, t, data, *data.external[i]);
+    if (threads > 1 && element.SplitsApply())
+      element.AddTo(model, *data.external[i], data);
+    else
+      element.Apply(model, t, data, *data.external[i]);
   }
 }
 

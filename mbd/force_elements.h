@@ -15,4 +15,12 @@ namespace orrery {
 void CalcForceElements(const Model& model, double t, const Eigen::Ref<const Eigen::VectorXd>& v,
                        Data& data);
 
+// The external elements' part of CalcForceElements (mbd/external_force.h): with data.threads > 1
+// the elements whose SplitsApply() is true are computed in parallel (OpenMP, GCC's libgomp:
+// a parallel loop over a handful of heavy elements per evaluation, with no task graph to
+// express), then every element's results are added to data on this thread in element order, so
+// the sums are bit-identical for any thread count. An exception thrown by an element on a worker
+// thread is rethrown here (the first in element order).
+void CalcExternalForces(const Model& model, double t, Data& data);
+
 }  // namespace orrery

@@ -54,6 +54,7 @@ class GeneralizedAlpha final : public Integrator {
  public:
   GeneralizedAlpha(const Model& model, const IntegratorOptions& options)
       : model_(model), options_(options), dae_(model) {
+    dae_.data().threads = ResolveThreads(options.threads);
     if (!(options.step > 0)) throw std::invalid_argument("generalized-alpha: step must be > 0");
     const bool explicit_params = std::isfinite(options.alpha_m) && std::isfinite(options.alpha_f) &&
                                  std::isfinite(options.beta) && std::isfinite(options.gamma);

@@ -5,8 +5,10 @@
 #include <sunmatrix/sunmatrix_dense.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <sstream>
 #include <stdexcept>
+#include <string>
 
 #include "mbd/constraints.h"
 #include "mbd/dae.h"
@@ -27,6 +29,7 @@ class IdaIntegrator final : public Integrator {
  public:
   IdaIntegrator(const Model& model, const IntegratorOptions& options)
       : model_(model), options_(options), dae_(model) {
+    dae_.data().threads = ResolveThreads(options.threads);
     if (SUNContext_Create(nullptr, &ctx_) != 0) throw std::runtime_error("IDA: cannot create a SUNContext");
   }
   ~IdaIntegrator() override {
@@ -282,6 +285,22 @@ class IdaIntegrator final : public Integrator {
 };
 
 }  // namespace
+
+int ResolveThreads(int requested) {
+  if (requested < 0)
+    throw std::invalid_argument("threads must be >= 1 (0: OMP_NUM_THREADS or 1), got " +
+                                std::to_string(requested));
+  if (requested > 0) return requested;
+  const char* env = std::getenv("OMP_NUM_THREADS");
+  if (!env || !*env) return 1;
+  // OpenMP allows a list ("4,2" for nested levels); the first level is what the loop uses.
+  char* end = nullptr;
+  const long n = std::strtol(env, &end, 10);
+  if (end == env || (*end != '\0' && *end != ',') || n < 1 || n > 4096)
+    throw std::invalid_argument(std::string("OMP_NUM_THREADS='") + env +
+                                "' is not a positive thread count");
+  return static_cast<int>(n);
+}
 
 std::unique_ptr<Integrator> MakeIntegrator(const Model& model, const IntegratorOptions& options) {
   if (options.kind == IntegratorKind::kIda) return std::make_unique<IdaIntegrator>(model, options);

@@ -69,7 +69,15 @@ struct IntegratorOptions {
   // external_force.h), which are evaluated once: with contact on every mesh of a planetary
   // stage 0.1 is best, rigid or with a 24-mode flexible planet (measured in the seed 003 scenes).
   double matrix_refresh_rate = 0.1;
+  // Both: threads for the external force elements of one evaluation (tooth contacts; Data::
+  // threads, force_elements.h). 0: OMP_NUM_THREADS if set, else 1 (ResolveThreads).
+  int threads = 0;
 };
+
+// The thread count of IntegratorOptions::threads: `requested` if >= 1; for 0 the environment's
+// OMP_NUM_THREADS if it is a number >= 1, else 1. Throws std::invalid_argument for a negative
+// count or an OMP_NUM_THREADS that is not a positive number.
+int ResolveThreads(int requested);
 
 struct IntegratorStats {
   long steps = 0;

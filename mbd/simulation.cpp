@@ -88,6 +88,7 @@ SimulationInterrupted::SimulationInterrupted(int signal, double t_s)
 
 void CheckSimulationSettings(const Model& model, const SimulationOptions& options, const State* initial) {
   const OutputSchedule schedule = MakeOutputSchedule(initial ? initial->t : 0.0, options);
+  ResolveThreads(options.integrator.threads);  // a bad OMP_NUM_THREADS before the file exists
   if (!(options.max_output_bytes > 0)) return;
   // The run's series laid out in memory, for the bytes of a row
   static std::atomic<long> count{0};

@@ -79,7 +79,8 @@ struct SimulationReport {
 // The checks Simulate makes before it runs, for a caller that wants them before it creates the
 // result file (so that a refused run leaves an existing file alone): the time settings
 // (MakeOutputSchedule) and the estimated file size against options.max_output_bytes (the series
-// laid out in memory). Throws std::invalid_argument naming the setting and the numbers.
+// laid out in memory) and the thread count (ResolveThreads: solver.threads, OMP_NUM_THREADS).
+// Throws std::invalid_argument naming the setting and the numbers.
 void CheckSimulationSettings(const Model& model, const SimulationOptions& options, const State* initial = nullptr);
 
 // Runs the model from its initial state (or `initial` if given) to options.end_time. Writes to

@@ -61,7 +61,9 @@ void ExpectTangentsWithoutAllocation(const Model& m, const State& s) {
 // pass over the roll angles has sized the workspace's lists, a second pass (poses 0.1 nrad to
 // 0.3 mrad apart: nodes walked and searched with tracked gaps, searches and kept pairs with
 // candidate pairs) evaluates the dynamics without allocating.
-void CheckGearContactEvaluation(ContactGapMethod method) {
+// With threads > 1: the same contact twice (two elements), evaluated on that many threads
+// (CalcExternalForces): after the first pass libgomp's team is made, and nothing is allocated.
+void CheckGearContactEvaluation(ContactGapMethod method, int threads = 1) {
   const double deg = 3.14159265358979323846 / 180;
   gears::GearSpec s1{.teeth = 18, .normal_module_m = 1.5e-3,
                      .normal_pressure_angle_rad = 21.3 * deg, .face_width_m = 0.03};
@@ -86,9 +88,14 @@ void CheckGearContactEvaluation(ContactGapMethod method) {
   ContactElementSpec spec = MakeGearContactSpec("mesh", pair, g1, g2, o);
   spec.gap_method = method;
   b.AddExternalForce(std::make_shared<ContactElement>(spec));
+  if (threads > 1) {
+    spec.name = "mesh_twin";
+    b.AddExternalForce(std::make_shared<ContactElement>(spec));
+  }
   const std::shared_ptr<const Model> model = std::move(b).Finalize();
   const Model& m = *model;
   Data data(m);
+  data.threads = threads;
   State s = State::Initial(m);
   s.v.setConstant(1.0);
   const Eigen::VectorXd vdot = Eigen::VectorXd::Zero(m.nv);
@@ -122,6 +129,10 @@ void CheckGearContactEvaluation(ContactGapMethod method) {
 
 TEST(ContactNoAllocation, GearContactEvaluationTracked) {
   CheckGearContactEvaluation(ContactGapMethod::kTracked);
+}
+
+TEST(ContactNoAllocation, GearContactEvaluationTrackedTwoThreads) {
+  CheckGearContactEvaluation(ContactGapMethod::kTracked, 2);
 }
 
 TEST(ContactNoAllocation, GearContactEvaluationCandidatePairs) {

@@ -8,8 +8,10 @@
 //                   made on the first run).
 // Counters: cpu_per_sim_s and wall_per_sim_s (process CPU and wall seconds per simulated second:
 // the table's figures; CPU over all threads), steps, residuals, jacobians (the integrator's
-// statistics), newton_failures (steps retried with a halved step), us_per_step.
+// statistics), newton_failures (steps retried with a halved step), us_per_step, threads (the
+// scene's solver.threads, else OMP_NUM_THREADS, else 1: the contacts of an evaluation in parallel).
 //   contact_scenes_benchmark --benchmark_filter=ContactScene/0
+//   OMP_NUM_THREADS=2 contact_scenes_benchmark
 #include <benchmark/benchmark.h>
 
 #include <atomic>
@@ -19,6 +21,7 @@
 #include <string>
 
 #include "import/scene.h"
+#include "mbd/integrator.h"
 #include "mbd/result_file.h"
 #include "mbd/simulation.h"
 
@@ -74,6 +77,7 @@ void BM_ContactScene(benchmark::State& state) {
   state.counters["jacobians"] = double(report.stats.jacobian_evaluations);
   state.counters["newton_failures"] = double(report.stats.newton_failures);
   state.counters["us_per_step"] = 1e6 * wall_s / runs / double(report.stats.steps);
+  state.counters["threads"] = ResolveThreads(row.scene.simulation.integrator.threads);
 }
 
 BENCHMARK(BM_ContactScene)->DenseRange(0, 1)->Unit(benchmark::kMillisecond)->Iterations(3);

@@ -1,7 +1,8 @@
 // The `orrery` command-line program: CLI11 parsing only; the commands live in the orrery_tools
 // library (run_command.h, inspect_command.h).
 //
-//   orrery run SCENE [-o OUT.h5] [--end-time T] [--set key=value ...] [--integrator NAME] [--quiet]
+//   orrery run SCENE [-o OUT.h5] [--end-time T] [--set key=value ...] [--integrator NAME]
+//              [--threads N] [--quiet]
 //              [--strict] [--max-output-gb GB]
 //   orrery inspect OUT.h5
 //   orrery kinematics SCENE [--json] [--range NAME] [--set key=value ...]
@@ -254,6 +255,10 @@ struct SimulationCommands {
         ->allow_extra_args(false);
     run->add_option("--integrator", run_args.integrator, "Integrator (overrides solver.integrator)")
         ->check(CLI::IsMember({"ida", "generalized_alpha"}));
+    run->add_option("--threads", run_args.threads,
+                    "Threads for the tooth contacts of one step (overrides solver.threads; "
+                    "default OMP_NUM_THREADS, else 1)")
+        ->check(CLI::Range(1, 4096));
     run->add_flag("-q,--quiet", run_args.quiet, "No progress output");
     run->add_option("--study-attribute", run_args.study_attributes, "")  // set by `orrery study`
         ->allow_extra_args(false)

@@ -168,6 +168,7 @@ std::vector<std::string> SceneOverrides(const RunArgs& args) {
   std::vector<std::string> overrides = args.overrides;
   if (args.end_time) overrides.push_back("solver.end_time=" + ShortestText(*args.end_time));
   if (!args.integrator.empty()) overrides.push_back("solver.integrator=" + args.integrator);
+  if (args.threads) overrides.push_back("solver.threads=" + std::to_string(*args.threads));
   return overrides;
 }
 

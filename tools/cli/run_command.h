@@ -1,8 +1,9 @@
 #pragma once
 // `orrery run SCENE`: load a scene, simulate it, write the result file, print a summary.
 //
-// Steps: LoadScene(scene_path, overrides) where --end-time and --integrator become the overrides
-// "solver.end_time=T" and "solver.integrator=NAME" (applied after every --set, so they win);
+// Steps: LoadScene(scene_path, overrides) where --end-time, --integrator and --threads become the
+// overrides "solver.end_time=T", "solver.integrator=NAME" and "solver.threads=N" (applied after
+// every --set, so they win);
 // ResultFile::Create(output_path, else the scene's output path); Simulate with a progress
 // callback that draws a ProgressBar on `err` and stops the run on SIGINT/SIGTERM; a summary of
 // the run and the solver statistics on `out`.
@@ -34,6 +35,7 @@ struct RunArgs {
   std::optional<double> end_time;        // --end-time (s)
   std::vector<std::string> overrides;    // --set key.path=value, in command-line order
   std::string integrator;                // --integrator: "" for the scene's, "ida", "generalized_alpha"
+  std::optional<int> threads;            // --threads: solver.threads (tooth contacts in parallel)
   bool quiet = false;                    // --quiet: no progress output
   bool err_is_terminal = false;          // progress as a redrawn bar (else a line every 10 %)
   // --study-attribute key=value (hidden; `orrery study` sets them): attributes of the result
@@ -45,7 +47,8 @@ struct RunArgs {
   std::function<void(const SimulationProgress&)> observer;
 };
 
-// The overrides given to LoadScene: args.overrides, then solver.end_time and solver.integrator.
+// The overrides given to LoadScene: args.overrides, then solver.end_time, solver.integrator and
+// solver.threads.
 std::vector<std::string> SceneOverrides(const RunArgs& args);
 
 // Runs the command; returns the process exit code.
