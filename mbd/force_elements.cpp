@@ -197,8 +197,12 @@ void CalcExternalForces(const Model& model, double t, Data& data) {
         data.external_errors[i] = std::current_exception();
       }
     }
+    // The first failure in element order; every slot is cleared, so that none is thrown
+    // again by a later evaluation.
+    std::exception_ptr first;
     for (std::exception_ptr& error : data.external_errors)
-      if (error) std::rethrow_exception(std::exchange(error, nullptr));
+      if (std::exception_ptr e = std::exchange(error, nullptr); e && !first) first = e;
+    if (first) std::rethrow_exception(first);
   }
   // Then, in element order on this thread, the results are added (or the element applied).
   for (int i = 0; i < n; ++i) {
