@@ -6,6 +6,7 @@
 #include <cstring>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace orrery::flex {
 
@@ -17,6 +18,8 @@ struct CholmodCholesky::Impl {
   cholmod_dense* X = nullptr;
   cholmod_dense* Y = nullptr;
   cholmod_dense* E = nullptr;
+  // Permuted right-hand sides of solve_forward (n x columns), kept between solves
+  mutable std::vector<double> permuted;
 
   Impl() {
     cholmod_start(&common);
@@ -89,11 +92,10 @@ bool CholmodCholesky::factorize(const Eigen::SparseMatrix<double>& S) {
   return true;
 }
 
-void CholmodCholesky::solve(const double* B, double* X, int columns) const {
-  if (!factorized_) throw std::logic_error("CholmodCholesky::solve without a successful factorize()");
-  if (columns < 1) throw std::invalid_argument("CholmodCholesky::solve: columns must be >= 1");
-  cholmod_common& c = impl_->common;
-  const std::size_t n = static_cast<std::size_t>(n_), k = static_cast<std::size_t>(columns);
+namespace {
+
+// A view of n x k column-major values as a CHOLMOD dense matrix (no copy).
+cholmod_dense DenseView(const double* B, std::size_t n, std::size_t k) {
   cholmod_dense b{};
   b.nrow = n;
   b.ncol = k;
@@ -103,10 +105,48 @@ void CholmodCholesky::solve(const double* B, double* X, int columns) const {
   b.z = nullptr;
   b.xtype = CHOLMOD_REAL;
   b.dtype = CHOLMOD_DOUBLE;
+  return b;
+}
+
+}  // namespace
+
+// sys: CHOLMOD_A (S^-1 B), CHOLMOD_L or CHOLMOD_Lt (no permutation); the result in impl->X.
+void CholmodCholesky::SolveSystem(int sys, const double* B, int columns, const char* name) const {
+  if (!factorized_) throw std::logic_error(std::string("CholmodCholesky::") + name + " without a successful factorize()");
+  if (columns < 1) throw std::invalid_argument(std::string("CholmodCholesky::") + name + ": columns must be >= 1");
+  cholmod_common& c = impl_->common;
+  cholmod_dense b = DenseView(B, static_cast<std::size_t>(n_), static_cast<std::size_t>(columns));
   // cholmod_solve2 reuses X, Y and E when their sizes fit (no allocation after the first call)
-  if (!cholmod_solve2(CHOLMOD_A, impl_->L, &b, nullptr, &impl_->X, nullptr, &impl_->Y, &impl_->E, &c))
-    throw std::runtime_error("CholmodCholesky: solve failed (" + Status(c) + ")");
-  std::memcpy(X, impl_->X->x, sizeof(double) * n * k);
+  if (!cholmod_solve2(sys, impl_->L, &b, nullptr, &impl_->X, nullptr, &impl_->Y, &impl_->E, &c))
+    throw std::runtime_error(std::string("CholmodCholesky: ") + name + " failed (" + Status(c) + ")");
+}
+
+void CholmodCholesky::solve(const double* B, double* X, int columns) const {
+  SolveSystem(CHOLMOD_A, B, columns, "solve");
+  std::memcpy(X, impl_->X->x, sizeof(double) * static_cast<std::size_t>(n_) * columns);
+}
+
+// (P B)(i) = B(Perm(i)): row i of P S P^T is row Perm(i) of S (CHOLMOD's convention).
+void CholmodCholesky::solve_forward(const double* B, double* X, int columns) const {
+  if (!factorized_) throw std::logic_error("CholmodCholesky::solve_forward without a successful factorize()");
+  if (columns < 1) throw std::invalid_argument("CholmodCholesky::solve_forward: columns must be >= 1");
+  const std::size_t n = static_cast<std::size_t>(n_);
+  std::vector<double>& pb = impl_->permuted;
+  pb.resize(n * columns);
+  const int* perm = static_cast<const int*>(impl_->L->Perm);
+  for (int j = 0; j < columns; ++j)
+    for (std::size_t i = 0; i < n; ++i) pb[j * n + i] = B[j * n + perm[i]];
+  SolveSystem(CHOLMOD_L, pb.data(), columns, "solve_forward");
+  std::memcpy(X, impl_->X->x, sizeof(double) * n * columns);
+}
+
+void CholmodCholesky::solve_backward(const double* B, double* X, int columns) const {
+  SolveSystem(CHOLMOD_Lt, B, columns, "solve_backward");
+  const std::size_t n = static_cast<std::size_t>(n_);
+  const int* perm = static_cast<const int*>(impl_->L->Perm);
+  const double* y = static_cast<const double*>(impl_->X->x);
+  for (int j = 0; j < columns; ++j)
+    for (std::size_t i = 0; i < n; ++i) X[j * n + perm[i]] = y[j * n + i];
 }
 
 Eigen::Index CholmodCholesky::factor_nonzeros() const { return static_cast<Eigen::Index>(impl_->lnz); }

@@ -43,12 +43,21 @@ class CholmodCholesky {
   // std::logic_error if there is none, std::invalid_argument for columns < 1.
   void solve(const double* B, double* X, int columns = 1) const;
 
+  // The two halves of a solve, for an operator in the symmetric standard form L^-1 P A P^T L^-T
+  // (fe_modes.cpp), where S = P^T L L^T P and P is the fill-reducing permutation:
+  //   solve_forward:  X = L^-1 P B     solve_backward: X = P^T L^-T B
+  // so that solve_backward(solve_forward(B)) = S^-1 B. Same arguments and throws as solve().
+  void solve_forward(const double* B, double* X, int columns = 1) const;
+  void solve_backward(const double* B, double* X, int columns = 1) const;
+
   bool factorized() const { return factorized_; }
   Eigen::Index rows() const { return n_; }
   // Nonzeros of L (from the symbolic analysis; 0 before the first factorize()).
   Eigen::Index factor_nonzeros() const;
 
  private:
+  void SolveSystem(int sys, const double* B, int columns, const char* name) const;
+
   struct Impl;
   std::unique_ptr<Impl> impl_;
   Eigen::Index n_ = 0;

@@ -2,6 +2,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <Spectra/MatOp/SparseSymMatProd.h>
+#include <Spectra/SymEigsSolver.h>
 #include <Spectra/SymGEigsShiftSolver.h>
 
 #include <algorithm>
@@ -50,11 +51,71 @@ class FactorOp {
   const ShiftedFactor& f_;
 };
 
-// Eigenpairs (nu, x) of (K - sigma M)^-1 M by Spectra's implicitly restarted Lanczos.
+// The symmetric standard form of the shift-invert operator over a Cholesky factor
+// S = K - sigma M = P^T L L^T P: A = L^-1 P M P^T L^-T has the eigenvalues nu = 1 / (w^2 - sigma)
+// of S^-1 M, with eigenvectors y = L^T P x (Ericsson & Ruhe 1980, sec. 2). One application is a
+// forward and a backward triangular solve (one solve of S) and one product with M, and the
+// Lanczos basis is orthogonal in the Euclidean inner product: the M-inner products of the
+// generalized form (an M product for each, 4 to 6 per Lanczos vector in Spectra's
+// reorthogonalization) are gone.
+class StandardFormOp {
+ public:
+  using Scalar = double;
+  StandardFormOp(const ShiftedFactor& f, const Eigen::SparseMatrix<double>& M)
+      : f_(f), M_(M), x_(f.rows()), mx_(f.rows()) {}
+  Eigen::Index rows() const { return f_.rows(); }
+  Eigen::Index cols() const { return f_.rows(); }
+  void perform_op(const double* y, double* z) const {
+    f_.SolveBackward(y, x_.data(), 1);
+    mx_.noalias() = M_.selfadjointView<Eigen::Upper>() * x_;
+    f_.SolveForward(mx_.data(), z, 1);
+  }
+
+ private:
+  const ShiftedFactor& f_;
+  const Eigen::SparseMatrix<double>& M_;
+  mutable Eigen::VectorXd x_, mx_;
+};
+
+// Spectra's ncv: max(2 N + 1, N + 20) unless set, at most n.
+int LanczosVectors(const FeModesOptions& o, int n) {
+  return std::min(n, o.lanczos_vectors > 0 ? o.lanczos_vectors : std::max(2 * o.num_modes + 1, o.num_modes + 20));
+}
+
+// Eigenpairs of S^-1 M by Spectra's implicitly restarted Lanczos on the standard form above; the
+// eigenvectors mapped back, x = P^T L^-T y (one solve of N columns), and M-normalized.
+void SolveStandardFormWithSpectra(const ShiftedFactor& f, const Eigen::SparseMatrix<double>& M,
+                                  const FeModesOptions& o, FeModes& r) {
+  const int n = static_cast<int>(f.rows()), nev = o.num_modes;
+  StandardFormOp op(f, M);
+  Spectra::SymEigsSolver<StandardFormOp> eigs(op, nev, LanczosVectors(o, n));
+  eigs.init();
+  eigs.compute(Spectra::SortRule::LargestMagn, o.max_iterations, o.tolerance, Spectra::SortRule::SmallestAlge);
+  if (eigs.info() != Spectra::CompInfo::Successful)
+    throw std::runtime_error("eigen solve did not converge: " + std::to_string(eigs.eigenvalues().size()) + " of " +
+                             std::to_string(nev) + " modes after " + std::to_string(eigs.num_iterations()) +
+                             " restarts (raise the number of Lanczos vectors or iterations)");
+  r.iterations = static_cast<int>(eigs.num_iterations());
+  r.operations = r.block_solves = static_cast<int>(eigs.num_operations());
+  const Eigen::VectorXd nu = eigs.eigenvalues();
+  const Eigen::MatrixXd Y = eigs.eigenvectors();
+  r.eigenvalues = f.shift() + nu.cwiseInverse().array();
+  r.shapes.resize(n, nev);
+  f.SolveBackward(Y.data(), r.shapes.data(), nev);
+  const Eigen::MatrixXd MX = M.selfadjointView<Eigen::Upper>() * r.shapes;
+  for (int i = 0; i < nev; ++i) r.shapes.col(i) /= std::sqrt(r.shapes.col(i).dot(MX.col(i)));
+}
+
+// Eigenpairs (nu, x) of (K - sigma M)^-1 M by Spectra's implicitly restarted Lanczos in the
+// M-inner product (a factorization that is not a Cholesky: LDL^T at a shift above eigenvalues).
 void SolveWithSpectra(const ShiftedFactor& f, const Eigen::SparseMatrix<double>& M, const FeModesOptions& o,
                       FeModes& r) {
+  if (f.uses_cholesky()) {
+    SolveStandardFormWithSpectra(f, M, o, r);
+    return;
+  }
   const int n = static_cast<int>(f.rows()), nev = o.num_modes;
-  const int ncv = std::min(n, o.lanczos_vectors > 0 ? o.lanczos_vectors : std::max(2 * nev + 1, nev + 20));
+  const int ncv = LanczosVectors(o, n);
   FactorOp op(f);
   Spectra::SparseSymMatProd<double, Eigen::Upper> bop(M);
   Spectra::SymGEigsShiftSolver<FactorOp, Spectra::SparseSymMatProd<double, Eigen::Upper>, Spectra::GEigsMode::ShiftInvert>

@@ -5,7 +5,11 @@
 // (K - sigma M)^-1 M, through one sparse factorization of K - sigma M (ShiftedFactor,
 // sparse_ldlt_shift_invert.h: CHOLMOD's supernodal Cholesky, or a sparse LDL^T where that matrix
 // is not positive definite), by
-//   - Spectra's SymGEigsShiftSolver (default): implicitly restarted Lanczos, one solve per vector;
+//   - Spectra's implicitly restarted Lanczos (default), one solve per vector: with a Cholesky
+//     factor S = K - sigma M = P^T L L^T P on the symmetric standard form L^-1 P M P^T L^-T
+//     (Euclidean inner products: one M product per vector instead of 4 to 6 for the M-inner
+//     products of the generalized form), the eigenvectors mapped back by x = P^T L^-T y; with an
+//     LDL^T factor on the generalized form (SymGEigsShiftSolver, M-inner products);
 //   - or the shifted block Lanczos of block_lanczos.h (FeModesOptions::solver): a block of b
 //     right-hand sides per solve (8 cost about 2.5 single solves on a 91k-DOF hex20 block), but
 //     it needs 2 to 3 times the vectors for 30 modes (clamped hex20 block 91k DOF: 224 against
@@ -44,7 +48,7 @@
 namespace orrery::flex {
 
 enum class EigenSolver {
-  kSpectra,       // Spectra's SymGEigsShiftSolver (default)
+  kSpectra,       // Spectra's Lanczos (default): standard form over a Cholesky factor, else generalized
   kBlockLanczos,  // block_lanczos.h, Ritz vectors purified (measured slower, see below)
 };
 

@@ -102,6 +102,16 @@ void ShiftedFactor::Solve(const double* B, double* X, int columns) const {
   x = ldlt_.solve(b);
 }
 
+void ShiftedFactor::SolveForward(const double* B, double* X, int columns) const {
+  if (!factorized_ || !uses_cholesky_) throw std::logic_error("ShiftedFactor::SolveForward without a Cholesky factorization");
+  cholesky_->solve_forward(B, X, columns);
+}
+
+void ShiftedFactor::SolveBackward(const double* B, double* X, int columns) const {
+  if (!factorized_ || !uses_cholesky_) throw std::logic_error("ShiftedFactor::SolveBackward without a Cholesky factorization");
+  cholesky_->solve_backward(B, X, columns);
+}
+
 Eigen::Index ShiftedFactor::factor_nonzeros() const {
   if (uses_cholesky_) return cholesky_->factor_nonzeros();
   return ldlt_analyzed_ ? ldlt_.matrixL().nestedExpression().nonZeros() : 0;

@@ -72,6 +72,12 @@ class ShiftedFactor {
   // n, not overlapping). Throws std::logic_error before a successful Factorize.
   void Solve(const double* B, double* X, int columns = 1) const;
 
+  // Cholesky only (uses_cholesky()): the two halves of Solve, X = L^-1 P B and X = P^T L^-T B
+  // with S = P^T L L^T P (CholmodCholesky::solve_forward / solve_backward). Throws
+  // std::logic_error without a Cholesky factorization.
+  void SolveForward(const double* B, double* X, int columns = 1) const;
+  void SolveBackward(const double* B, double* X, int columns = 1) const;
+
   Eigen::Index rows() const { return n_; }
   double shift() const { return sigma_; }
   bool factorized() const { return factorized_; }
