@@ -168,6 +168,29 @@ TEST(CholmodFactorTest, FactorizeAndSolve) {
   EXPECT_THROW(chol.factorize(wrong), std::invalid_argument);
 }
 
+// The halves of a solve (S = P^T L L^T P), checked against the whole solve and S itself on the
+// clamped hex20 box, whose fill-reducing ordering is not the identity: Y = L^-1 P B has
+// Y^T Y = B^T S^-1 B, and X = P^T L^-T Y solves S X = B.
+TEST(CholmodFactorTest, ForwardAndBackwardHalvesComposeTheSolve) {
+  const Clamped c = MakeClampedBox();
+  const Eigen::Index n = c.K.rows();
+  CholmodCholesky chol;
+  const Eigen::MatrixXd B = Eigen::MatrixXd::Random(n, 3);
+  Eigen::MatrixXd Y(n, 3), X(n, 3), Xs(n, 3);
+  EXPECT_THROW(chol.solve_forward(B.data(), Y.data(), 3), std::logic_error);
+  EXPECT_THROW(chol.solve_backward(B.data(), Y.data(), 3), std::logic_error);
+  ASSERT_TRUE(chol.factorize(c.K));
+  chol.solve(B.data(), Xs.data(), 3);
+  chol.solve_forward(B.data(), Y.data(), 3);
+  const Eigen::MatrixXd gram = Y.transpose() * Y, expected = B.transpose() * Xs;
+  EXPECT_LT((gram - expected).cwiseAbs().maxCoeff(), 1e-10 * expected.cwiseAbs().maxCoeff());
+  chol.solve_backward(Y.data(), X.data(), 3);
+  EXPECT_LT((X - Xs).cwiseAbs().maxCoeff(), 1e-10 * Xs.cwiseAbs().maxCoeff());
+  const Eigen::MatrixXd residual = c.K.selfadjointView<Eigen::Upper>() * X - B;
+  EXPECT_LT(residual.cwiseAbs().maxCoeff(), 1e-8 * B.cwiseAbs().maxCoeff());
+  EXPECT_THROW(chol.solve_forward(B.data(), Y.data(), 0), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace orrery::flex
 
