@@ -341,6 +341,11 @@ void FindClosestFaceInPart(const ContactSurface& surface, int part, const Vec3& 
 
 void FindClosestFaceInPart(const ContactSurface& surface, int part, const Vec3& p,
                            ClosestFace* best, const std::vector<Vec3>& v, double deformation_m) {
+  FindClosestFaceInPart(surface, part, p, best, SurfaceVertices{.own = &v}, deformation_m);
+}
+
+void FindClosestFaceInPart(const ContactSurface& surface, int part, const Vec3& p,
+                           ClosestFace* best, const SurfaceVertices& v, double deformation_m) {
   const Bvh& bvh = *surface.culling().parts[part];
   const int t0 = surface.part_triangle_start()[part];
   const auto& tris = surface.triangles();

@@ -51,6 +51,7 @@
 #include <vector>
 
 #include "contact/contact_surface.h"
+#include "contact/deformed_vertices.h"
 #include "contact/triangle_geometry.h"
 
 namespace orrery::contact {
@@ -97,6 +98,10 @@ void FindClosestFaceInPart(const ContactSurface& surface, int part, const Vec3& 
 // surface's own (the boxes' bounds are lowered by it).
 void FindClosestFaceInPart(const ContactSurface& surface, int part, const Vec3& p,
                            ClosestFace* best, const std::vector<Vec3>& vertices,
+                           double deformation_m);
+// The same with vertices made on first read (deformed_vertices.h): only the leaves' are read.
+void FindClosestFaceInPart(const ContactSurface& surface, int part, const Vec3& p,
+                           ClosestFace* best, const SurfaceVertices& vertices,
                            double deformation_m);
 
 class CandidateSearch {

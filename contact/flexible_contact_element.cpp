@@ -1,6 +1,7 @@
 #include "contact/flexible_contact_element.h"
 
 #include <algorithm>
+#include <limits>
 #include <stdexcept>
 #include <tuple>
 #include <utility>
@@ -31,9 +32,12 @@ ContactSideBuffers::ContactSideBuffers(const ContactSide& side)
   forced.reserve(nv);
   const int np = side.surface().num_parts();
   part_deformation.assign(np, 0.0);
-  part_change.assign(np, 0.0);
   part_current.assign(np, 0);
-  if (side.flexible) base_displacement.assign(side.flexible->num_bases(), Vec3::Zero());
+  if (side.flexible) {
+    deformed = DeformedVertices(*side.flexible);
+    q_f_previous = Eigen::VectorXd::Zero(nf);
+    q_f_change = Eigen::VectorXd::Zero(nf);
+  }
 }
 
 FlexibleContactWorkspace::FlexibleContactWorkspace(const ContactSide& a, const ContactSide& b,
@@ -168,24 +172,33 @@ void FlexibleContactElement::Evaluate(const ContactSideState& a, const ContactSi
   deform(spec_.b, b, ws.side_b);
   const bool tracked = spec_.gap_method == ContactGapMethod::kTracked;
   if (tracked) ws.tracked.TrackPairs(a.X_WB, b.X_WB);
-  // Deformed vertices and normals: of the tracked parts only (the tracked gaps read no others),
-  // or of the whole surface.
+  // Deformed vertices and normals: those the tracked gaps read, made on first read, or of the
+  // whole surface.
   for (const auto& [side, buf, parts] :
        {std::tuple{&spec_.a, &ws.side_a, &ws.tracked.tracked_parts_a()},
         std::tuple{&spec_.b, &ws.side_b, &ws.tracked.tracked_parts_b()}}) {
     if (!side->flexible || !buf->q_f) continue;
     if (tracked) {
-      // The exact change of the parts deformed at the last evaluation too (a part new to the
-      // tracked set has its nodes and partners started again): far tighter than the modal
-      // bound sum |dq_k| c_k, which wakes every node when high modes ring.
-      // The normals are made on first read by the tracked gaps (tracked_gaps.h, TrackedSide).
-      side->flexible->DeformParts(*buf->q_f, *parts, &buf->vertices, /*normals=*/nullptr,
-                                  &buf->part_deformation, &buf->part_change,
-                                  &buf->base_displacement);
+      // Vertices made on first read (deformed_vertices.h), normals too (tracked_gaps.h).
+      buf->deformed.Begin(buf->q_f, &buf->vertices);
       ++buf->normal_epoch;
+      // Bounds from the modal coordinates, per tracked part (flexible_contact_surface.h): the
+      // displacement (the hierarchies' boxes) and, for the parts tracked at the last evaluation
+      // too, the change since then (a part new to the tracked set has its nodes and partners
+      // started again). The change bound must hold for every vertex, made or not: the sleeping
+      // nodes' odometers add it.
+      const FlexibleContactSurface& fs = *side->flexible;
+      buf->q_f_change = *buf->q_f - buf->q_f_previous;
       double change = 0;
-      for (const int part : *parts)
-        if (buf->part_current[part]) change = std::max(change, buf->part_change[part]);
+      for (const int part : *parts) {
+        buf->part_deformation[part] = fs.PartDeformationBound(part, *buf->q_f);
+        if (buf->part_current[part])
+          change = std::max(change, fs.PartDeformationBound(part, buf->q_f_change));
+      }
+      // A change that is not finite (a diverging Newton iterate now or before) is kept: the
+      // tracked gaps then start every node again (tracked_gaps.h, RestartIfSaturated).
+      if (!buf->q_f_change.allFinite()) change = std::numeric_limits<double>::infinity();
+      buf->q_f_previous = *buf->q_f;
       std::fill(buf->part_current.begin(), buf->part_current.end(), 0);
       for (const int part : *parts) buf->part_current[part] = 1;
       buf->deformation_change = change;
@@ -207,7 +220,8 @@ void FlexibleContactElement::Evaluate(const ContactSideState& a, const ContactSi
                                       .part_deformation_m = &buf.part_deformation,
                                       .lazy_normals = lazy ? &buf.normals : nullptr,
                                       .normal_stamp = lazy ? &buf.normal_stamp : nullptr,
-                                      .normal_epoch = buf.normal_epoch};
+                                      .normal_epoch = buf.normal_epoch,
+                                      .deformed_vertices = lazy ? &buf.deformed : nullptr};
     };
     ws.tracked.ComputeGaps(a.X_WB, b.X_WB, side(ws.side_a), side(ws.side_b), d, &ws.gaps_a,
                            &ws.gaps_b);

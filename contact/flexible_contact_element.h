@@ -9,7 +9,8 @@
 //      above the side's allowance the culling may miss pairs: counted in
 //      inflation_exceeded and reported as an output (the surfaces must then be rebuilt with a
 //      larger deformation_allowance_m; the step goes on with the pairs it has);
-//   2. deformed vertices s_P + Phi_P q_f and deformed face normals of each flexible side;
+//   2. deformed vertices s_P + Phi_P q_f and deformed face normals of each flexible side (with
+//      kTracked: those the tracked gaps read, made on first read, deformed_vertices.h);
 //   3. (gap_method kCandidatePairs) candidate pairs of the UNDEFORMED surfaces
 //      (candidate_pairs.h; kept while the rigid relative motion is within the slack), their
 //      node-face lists per pass; with kTracked (the default) stages 3-4 are tracked_gaps.h over
@@ -68,6 +69,7 @@
 #include "contact/contact_surface.h"
 #include "contact/contact_tangents.h"
 #include "contact/contact_monitor.h"
+#include "contact/deformed_vertices.h"
 #include "contact/flexible_contact_surface.h"
 #include "contact/signed_gap.h"
 #include "mbd/external_force.h"
@@ -91,9 +93,10 @@ struct FlexibleContactElementSpec {
   ContactSide a, b;
   ContactLaw law;
   // Stages 3-4 (header): kTracked tracks each node's closest deformed face (tracked_gaps.h; only
-  // the tracked teeth are deformed, the hierarchies' boxes are lowered by each tooth's largest
-  // displacement and every motion bound is raised by the largest vertex change since the last
-  // evaluation); kCandidatePairs as described.
+  // the vertices the gaps read are deformed, the hierarchies' boxes are lowered by a bound on
+  // each tracked tooth's largest displacement and every motion bound is raised by a bound on
+  // the largest vertex change since the last evaluation, both from the modal coordinates:
+  // flexible_contact_surface.h PartDeformationBound); kCandidatePairs as described.
   ContactGapMethod gap_method = ContactGapMethod::kTracked;
   // Optional: reads the contact points of every evaluation and adds its outputs after the
   // element's own (contact_monitor.h; for gears the contact layer's mesh stiffness:
@@ -118,9 +121,11 @@ struct ContactSideState {
 // Per side of one workspace.
 struct ContactSideBuffers {
   explicit ContactSideBuffers(const ContactSide& side);
-  // #V: deformed vertices (B); the undeformed ones for a rigid side. With tracked gaps only the
-  // tracked parts' are current (the others keep older positions and are not read).
+  // #V: deformed vertices (B); the undeformed ones for a rigid side. With tracked gaps only
+  // those the gaps read are current (made on first read by `deformed`; the others keep older
+  // positions and are not read).
   std::vector<Vec3> vertices;
+  DeformedVertices deformed;    // a flexible side's, with tracked gaps
   std::vector<Vec3> normals;    // #T: deformed face normals (B); with tracked gaps made lazily
   std::vector<long> normal_stamp;  // #T: normal_epoch at which normals[face] was made (tracked)
   long normal_epoch = 0;           // advanced by every tracked deformation
@@ -134,11 +139,12 @@ struct ContactSideBuffers {
   const Eigen::VectorXd* q_f_dot = nullptr;
   std::vector<char> has_force;  // #V: node_force[i] set in this evaluation
   std::vector<int> forced;      // those vertices (the others' node_force is zero)
-  // #parts (tracked gaps): largest displacement and change of each deformed part's vertices,
-  // and whether the part was deformed at the last evaluation.
-  std::vector<double> part_deformation, part_change;
+  // #parts (tracked gaps): a bound on the largest displacement of each tracked part's vertices,
+  // and whether the part was tracked at the last evaluation.
+  std::vector<double> part_deformation;
   std::vector<char> part_current;
-  std::vector<Vec3> base_displacement;  // #bases of a flexible side: DeformParts' scratch
+  // nf (tracked gaps, flexible): q_f at the last evaluation, and q_f less it (scratch).
+  Eigen::VectorXd q_f_previous, q_f_change;
 };
 
 class FlexibleContactWorkspace final : public ExternalForceWorkspace {

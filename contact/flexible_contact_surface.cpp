@@ -54,30 +54,24 @@ void FlexibleContactSurface::SetBasesToVertices() {
   vertex_bases_.resize(nv);
   vertex_base_weights_.assign(nv, Vec3(1, 0, 0));
   for (int i = 0; i < nv; ++i) vertex_bases_[i] = {i, i, i};
-  SetPartBases();
-}
-
-void FlexibleContactSurface::SetPartBases() {
-  const ContactSurface& s = *surface_;
-  part_base_start_.assign(1, 0);
-  part_bases_.clear();
-  for (int p = 0; p < s.num_parts(); ++p) {
-    std::set<int> bases;
-    for (int i = s.part_vertex_start()[p]; i < s.part_vertex_start()[p + 1]; ++i)
-      for (int k = 0; k < 3; ++k)
-        if (vertex_base_weights_[i](k) != 0) bases.insert(vertex_bases_[i][k]);
-    part_bases_.insert(part_bases_.end(), bases.begin(), bases.end());
-    part_base_start_.push_back(static_cast<int>(part_bases_.size()));
-  }
 }
 
 void FlexibleContactSurface::SetModeBounds() {
   shapes_rows_ = shapes_;
   const int nv = static_cast<int>(shapes_.rows() / 3);
-  mode_bounds_ = Eigen::VectorXd::Zero(modes_->nf);
+  const int nf = modes_->nf;
+  mode_bounds_ = Eigen::VectorXd::Zero(nf);
   for (int i = 0; i < nv; ++i)
-    for (int k = 0; k < modes_->nf; ++k)
+    for (int k = 0; k < nf; ++k)
       mode_bounds_(k) = std::max(mode_bounds_(k), shapes_.block<3, 1>(3 * i, k).norm());
+  // Per part: the same over its vertices.
+  const ContactSurface& s = *surface_;
+  part_mode_bounds_ = Eigen::MatrixXd::Zero(s.num_parts(), nf);
+  for (int p = 0; p < s.num_parts(); ++p)
+    for (int i = s.part_vertex_start()[p]; i < s.part_vertex_start()[p + 1]; ++i)
+      for (int k = 0; k < nf; ++k)
+        part_mode_bounds_(p, k) =
+            std::max(part_mode_bounds_(p, k), shapes_.block<3, 1>(3 * i, k).norm());
 }
 
 FlexibleContactSurface::FlexibleContactSurface(std::shared_ptr<const FlexibleBodyModes> modes,
@@ -180,11 +174,10 @@ FlexibleContactSurface::FlexibleContactSurface(std::shared_ptr<const FlexibleBod
     vertex_base_weights_[i] = w;
   }
   SetModeBounds();
-  // The FE nodes are the bases of DeformParts.
+  // The FE nodes are the bases of DeformVertex.
   base_shapes_.resize(3 * base_nodes.size(), m.nf);
   for (size_t b = 0; b < base_nodes.size(); ++b)
     base_shapes_.middleRows(3 * b, 3) = m.nodes[base_nodes[b]].translation_shapes;
-  SetPartBases();
 }
 
 FlexibleContactSurface::FlexibleContactSurface(std::shared_ptr<const FlexibleBodyModes> modes,
@@ -227,44 +220,33 @@ void FlexibleContactSurface::Deform(const Eigen::Ref<const Eigen::VectorXd>& q_f
   }
 }
 
-void FlexibleContactSurface::DeformParts(const Eigen::Ref<const Eigen::VectorXd>& q_f,
-                                         const std::vector<int>& parts,
-                                         std::vector<Vec3>* vertices,
-                                         std::vector<Vec3>* normals,
-                                         std::vector<double>* displacement_max,
-                                         std::vector<double>* change_max,
-                                         std::vector<Vec3>* base_displacement) const {
-  const ContactSurface& s = *surface_;
-  const auto& s0 = s.vertices();
-  const auto& tris = s.triangles();
+double FlexibleContactSurface::PartDeformationBound(
+    int part, const Eigen::Ref<const Eigen::VectorXd>& x) const {
+  const double bound = part_mode_bounds_.row(part).dot(x.cwiseAbs().transpose());
+  return bound > 0 ? bound * (1 + 1e-12) + 1e-15 : bound;
+}
+
+Vec3 FlexibleContactSurface::DeformVertex(int vertex, const Eigen::Ref<const Eigen::VectorXd>& q_f,
+                                          std::vector<Vec3>* base_displacement,
+                                          std::vector<long>* base_stamp, long epoch,
+                                          int* bases_made) const {
   std::vector<Vec3>& ub = *base_displacement;
   const RowMajorMatrix& base_shapes = BaseShapes();
-  for (const int part : parts) {
-    // The part's bases, then its vertices by interpolation.
-    for (int j = part_base_start_[part]; j < part_base_start_[part + 1]; ++j) {
-      const int b = part_bases_[j];
-      ub[b].noalias() = base_shapes.middleRows<3>(3 * b) * q_f;
-    }
-    double u2 = 0, c2 = 0;
-    for (int i = s.part_vertex_start()[part]; i < s.part_vertex_start()[part + 1]; ++i) {
-      const std::array<int, 3>& vb = vertex_bases_[i];
-      const Vec3& w = vertex_base_weights_[i];
-      const Vec3 u = w(0) * ub[vb[0]] + w(1) * ub[vb[1]] + w(2) * ub[vb[2]];
-      const Vec3 x = s0[i] + u;
-      u2 = std::max(u2, u.squaredNorm());
-      c2 = std::max(c2, (x - (*vertices)[i]).squaredNorm());
-      (*vertices)[i] = x;
-    }
-    (*displacement_max)[part] = std::sqrt(u2);
-    (*change_max)[part] = std::sqrt(c2);
-    if (!normals) continue;
-    const auto& v = *vertices;
-    for (int t = s.part_triangle_start()[part]; t < s.part_triangle_start()[part + 1]; ++t) {
-      const auto& tri = tris[t];
-      const Vec3 c = (v[tri[1]] - v[tri[0]]).cross(v[tri[2]] - v[tri[0]]);
-      (*normals)[t] = c * (1.0 / c.norm());  // one division, not three
-    }
+  const std::array<int, 3>& vb = vertex_bases_[vertex];
+  const Vec3& w = vertex_base_weights_[vertex];
+  // The vertex's bases not yet formed in this evaluation (a base of weight 0 is not read).
+  for (int k = 0; k < 3; ++k) {
+    const int b = vb[k];
+    if (w(k) == 0 || (*base_stamp)[b] == epoch) continue;
+    ub[b].noalias() = base_shapes.middleRows<3>(3 * b) * q_f;
+    (*base_stamp)[b] = epoch;
+    ++*bases_made;
   }
+  // Interpolated; a base of weight 0 adds nothing (and may hold an older displacement).
+  Vec3 u = Vec3::Zero();
+  for (int k = 0; k < 3; ++k)
+    if (w(k) != 0) u += w(k) * ub[vb[k]];
+  return surface_->vertices()[vertex] + u;
 }
 
 }  // namespace orrery::contact

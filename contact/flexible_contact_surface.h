@@ -94,21 +94,28 @@ class FlexibleContactSurface {
   // *vertices and *normals must have #V and #T entries (no allocation).
   void Deform(const Eigen::Ref<const Eigen::VectorXd>& q_f, Eigen::VectorXd* displacement,
               std::vector<Vec3>* vertices, std::vector<Vec3>* normals) const;
-  // The same for the vertices and faces of the listed parts only (the others are left as they
-  // are): what the tracked gaps read (tracked_gaps.h), at a cost that follows the teeth in the
-  // mesh zone, not the whole surface. An embedded surface's vertices move with the FE nodes
-  // they are embedded in, Phi_v = sum_k w_k Phi_k: the nodes' displacements Phi_k q_f are
-  // formed once per part (*base_displacement: num_bases() entries, scratch) and interpolated,
-  // which streams the shapes of the FE nodes instead of those of the (several times more)
-  // vertices: the cost of a flexible contact evaluation is mostly this product.
-  // Per listed part j also: (*displacement_max)[j] = max |Phi_P q_f| and (*change_max)[j] =
-  // max |new - old position| over its vertices (#parts entries each). normals == nullptr: the
-  // normals are left alone (the tracked gaps make those they read, tracked_gaps.h).
-  void DeformParts(const Eigen::Ref<const Eigen::VectorXd>& q_f, const std::vector<int>& parts,
-                   std::vector<Vec3>* vertices, std::vector<Vec3>* normals,
-                   std::vector<double>* displacement_max, std::vector<double>* change_max,
-                   std::vector<Vec3>* base_displacement) const;
-  // The points whose shapes DeformParts forms (the FE nodes an embedded surface hangs on; the
+  // Lazily deformed vertices (deformed_vertices.h, what the tracked gaps read): the displacement
+  // u_v of vertex v at q_f from its bases' u_b = Phi_b q_f, each formed when
+  // (*base_stamp)[b] != epoch (then stamped; *base_displacement and *base_stamp: num_bases()
+  // entries). An embedded surface's vertices move with the FE nodes they are embedded in,
+  // u_v = sum_k w_k u_b(k), which streams the shapes of the FE nodes instead of those of the
+  // (several times more) vertices. Returns s_v + u_v (B). *bases_made counts the bases formed.
+  Vec3 DeformVertex(int vertex, const Eigen::Ref<const Eigen::VectorXd>& q_f,
+                    std::vector<Vec3>* base_displacement, std::vector<long>* base_stamp,
+                    long epoch, int* bases_made) const;
+  // Per part p (the broad phase's unit): c_pk = max over the part's vertices of |Phi_v e_k|
+  // (#parts x nf), and the bound
+  //   sum_k |x_k| c_pk (1 + 1e-12) + 1e-15 m (0 for x = 0)  >=  max over the part's v |Phi_v x|,
+  // for a modal coordinate (the part's largest displacement) or a change of one (the largest
+  // motion of its vertices between two evaluations: the tracked gaps' odometers, which may not
+  // undercount). The factor and the 1e-15 m cover the rounding of the interpolated shapes and of
+  // positions s_v + u_v (coordinates below 1 m: half an ulp is below 1.2e-16 m). It is the
+  // triangle inequality mode by mode, so it exceeds the exact largest change by what the modes'
+  // largest vertex motions add over their actual vector sum: 19 % on average in seed 003's
+  // flexible run (docs/performance.md), where the whole surface's c_k gave 37 %.
+  const Eigen::MatrixXd& part_mode_bounds() const { return part_mode_bounds_; }
+  double PartDeformationBound(int part, const Eigen::Ref<const Eigen::VectorXd>& x) const;
+  // The points whose shapes DeformVertex forms (the FE nodes an embedded surface hangs on; the
   // vertices themselves otherwise).
   int num_bases() const { return static_cast<int>(BaseShapes().rows() / 3); }
   // Phi_P v for one vertex (a deformation rate from q_f-dot), and Q += Phi_P^T f (a vertex force
@@ -125,10 +132,8 @@ class FlexibleContactSurface {
  private:
   void Check(const std::string& what) const;
   void SetModeBounds();
-  // The bases of DeformParts: the vertices themselves (the node-set and given-shapes surfaces).
+  // The bases of DeformVertex: the vertices themselves (the node-set and given-shapes surfaces).
   void SetBasesToVertices();
-  // Fills part_base_start_ / part_bases_ from vertex_bases_ (after the bases are set).
-  void SetPartBases();
   std::vector<std::array<int, 3>> SelectedTriangles(const std::string& what) const;
 
   std::shared_ptr<const FlexibleBodyModes> modes_;
@@ -136,12 +141,13 @@ class FlexibleContactSurface {
   std::shared_ptr<const ContactSurface> surface_;
   std::vector<int> vertex_node_;
   Eigen::MatrixXd shapes_;
-  // The same, row-major: a vertex's three rows lie together (DeformParts, VertexShapeTimes).
+  // The same, row-major: a vertex's three rows lie together (VertexShapeTimes).
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> shapes_rows_;
   Eigen::VectorXd mode_bounds_;
-  // DeformParts' interpolation: base shapes (3 #bases x nf, row-major; empty when the bases are
+  Eigen::MatrixXd part_mode_bounds_;  // #parts x nf (SetModeBounds)
+  // DeformVertex's interpolation: base shapes (3 #bases x nf, row-major; empty when the bases are
   // the vertices, whose shapes_rows_ then serve), each vertex's up to three bases and weights
-  // (#V), and the bases of each part (CSR: part_base_start_ #parts + 1).
+  // (#V).
   using RowMajorMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
   const RowMajorMatrix& BaseShapes() const {
     return base_shapes_.size() > 0 ? base_shapes_ : shapes_rows_;
@@ -149,7 +155,6 @@ class FlexibleContactSurface {
   RowMajorMatrix base_shapes_;
   std::vector<std::array<int, 3>> vertex_bases_;
   std::vector<Vec3> vertex_base_weights_;
-  std::vector<int> part_base_start_, part_bases_;
 };
 
 }  // namespace orrery::contact

@@ -255,14 +255,17 @@ void TrackedGaps::ComputeGaps(const Transform& X_WA, const Transform& X_WB,
   face_deformation_b_ += side_a.deformation_change_m;
   RestartIfSaturated();
   stats_.evaluated_nodes = stats_.seeded_nodes = 0;
-  auto geometry = [](const ContactSurface& s, const TrackedSide& side) {
-    return Geometry{.s = s, .v = *side.vertices, .n = *side.normals, .lazy_n = side.lazy_normals,
+  auto vertices = [](const TrackedSide& side) {
+    return SurfaceVertices{.own = side.vertices, .deformed = side.deformed_vertices};
+  };
+  auto geometry = [&](const ContactSurface& s, const TrackedSide& side) {
+    return Geometry{.s = s, .v = vertices(side), .n = *side.normals, .lazy_n = side.lazy_normals,
                     .stamp = side.normal_stamp, .epoch = side.normal_epoch};
   };
-  RunPass(a_, *side_a.vertices, geometry(b_, side_b), side_b.deformation_m,
+  RunPass(a_, vertices(side_a), geometry(b_, side_b), side_b.deformation_m,
           side_b.part_deformation_m, face_deformation_a_, gap_distance_m, X_WB.Inverse() * X_WA, X_WB,
           /*nodes_are_a=*/true, odometer_a_, pass_a_, gaps_a);
-  RunPass(b_, *side_b.vertices, geometry(a_, side_a), side_a.deformation_m,
+  RunPass(b_, vertices(side_b), geometry(a_, side_a), side_a.deformation_m,
           side_a.part_deformation_m, face_deformation_b_, gap_distance_m, X_AB, X_WA, /*nodes_are_a=*/false, odometer_b_,
           pass_b_, gaps_b);
   stats_.tracked_pairs = static_cast<int>(tracked_.size());
@@ -270,7 +273,7 @@ void TrackedGaps::ComputeGaps(const Transform& X_WA, const Transform& X_WB,
   ++stats_.updates;
 }
 
-void TrackedGaps::RunPass(const ContactSurface& node_surface, const std::vector<Vec3>& nodes,
+void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVertices& nodes,
                           const Geometry& faces, double face_deformation_m,
                           const std::vector<double>* face_part_deformation_m,
                           double face_deformation_odometer_m, double d, const Transform& X_FN,

@@ -72,6 +72,7 @@
 
 #include "contact/candidate_pairs.h"
 #include "contact/contact_surface.h"
+#include "contact/deformed_vertices.h"
 #include "contact/signed_gap.h"
 
 namespace orrery::contact {
@@ -121,6 +122,10 @@ class TrackedGaps {
     std::vector<Vec3>* lazy_normals = nullptr;
     std::vector<long>* normal_stamp = nullptr;  // #T
     long normal_epoch = 0;
+    // Optional, lazy vertices: the vertices are made on first read (deformed_vertices.h) and
+    // *vertices is not read; deformation_change_m must then bound the change of every vertex
+    // of the tracked parts, made or not (flexible_contact_surface.h PartDeformationBound).
+    DeformedVertices* deformed_vertices = nullptr;
   };
   void Update(const Transform& X_WA, const Transform& X_WB, const TrackedSide& a,
               const TrackedSide& b, double gap_distance_m, std::vector<NodeGap>* gaps_a,
@@ -139,10 +144,10 @@ class TrackedGaps {
   void Reset();
 
   // A surface as the passes use it: its topology, and its vertices and normals (own or deformed;
-  // lazy normals as TrackedSide's, made on first read).
+  // lazy vertices and normals as TrackedSide's, made on first read).
   struct Geometry {
     const ContactSurface& s;
-    const std::vector<Vec3>& v;  // #V
+    SurfaceVertices v;           // #V
     const std::vector<Vec3>& n;  // #T
     std::vector<Vec3>* lazy_n = nullptr;
     std::vector<long>* stamp = nullptr;
@@ -152,7 +157,7 @@ class TrackedGaps {
       if ((*stamp)[face] != epoch) {
         const auto& t = s.triangles()[face];
         const Vec3 c = (v[t[1]] - v[t[0]]).cross(v[t[2]] - v[t[0]]);
-        (*lazy_n)[face] = c * (1.0 / c.norm());  // as FlexibleContactSurface::DeformParts
+        (*lazy_n)[face] = c * (1.0 / c.norm());  // one division, not three
         (*stamp)[face] = epoch;
       }
       return (*lazy_n)[face];
@@ -187,7 +192,7 @@ class TrackedGaps {
   // The smallest odometer reading at which a node of block `block` (nodes [v0, v1)) may wake.
   static void UpdateBlockWake(Pass& pass, int block, int v0, int v1);
   void ResetPart(Pass& pass, const ContactSurface& node_surface, int part);
-  void RunPass(const ContactSurface& node_surface, const std::vector<Vec3>& nodes,
+  void RunPass(const ContactSurface& node_surface, const SurfaceVertices& nodes,
                const Geometry& faces, double face_deformation_m,
                const std::vector<double>* face_part_deformation_m,
                double face_deformation_odometer_m, double d, const Transform& X_FN,

@@ -17,6 +17,7 @@
 #include <memory>
 #include <vector>
 
+#include "contact/deformed_vertices.h"
 #include "contact/flexible_contact_element.h"
 #include "flex/box_mesher.h"
 #include "flex/craig_bampton.h"
@@ -254,6 +255,117 @@ TEST(FlexibleContactElement, ReportsDeformationBeyondTheInflation) {
   e.Evaluate({.X_WB = Transform::Translation(Vec3(0, 0, kL)), .q_f = &q}, {.X_WB = Transform()}, ws);
   EXPECT_EQ(ws.inflation_exceeded, 1);
   EXPECT_NEAR(ws.side_a.deformation_bound, 30e-6, 1e-12);
+}
+
+
+// Vertices made on first read equal the whole surface's deformation s_P + Phi_P q_f (to the
+// rounding of the two summation orders), only those read are made, each base once; the per-part
+// bounds hold for every vertex of their part and are the largest vertex motion for one mode.
+TEST(FlexibleContactSurface, LazyVerticesAndPartBounds) {
+  const Block b = MakeBlock(8);
+  const FlexibleContactSurface surface(
+      b.modes, {.node_sets = {"ZMIN"}, .gap_margin_m = 30e-6, .angular_parts = 4,
+                .part_angle_offset_rad = 0.25 * 3.14159265358979});
+  const ContactSurface& s = surface.undeformed();
+  ASSERT_EQ(s.num_parts(), 4);
+  const int nf = surface.nf(), nv = s.num_vertices();
+  Eigen::VectorXd q(nf), displacement(3 * nv);
+  for (int k = 0; k < nf; ++k) q(k) = 1e-6 * std::sin(1.7 * k + 0.3) / surface.mode_bounds()(k);
+  std::vector<Vec3> want(nv), normals(s.num_triangles()), got(nv, Vec3::Zero());
+  surface.Deform(q, &displacement, &want, &normals);
+  DeformedVertices lazy(surface);
+  lazy.Begin(&q, &got);
+  const double scale = displacement.cwiseAbs().maxCoeff();
+  for (int v = 0; v < nv; v += 3) EXPECT_LT((lazy[v] - want[v]).norm(), 1e-12 * scale) << v;
+  for (int v = 0; v < nv; v += 3) EXPECT_EQ(lazy[v], got[v]);  // read again: the same
+  EXPECT_EQ(lazy.vertices_made(), (nv + 2) / 3);
+  EXPECT_EQ(lazy.bases_made(), (nv + 2) / 3);  // node-set surface: each vertex its own base
+  EXPECT_EQ(got[1], Vec3::Zero());             // not read, not made
+  // A new evaluation makes them again, at its own q.
+  const Eigen::VectorXd q2 = 2 * q;
+  lazy.Begin(&q2, &got);
+  EXPECT_LT((lazy[0] - (2 * want[0] - s.vertices()[0])).norm(), 1e-12 * scale);
+  EXPECT_EQ(lazy.vertices_made(), 1);
+  // Bounds per part: >= every vertex's |Phi_v x| for mixed x, the largest for one mode.
+  auto largest = [&](int part, const Eigen::VectorXd& x) {
+    Eigen::VectorXd u(3 * nv);
+    std::vector<Vec3> xv(nv);
+    surface.Deform(x, &u, &xv, &normals);
+    double m = 0;
+    for (int v = s.part_vertex_start()[part]; v < s.part_vertex_start()[part + 1]; ++v)
+      m = std::max(m, u.segment<3>(3 * v).norm());
+    return m;
+  };
+  int tighter = 0;
+  for (int part = 0; part < 4; ++part) {
+    for (int trial = 0; trial < 5; ++trial) {
+      Eigen::VectorXd x(nf);
+      for (int k = 0; k < nf; ++k) x(k) = std::cos(2.3 * k * (trial + 1) + part) / surface.mode_bounds()(k);
+      const double exact = largest(part, x), bound = surface.PartDeformationBound(part, x);
+      EXPECT_GE(bound, exact);
+      // Within the whole surface's bound sum_k |x_k| c_k, and below it where the part's vertices
+      // move less than the surface's largest in some mode.
+      const double whole = surface.DeformationBound(x);
+      EXPECT_LE(bound, whole * (1 + 1e-12) + 1e-15);
+      tighter += bound < 0.99 * whole;
+    }
+    for (int k = 0; k < nf; ++k) {
+      const Eigen::VectorXd e = Eigen::VectorXd::Unit(nf, k);
+      EXPECT_NEAR(surface.PartDeformationBound(part, e), largest(part, e), 1e-9 * largest(part, e));
+    }
+  }
+  EXPECT_GT(tighter, 0);
+  EXPECT_EQ(surface.PartDeformationBound(0, Eigen::VectorXd::Zero(nf)), 0.0);
+}
+
+// The block held 20 um above the plane (within the gap distance d = 30 um) and deformed into
+// it by its modes alone, 2 um per evaluation, the pose fixed: the tracked path (vertices made on
+// first read; nodes sleep until the modal bound on the change has used up their reach) gives
+// the forces of the candidate-pair path, which deforms every vertex and lets no node sleep. A
+// change bound that undercounted would leave nodes asleep that press (the forces would differ).
+TEST(FlexibleContactElement, TrackedLazyPathEqualsCandidatePairsWhileDeforming) {
+  const Block b = MakeBlock(6);
+  auto surface = std::make_shared<const FlexibleContactSurface>(
+      b.modes, FlexibleContactSurfaceSpec{.node_sets = {"ZMIN"}, .gap_margin_m = 30e-6,
+                                          .deformation_allowance_m = 60e-6});
+  auto element = [&](ContactGapMethod method) {
+    return FlexibleContactElement({.name = "block_on_plane", .a = {.body = 1, .flexible = surface},
+                                   .b = {.body = 0, .rigid = Plane()},
+                                   .law = {.stiffness_per_area = 2.1e13}, .gap_method = method});
+  };
+  const FlexibleContactElement tracked = element(ContactGapMethod::kTracked);
+  const FlexibleContactElement pairs = element(ContactGapMethod::kCandidatePairs);
+  FlexibleContactWorkspace ws_t(tracked.spec().a, tracked.spec().b);
+  FlexibleContactWorkspace ws_p(pairs.spec().a, pairs.spec().b);
+  // A direction in the modes whose bottom face moves down (-z) by 1 m per unit at its lowest
+  // vertex.
+  const int nf = b.modes->nf;
+  Eigen::VectorXd dir = Eigen::VectorXd::Zero(nf);
+  for (int k = 0; k < nf; ++k) dir(k) = std::sin(0.9 * k + 0.4);
+  Eigen::VectorXd u(3 * surface->undeformed().num_vertices());
+  std::vector<Vec3> xv(surface->undeformed().num_vertices());
+  std::vector<Vec3> nv(surface->undeformed().num_triangles());
+  surface->Deform(dir, &u, &xv, &nv);
+  double down = 0;
+  for (int v = 0; v < surface->undeformed().num_vertices(); ++v) down = std::min(down, u(3 * v + 2));
+  ASSERT_LT(down, 0);
+  dir /= -down;
+  const Transform X_WB = Transform::Translation(Vec3(0, 0, kL + 20e-6));
+  int pressed = 0;
+  for (int k = 0; k <= 20; ++k) {
+    const Eigen::VectorXd q = 2e-6 * k * dir;
+    tracked.Evaluate({.X_WB = X_WB, .q_f = &q}, {.X_WB = Transform()}, ws_t);
+    pairs.Evaluate({.X_WB = X_WB, .q_f = &q}, {.X_WB = Transform()}, ws_p);
+    EXPECT_EQ(ws_t.contact_points, ws_p.contact_points) << k;
+    EXPECT_NEAR(ws_t.normal_force, ws_p.normal_force, 1e-9 * ws_p.normal_force + 1e-12) << k;
+    EXPECT_LT((ws_t.side_a.modal_force - ws_p.side_a.modal_force).norm(),
+              1e-9 * ws_p.side_a.modal_force.norm() + 1e-12) << k;
+    pressed += ws_p.contact_points > 0;
+  }
+  EXPECT_GT(pressed, 5);  // the block pressed for a good part of the sequence
+  std::printf("tracked: %ld node evaluations in 21 calls, %d pressed\n",
+              ws_t.tracked.stats().node_evaluations, pressed);
+  EXPECT_LT(ws_t.tracked.stats().node_evaluations, 21L * 25 * 2);  // nodes slept on the way
 }
 
 }  // namespace
