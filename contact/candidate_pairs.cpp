@@ -340,12 +340,16 @@ void FindClosestFaceInPart(const ContactSurface& surface, int part, const Vec3& 
 }
 
 void FindClosestFaceInPart(const ContactSurface& surface, int part, const Vec3& p,
-                           ClosestFace* best, const std::vector<Vec3>& v, double deformation_m) {
-  FindClosestFaceInPart(surface, part, p, best, SurfaceVertices{.own = &v}, deformation_m);
+                           ClosestFace* best, const std::vector<Vec3>& v, double deformation_m,
+                           double* unseen_d2) {
+  FindClosestFaceInPart(surface, part, p, best, SurfaceVertices{.own = &v}, deformation_m,
+                        unseen_d2);
 }
 
 void FindClosestFaceInPart(const ContactSurface& surface, int part, const Vec3& p,
-                           ClosestFace* best, const SurfaceVertices& v, double deformation_m) {
+                           ClosestFace* best, const SurfaceVertices& v, double deformation_m,
+                           double* unseen_d2) {
+  double unseen = std::numeric_limits<double>::infinity();
   const Bvh& bvh = *surface.culling().parts[part];
   const int t0 = surface.part_triangle_start()[part];
   const auto& tris = surface.triangles();
@@ -375,7 +379,10 @@ void FindClosestFaceInPart(const ContactSurface& surface, int part, const Vec3& 
   while (top > 0) {
     --top;
     const int node = stack_node[top];
-    if (stack_d2[top] > best->d2) continue;
+    if (stack_d2[top] > best->d2) {
+      unseen = std::min(unseen, stack_d2[top]);
+      continue;
+    }
     const auto& bv = bvh.getBV(node);
     if (bv.isLeaf()) {
       const int face = t0 + bv.primitiveId();
@@ -386,6 +393,8 @@ void FindClosestFaceInPart(const ContactSurface& surface, int part, const Vec3& 
         best->face = face;
         best->d2 = d2;
         best->point = c;
+      } else {
+        unseen = std::min(unseen, d2);
       }
       continue;
     }
@@ -400,6 +409,19 @@ void FindClosestFaceInPart(const ContactSurface& surface, int part, const Vec3& 
     stack_node[top] = left_first ? l : r;
     stack_d2[top++] = left_first ? dl : dr;
   }
+  if (unseen_d2) *unseen_d2 = std::min(*unseen_d2, unseen);
+}
+
+bool PartBoxesWithin(const ContactSurface& a, int part_a, const ContactSurface& b, int part_b,
+                     const Transform& X_AB, double reach_m) {
+  const fcl::OBBd& box_a = a.culling().parts[part_a]->getBV(0).bv.obb;
+  const fcl::OBBd& box_b = b.culling().parts[part_b]->getBV(0).bv.obb;
+  // Half-extents as built, A's grown by the reach; B's box in the frame of A's box.
+  const Vec3 e_a = (box_a.extent.array() - a.culling().inflate + reach_m).matrix();
+  const Vec3 e_b = (box_b.extent.array() - b.culling().inflate).matrix();
+  const Mat3 R = box_a.axis.transpose() * X_AB.R * box_b.axis;
+  const Vec3 T = box_a.axis.transpose() * (X_AB * Vec3(box_b.To) - box_a.To);
+  return !fcl::obbDisjoint(R, T, e_a, e_b);
 }
 
 void CandidateSearch::Invalidate() { impl_->have_pairs = false; }

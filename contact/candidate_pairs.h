@@ -95,14 +95,26 @@ struct ClosestFace {
 void FindClosestFaceInPart(const ContactSurface& surface, int part, const Vec3& p,
                            ClosestFace* best);
 // The same over deformed vertices (#V, body frame) that lie within `deformation_m` of the
-// surface's own (the boxes' bounds are lowered by it).
+// surface's own (the boxes' bounds are lowered by it). With `unseen_d2`, *unseen_d2 is lowered
+// to the smallest bound (a box's squared distance, or a triangle's) of what the descent passed
+// by without taking it: if no triangle of the part was taken, every one of them is at least
+// sqrt(*unseen_d2) from p (the far nodes of tracked_gaps.h sleep on it).
 void FindClosestFaceInPart(const ContactSurface& surface, int part, const Vec3& p,
                            ClosestFace* best, const std::vector<Vec3>& vertices,
-                           double deformation_m);
+                           double deformation_m, double* unseen_d2 = nullptr);
 // The same with vertices made on first read (deformed_vertices.h): only the leaves' are read.
 void FindClosestFaceInPart(const ContactSurface& surface, int part, const Vec3& p,
                            ClosestFace* best, const SurfaceVertices& vertices,
-                           double deformation_m);
+                           double deformation_m, double* unseen_d2 = nullptr);
+
+// Whether part `part_a` of surface A and part `part_b` of B can be within `reach_m` of each
+// other, B at pose X_AB in A's frame: the oriented boxes at the roots of the two parts' FCL
+// hierarchies (as built, before the inflation), A's grown by reach_m on every side, are tested
+// for overlap by the separating-axis test (Gottschalk, Lin and Manocha, "OBBTree", SIGGRAPH 1996;
+// FCL's obbDisjoint, which pads the rotation terms by 1e-6). False only when every triangle of
+// the one part is farther than reach_m from every triangle of the other. No allocation.
+bool PartBoxesWithin(const ContactSurface& a, int part_a, const ContactSurface& b, int part_b,
+                     const Transform& X_AB, double reach_m);
 
 class CandidateSearch {
  public:

@@ -161,11 +161,12 @@ void TrackedGaps::Update(const Transform& X_WA, const Transform& X_WB,
 void TrackedGaps::Update(const Transform& X_WA, const Transform& X_WB, const TrackedSide& side_a,
                          const TrackedSide& side_b, double gap_distance_m,
                          std::vector<NodeGap>* gaps_a, std::vector<NodeGap>* gaps_b) {
-  TrackPairs(X_WA, X_WB);
+  // Rigid sides (their vertices are the surfaces' own): the parts' boxes bound them.
+  TrackPairs(X_WA, X_WB, side_a.vertices == &a_.vertices() && side_b.vertices == &b_.vertices());
   ComputeGaps(X_WA, X_WB, side_a, side_b, gap_distance_m, gaps_a, gaps_b);
 }
 
-void TrackedGaps::TrackPairs(const Transform& X_WA, const Transform& X_WB) {
+void TrackedGaps::TrackPairs(const Transform& X_WA, const Transform& X_WB, bool part_boxes) {
   const Transform X_AB = X_WA.Inverse() * X_WB;
   const double s = search_.slack_m();
 
@@ -175,6 +176,17 @@ void TrackedGaps::TrackPairs(const Transform& X_WA, const Transform& X_WB) {
   search_.UpdateBroadPhase(X_WA, X_WB);
   const auto& broad = search_.part_pairs();  // sorted: A's part, then B's
   next_.assign(broad.begin(), broad.end());
+  // The parts' boxes (rigid surfaces): pairs whose boxes are farther apart than the reach go.
+  if (part_boxes) {
+    const double reach = search_.search_distance_m() + s;
+    auto apart = [&](double r) {
+      return [&, r](const std::pair<int, int>& pair) {
+        return !PartBoxesWithin(a_, pair.first, b_, pair.second, X_AB, r);
+      };
+    };
+    keep_.erase(std::remove_if(keep_.begin(), keep_.end(), apart(reach + s)), keep_.end());
+    next_.erase(std::remove_if(next_.begin(), next_.end(), apart(reach)), next_.end());
+  }
   for (const auto& pair : tracked_)
     if (!std::binary_search(broad.begin(), broad.end(), pair) &&
         std::binary_search(keep_.begin(), keep_.end(), pair))
@@ -321,6 +333,7 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
           }
         }
         ClosestFace best;
+        double unseen_d2 = far_m * far_m;
         bool search = pass.face[v] < 0 || pass.distance[v] > walk_reach;
         if (pass.face[v] >= 0) {
           best = OnFace(faces, pass.face[v], p);
@@ -339,10 +352,12 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
           // A node without a face (not seeded, or far at its last search) is searched only
           // within the far distance: beyond it the descent stops at the hierarchies' top boxes.
           if (pass.face[v] < 0) best.d2 = far_m * far_m;
+          unseen_d2 = std::numeric_limits<double>::infinity();
           for (const int part_f : partners_)
             FindClosestFaceInPart(
                 face_surface, part_f, p, &best, faces.v,
-                face_part_deformation_m ? (*face_part_deformation_m)[part_f] : face_deformation_m);
+                face_part_deformation_m ? (*face_part_deformation_m)[part_f] : face_deformation_m,
+                &unseen_d2);
           ++stats_.seeded_nodes;
           ++stats_.seeds;
         }
@@ -351,9 +366,11 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
         // every face of its partners, and sleeps until it may have come within it.
         if (best.face < 0) {
           const bool far = p.allFinite();
+          // The descent's bound on every face it passed by (at least the far distance).
+          const double reach = std::max(far_m, std::sqrt(unseen_d2));
           pass.face[v] = far ? kFar : kUnseeded;
-          pass.reach[v] = pass.odometer_reach[v] = far ? far_m : 0.0;
-          pass.distance[v] = far_m;
+          pass.reach[v] = pass.odometer_reach[v] = far ? reach : 0.0;
+          pass.distance[v] = reach;
           pass.stamp[v] = odometer;
           pass.stamp_position[v] = p;
           pass.stamp_face_deformation[v] = face_deformation_odometer_m;

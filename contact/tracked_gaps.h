@@ -12,7 +12,10 @@
 //
 // What is kept (per pass: the nodes of one surface against the faces of the other):
 //   - the tracked part pairs: the broad phase of CandidateSearch (mesh zone and part spheres
-//     within d + s), plus pairs already tracked that stay in the broad phase grown by s (so a
+//     within d + s; for rigid surfaces also the parts' oriented boxes within d + s,
+//     PartBoxesWithin: the spheres of two 40 mm wide teeth overlap for every tooth pair in the
+//     zone, the boxes for the two or three a tooth can touch), plus pairs already tracked that
+//     stay in the broad phase grown by s (so a
 //     pair at the edge of the zone does not come and go between Newton iterations). A node is tracked
 //     while its part is in a tracked pair; its faces are searched in the paired parts only;
 //   - per node: its closest face at its last evaluation, its distance to it then, the reach D
@@ -49,10 +52,12 @@
 // block's smallest wake-up reading), which passes a sleeping block in one comparison. A node
 // without a face (not seeded yet, or far) is searched only within the far distance
 // 5 (d + s): a node farther than that from every face of its partners keeps no face and sleeps
-// on that reach (its distance is at least that), so that the nodes of a tooth entering the mesh
-// zone far from the other tooth's flanks (its back flank, tip and root) are not searched down to
-// a face millimetres away. Only a node already deeper than the far distance inside the other
-// body when its tooth enters would be missed.
+// on the smallest bound the descent passed by (the distance of a box it pruned or of a triangle
+// it did not take, at least the far distance: FindClosestFaceInPart's unseen_d2), so that the
+// nodes of a tooth entering the mesh zone far from the other tooth's flanks (its back flank,
+// tip and root) are not searched down to a face millimetres away, nor searched again after
+// every millimetre. Only a node already deeper than the far distance inside the other body when
+// its tooth enters would be missed.
 // The gap then follows signed_gap.h (NodeGapFromClosest), and the node is listed when its
 // distance is within d (as the candidate-pair path lists it) or when it penetrates, however
 // deep: the search is exact, so unlike candidate pairs a penetration beyond the margin (a step
@@ -134,7 +139,10 @@ class TrackedGaps {
   // pairs and the odometers' rigid motion at these poses, then (deformation changes added) the
   // gaps at the same poses. Between the two, tracked_parts_a() / _b() are the parts whose nodes
   // and faces the gaps will read (only their vertices and normals need be current).
-  void TrackPairs(const Transform& X_WA, const Transform& X_WB);
+  // With part_boxes (rigid surfaces only: the boxes bound the surfaces' own vertices), a pair
+  // of the broad phase is tracked only while the oriented boxes of its two parts are within
+  // d + s (PartBoxesWithin; kept while within d + 2 s).
+  void TrackPairs(const Transform& X_WA, const Transform& X_WB, bool part_boxes = false);
   void ComputeGaps(const Transform& X_WA, const Transform& X_WB, const TrackedSide& a,
                    const TrackedSide& b, double gap_distance_m, std::vector<NodeGap>* gaps_a,
                    std::vector<NodeGap>* gaps_b);

@@ -179,6 +179,74 @@ TEST(CandidatePairsTest, FclCullingFindsExactlyTheBruteForcePairsAndGaps) {
   EXPECT_GE(poses_with_contact, 6);
 }
 
+// The part boxes of the tracked gaps' pair filter (PartBoxesWithin) against the brute-force
+// distance between the two parts' triangles (every triangle pair): a pair whose boxes are
+// reported apart must be farther than the reach, for tilted and shifted poses around the mesh
+// and beyond it. The filter must also drop pairs (else it tests nothing) and keep every pair in
+// contact.
+TEST(CandidatePairsTest, PartBoxesNeverDropAPairWithinTheReach) {
+  const double margin = 60e-6, slack = 100e-6;
+  GearSurfaces gs = MakeGearSurfaces(margin, slack);
+  const ContactSurface& s1 = *gs.s1;
+  const ContactSurface& s2 = *gs.s2;
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const double pi = 3.14159265358979323846;
+  int dropped = 0, kept_in_contact = 0, kept_near = 0;
+  for (int trial = 0; trial < 16; ++trial) {
+    // Around the mesh as in the test above, gear 2 turned by up to a pitch more every other
+    // trial and pulled apart by up to 2 mm; every fourth, gear 2 shifted along the axis by the
+    // face width and 0 to 1 mm more (the teeth's end faces, where the boxes are tight, then
+    // face each other at that distance).
+    const Transform X_W1(AxisAngle(Vec3(u(rng), u(rng), 1).normalized(), 0.012 * u(rng)),
+                         Vec3(20e-6 * u(rng), 20e-6 * u(rng), 0));
+    const double turn = trial % 2 ? 2 * pi / 27 * u(rng) : 0.003 * u(rng);
+    const Transform X_W2(AxisAngle(Vec3(1e-3 * u(rng), 1e-3 * u(rng), 1).normalized(),
+                                   pi + pi / 27 + turn),
+                         Vec3(gs.a + 1e-3 * (1 + u(rng)) * (trial % 3 == 2), 0,
+                              trial % 4 == 3 ? 0.01 + 0.5e-3 * (1 + u(rng)) : 1e-3 * u(rng)));
+    const Transform X_12 = X_W1.Inverse() * X_W2;
+    std::vector<Vec3> v2;  // gear 2's vertices in gear 1's frame
+    for (const Vec3& v : s2.vertices()) v2.push_back(X_12 * v);
+    for (const double reach : {margin + slack, 0.5e-3}) {
+      for (int pa = 0; pa < s1.num_parts(); ++pa) {
+        for (int pb = 0; pb < s2.num_parts(); ++pb) {
+          // Whether a triangle pair of the two parts is within the reach (a box pre-check, then
+          // the exact distance), and whether one intersects.
+          bool near = false, touching = false;
+          for (int i = s1.part_triangle_start()[pa]; i < s1.part_triangle_start()[pa + 1]; ++i) {
+            const auto& t = s1.triangles()[i];
+            const Vec3 &a0 = s1.vertices()[t[0]], &a1 = s1.vertices()[t[1]],
+                       &a2 = s1.vertices()[t[2]];
+            const Vec3 lo = a0.cwiseMin(a1).cwiseMin(a2).array() - reach;
+            const Vec3 hi = a0.cwiseMax(a1).cwiseMax(a2).array() + reach;
+            for (int j = s2.part_triangle_start()[pb]; j < s2.part_triangle_start()[pb + 1]; ++j) {
+              const auto& q = s2.triangles()[j];
+              const Vec3 &b0 = v2[q[0]], &b1 = v2[q[1]], &b2 = v2[q[2]];
+              if ((b0.cwiseMin(b1).cwiseMin(b2).array() > hi.array()).any() ||
+                  (b0.cwiseMax(b1).cwiseMax(b2).array() < lo.array()).any())
+                continue;
+              const double d2 = TriangleDistanceSquared(a0, a1, a2, b0, b1, b2);
+              near = near || d2 <= reach * reach;
+              touching = touching || d2 == 0;
+            }
+          }
+          const bool within = PartBoxesWithin(s1, pa, s2, pb, X_12, reach);
+          if (!within) {
+            ++dropped;
+            EXPECT_FALSE(near) << "trial " << trial << " parts " << pa << ", " << pb;
+          }
+          if (within && touching) ++kept_in_contact;
+          if (within && near && trial % 4 == 3) ++kept_near;
+        }
+      }
+    }
+  }
+  EXPECT_GE(dropped, 20);
+  EXPECT_GE(kept_in_contact, 8);
+  EXPECT_GE(kept_near, 4);  // end faces within the reach
+}
+
 // Pairs found with a slack s stay valid while the motion bound since the search is within s:
 // gaps from the kept candidates (node-face lists) equal the brute force at the moved pose, and
 // equal the oracle pass over the pairs; a motion beyond the slack searches again.
