@@ -424,6 +424,16 @@ bool PartBoxesWithin(const ContactSurface& a, int part_a, const ContactSurface& 
   return !fcl::obbDisjoint(R, T, e_a, e_b);
 }
 
+std::array<Vec3, 8> PartBoxCorners(const ContactSurface& surface, int part) {
+  const fcl::OBBd& box = surface.culling().parts[part]->getBV(0).bv.obb;
+  std::array<Vec3, 8> corners;
+  for (int k = 0; k < 8; ++k)
+    corners[k] = box.To + box.axis.col(0) * ((k & 1) ? box.extent[0] : -box.extent[0]) +
+                 box.axis.col(1) * ((k & 2) ? box.extent[1] : -box.extent[1]) +
+                 box.axis.col(2) * ((k & 4) ? box.extent[2] : -box.extent[2]);
+  return corners;
+}
+
 void CandidateSearch::Invalidate() { impl_->have_pairs = false; }
 
 }  // namespace orrery::contact

@@ -45,6 +45,7 @@
 //   CandidateSearch search(surface_a, surface_b);
 //   std::vector<TrianglePair> pairs;  pairs.reserve(search.suggested_capacity());
 //   search.Find(X_WA, X_WB, &pairs);   // true if it searched (pairs replaced)
+#include <array>
 #include <limits>
 #include <memory>
 #include <utility>
@@ -115,6 +116,10 @@ void FindClosestFaceInPart(const ContactSurface& surface, int part, const Vec3& 
 // the one part is farther than reach_m from every triangle of the other. No allocation.
 bool PartBoxesWithin(const ContactSurface& a, int part_a, const ContactSurface& b, int part_b,
                      const Transform& X_AB, double reach_m);
+
+// The eight corners (body frame) of the oriented box at the root of a part's FCL hierarchy, as
+// inflated for the pair search: every vertex of the part lies inside their convex hull.
+std::array<Vec3, 8> PartBoxCorners(const ContactSurface& surface, int part);
 
 class CandidateSearch {
  public:

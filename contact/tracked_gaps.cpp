@@ -118,6 +118,8 @@ TrackedGaps::TrackedGaps(const ContactSurface& surface_a, const ContactSurface& 
   odometer_b_.assign(b_.num_parts(), 0.0);
   motion_a_.assign(a_.num_parts(), 0.0);
   motion_b_.assign(b_.num_parts(), 0.0);
+  part_box_corners_b_.reserve(b_.num_parts());
+  for (int j = 0; j < b_.num_parts(); ++j) part_box_corners_b_.push_back(PartBoxCorners(b_, j));
 }
 
 void TrackedGaps::Reset() {
@@ -146,9 +148,18 @@ void TrackedGaps::ResetPart(Pass& pass, const ContactSurface& node_surface, int 
 double TrackedGaps::PartMotion(int part_b, const Transform& X_AB0,
                                const Transform& X_AB1) const {
   const Mat3 dR = X_AB1.R - X_AB0.R;
+  const Vec3 dp = X_AB1.p - X_AB0.p;
+  // The box's corners: a point of the part is a convex combination of them, and so is its
+  // motion dR x + dp of theirs.
+  double corners2 = 0;
+  for (const Vec3& x : part_box_corners_b_[part_b])
+    corners2 = std::max(corners2, (dR * x + dp).squaredNorm());
+  // The axis-aligned box (the axial extent of a gear tooth drops out for rotations about the
+  // gear axis; the oriented box may be the tighter when the part turns about another axis).
   const Vec3& h = b_.part_half_extents()[part_b];
-  return dR.col(0).norm() * h.x() + dR.col(1).norm() * h.y() + dR.col(2).norm() * h.z() +
-         (dR * b_.part_centers()[part_b] + X_AB1.p - X_AB0.p).norm();
+  const double aligned = dR.col(0).norm() * h.x() + dR.col(1).norm() * h.y() +
+                         dR.col(2).norm() * h.z() + (dR * b_.part_centers()[part_b] + dp).norm();
+  return std::min(std::sqrt(corners2), aligned);
 }
 
 void TrackedGaps::Update(const Transform& X_WA, const Transform& X_WB,
@@ -185,7 +196,14 @@ void TrackedGaps::TrackPairs(const Transform& X_WA, const Transform& X_WB, bool 
       };
     };
     keep_.erase(std::remove_if(keep_.begin(), keep_.end(), apart(reach + s)), keep_.end());
-    next_.erase(std::remove_if(next_.begin(), next_.end(), apart(reach)), next_.end());
+    // A pair whose boxes are apart by d + 2 s is apart by d + s (keep_ holds the broad phase).
+    auto boxes_apart = apart(reach);
+    next_.erase(std::remove_if(next_.begin(), next_.end(),
+                               [&](const std::pair<int, int>& pair) {
+                                 return !std::binary_search(keep_.begin(), keep_.end(), pair) ||
+                                        boxes_apart(pair);
+                               }),
+                next_.end());
   }
   for (const auto& pair : tracked_)
     if (!std::binary_search(broad.begin(), broad.end(), pair) &&

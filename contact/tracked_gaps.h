@@ -28,7 +28,10 @@
 //     with box centre c and half-extents h (B's frame), from relative pose (R0, p0) to (R1, p1):
 //        delta = sum_k |(R1 - R0) e_k| h_k + |(R1 - R0) c + p1 - p0|,
 //     a bound on the motion of every point of the part (the axial extent of a gear tooth drops
-//     out for rotations about the gear axis, and the bound is about the tooth, not the gear).
+//     out for rotations about the gear axis, and the bound is about the tooth, not the gear),
+//     or, when smaller, the largest motion |(R1 - R0) x + p1 - p0| of the eight corners x of
+//     the part's oriented box (PartBoxCorners: every point of the part is a convex combination
+//     of them; for a tooth turning about the gear axis about half the sum above).
 // At an evaluation a node is skipped while its part's odometer has advanced by less than its D,
 // or else while its own displacement in the face surface's frame since its last evaluation is
 // below D (one transform; the odometer sums bounds along the way, the displacement is the
@@ -72,6 +75,7 @@
 // Usage:
 //   TrackedGaps tracked(surface_a, surface_b);
 //   tracked.Update(X_WA, X_WB, &gaps_a, &gaps_b);   // gaps lists reserved to #V of each surface
+#include <array>
 #include <utility>
 #include <vector>
 
@@ -226,6 +230,7 @@ class TrackedGaps {
   double face_deformation_a_ = 0, face_deformation_b_ = 0;  // per pass: faces' deformation, summed
   // Per part (tracked_gaps.h): B's parts their own motion, A's parts their partners' largest.
   std::vector<double> odometer_a_, odometer_b_, motion_a_, motion_b_;
+  std::vector<std::array<Vec3, 8>> part_box_corners_b_;  // #parts of B: PartBoxCorners
   TrackedGapStats stats_;
 };
 
