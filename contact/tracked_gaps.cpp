@@ -181,33 +181,25 @@ void TrackedGaps::TrackPairs(const Transform& X_WA, const Transform& X_WB, bool 
   const Transform X_AB = X_WA.Inverse() * X_WB;
   const double s = search_.slack_m();
 
-  // Tracked pairs: the broad phase's, plus tracked pairs still in the broad phase grown by s.
+  // Tracked pairs: the broad phase's, plus tracked pairs still in the broad phase grown by s;
+  // with the parts' boxes (rigid surfaces), a new pair's boxes within d + s, a tracked pair's
+  // within d + 2 s (one box test per pair).
   search_.UpdateBroadPhase(X_WA, X_WB, s);
   keep_.assign(search_.part_pairs().begin(), search_.part_pairs().end());
   search_.UpdateBroadPhase(X_WA, X_WB);
   const auto& broad = search_.part_pairs();  // sorted: A's part, then B's
-  next_.assign(broad.begin(), broad.end());
-  // The parts' boxes (rigid surfaces): pairs whose boxes are farther apart than the reach go.
-  if (part_boxes) {
-    const double reach = search_.search_distance_m() + s;
-    auto apart = [&](double r) {
-      return [&, r](const std::pair<int, int>& pair) {
-        return !PartBoxesWithin(a_, pair.first, b_, pair.second, X_AB, r);
-      };
-    };
-    keep_.erase(std::remove_if(keep_.begin(), keep_.end(), apart(reach + s)), keep_.end());
-    // A pair whose boxes are apart by d + 2 s is apart by d + s (keep_ holds the broad phase).
-    auto boxes_apart = apart(reach);
-    next_.erase(std::remove_if(next_.begin(), next_.end(),
-                               [&](const std::pair<int, int>& pair) {
-                                 return !std::binary_search(keep_.begin(), keep_.end(), pair) ||
-                                        boxes_apart(pair);
-                               }),
-                next_.end());
+  const double reach = search_.search_distance_m() + s;
+  auto boxes_within = [&](const std::pair<int, int>& pair, double r) {
+    return !part_boxes || PartBoxesWithin(a_, pair.first, b_, pair.second, X_AB, r);
+  };
+  next_.clear();
+  for (const auto& pair : broad) {
+    const bool tracked = std::binary_search(tracked_.begin(), tracked_.end(), pair);
+    if (boxes_within(pair, tracked ? reach + s : reach)) next_.push_back(pair);
   }
   for (const auto& pair : tracked_)
     if (!std::binary_search(broad.begin(), broad.end(), pair) &&
-        std::binary_search(keep_.begin(), keep_.end(), pair))
+        std::binary_search(keep_.begin(), keep_.end(), pair) && boxes_within(pair, reach + s))
       next_.push_back(pair);
   std::sort(next_.begin(), next_.end());
   // Pairs that joined or left: their parts' nodes start again.
