@@ -171,7 +171,21 @@ void FlexibleContactElement::Evaluate(const ContactSideState& a, const ContactSi
   deform(spec_.a, a, ws.side_a);
   deform(spec_.b, b, ws.side_b);
   const bool tracked = spec_.gap_method == ContactGapMethod::kTracked;
-  if (tracked) ws.tracked.TrackPairs(a.X_WB, b.X_WB);
+  const double d = 0.5 * (spec_.a.gap_margin_m() + spec_.b.gap_margin_m());
+  if (tracked) {
+    // Each flexible side's per-part displacement bound (flexible_contact_surface.h), for the
+    // parts' boxes of the tracked pairs and the hierarchies' allowance.
+    for (const auto& [side, buf] : {std::pair{&spec_.a, &ws.side_a}, std::pair{&spec_.b, &ws.side_b}}) {
+      if (!side->flexible || !buf->q_f) continue;
+      for (int part = 0; part < side->surface().num_parts(); ++part)
+        buf->part_deformation[part] = side->flexible->PartDeformationBound(part, *buf->q_f);
+    }
+    const TrackedGaps::DeformedParts deformed{
+        .a = ws.side_a.q_f ? &ws.side_a.part_deformation : nullptr,
+        .b = ws.side_b.q_f ? &ws.side_b.part_deformation : nullptr,
+        .gap_distance_m = d};
+    ws.tracked.TrackPairs(a.X_WB, b.X_WB, /*part_boxes=*/true, &deformed);
+  }
   // Deformed vertices and normals: those the tracked gaps read, made on first read, or of the
   // whole surface.
   for (const auto& [side, buf, parts] :
@@ -191,7 +205,6 @@ void FlexibleContactElement::Evaluate(const ContactSideState& a, const ContactSi
       buf->q_f_change = *buf->q_f - buf->q_f_previous;
       double change = 0;
       for (const int part : *parts) {
-        buf->part_deformation[part] = fs.PartDeformationBound(part, *buf->q_f);
         if (buf->part_current[part])
           change = std::max(change, fs.PartDeformationBound(part, buf->q_f_change));
       }
@@ -207,7 +220,6 @@ void FlexibleContactElement::Evaluate(const ContactSideState& a, const ContactSi
   }
   const ContactSurface& sa = spec_.a.surface();
   const ContactSurface& sb = spec_.b.surface();
-  const double d = 0.5 * (spec_.a.gap_margin_m() + spec_.b.gap_margin_m());
   ws.searched = false;
   if (spec_.gap_method == ContactGapMethod::kTracked) {
     // Deformed gaps both ways, tracked node by node (tracked_gaps.h).

@@ -177,7 +177,8 @@ void TrackedGaps::Update(const Transform& X_WA, const Transform& X_WB, const Tra
   ComputeGaps(X_WA, X_WB, side_a, side_b, gap_distance_m, gaps_a, gaps_b);
 }
 
-void TrackedGaps::TrackPairs(const Transform& X_WA, const Transform& X_WB, bool part_boxes) {
+void TrackedGaps::TrackPairs(const Transform& X_WA, const Transform& X_WB, bool part_boxes,
+                             const DeformedParts* deformed) {
   const Transform X_AB = X_WA.Inverse() * X_WB;
   const double s = search_.slack_m();
 
@@ -188,9 +189,15 @@ void TrackedGaps::TrackPairs(const Transform& X_WA, const Transform& X_WB, bool 
   keep_.assign(search_.part_pairs().begin(), search_.part_pairs().end());
   search_.UpdateBroadPhase(X_WA, X_WB);
   const auto& broad = search_.part_pairs();  // sorted: A's part, then B's
-  const double reach = search_.search_distance_m() + s;
+  // Deformed sides: a part's deformed vertices lie within its displacement bound of its own, so
+  // its box is grown by it (DeformedParts).
+  const double reach = (deformed ? deformed->gap_distance_m : search_.search_distance_m()) + s;
+  auto grown = [&](const std::pair<int, int>& pair) {
+    if (!deformed) return 0.0;
+    return (deformed->a ? (*deformed->a)[pair.first] : 0.0) + (deformed->b ? (*deformed->b)[pair.second] : 0.0);
+  };
   auto boxes_within = [&](const std::pair<int, int>& pair, double r) {
-    return !part_boxes || PartBoxesWithin(a_, pair.first, b_, pair.second, X_AB, r);
+    return !part_boxes || PartBoxesWithin(a_, pair.first, b_, pair.second, X_AB, r + grown(pair));
   };
   next_.clear();
   for (const auto& pair : broad) {

@@ -143,10 +143,20 @@ class TrackedGaps {
   // pairs and the odometers' rigid motion at these poses, then (deformation changes added) the
   // gaps at the same poses. Between the two, tracked_parts_a() / _b() are the parts whose nodes
   // and faces the gaps will read (only their vertices and normals need be current).
-  // With part_boxes (rigid surfaces only: the boxes bound the surfaces' own vertices), a pair
+  // With part_boxes (the boxes bound the surfaces' own vertices; deformed ones below), a pair
   // of the broad phase is tracked only while the oriented boxes of its two parts are within
   // d + s (PartBoxesWithin; kept while within d + 2 s).
-  void TrackPairs(const Transform& X_WA, const Transform& X_WB, bool part_boxes = false);
+  // Deformed surfaces (`deformed`): a part's deformed vertices lie within (*deformed->a)[part]
+  // (or ->b) of its own, so with part_boxes a pair is tracked only while its boxes are within
+  // d + s + D_a + D_b (d = deformed->gap_distance_m; kept while within d + 2 s + D_a + D_b); a
+  // null vector: that side is not deformed.
+  struct DeformedParts {
+    const std::vector<double>* a = nullptr;  // #parts of A: D_a per part (m)
+    const std::vector<double>* b = nullptr;  // #parts of B
+    double gap_distance_m = 0;
+  };
+  void TrackPairs(const Transform& X_WA, const Transform& X_WB, bool part_boxes = false,
+                  const DeformedParts* deformed = nullptr);
   void ComputeGaps(const Transform& X_WA, const Transform& X_WB, const TrackedSide& a,
                    const TrackedSide& b, double gap_distance_m, std::vector<NodeGap>* gaps_a,
                    std::vector<NodeGap>* gaps_b);
