@@ -40,6 +40,7 @@ Data::Data(const Model& model) {
   mesh_deflection.assign(nm, 0.0);
   mesh_stiffness.assign(nm, 0.0);
   mesh_phase.assign(nm, 0.0);
+  gear_angle.assign(model.gear_angles.size(), 0.0);
   mesh_contact.assign(nm, 0);
   c_gear_a.assign(model.gear_constraints.size(), Vec6::Zero());
   c_gear_b.assign(model.gear_constraints.size(), Vec6::Zero());

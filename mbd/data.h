@@ -66,6 +66,8 @@ struct Data {
   std::vector<double> mesh_stiffness;   // n_meshes: k at the current mesh phase (N/m)
   std::vector<double> mesh_phase;       // n_meshes: mesh phase (cycles)
   std::vector<int> mesh_contact;        // n_meshes: +1 drive flank, -1 coast flank, 0 apart
+  std::vector<double> gear_angle;       // Model::gear_angles: each gear's angle (rad), filled by
+                                        //   CalcGearAngles before the meshes
   // One per Model::external_forces element, made by the element (its caches and outputs); filled
   // by the element's Apply() at the end of CalcForceElements.
   std::vector<std::unique_ptr<ExternalForceWorkspace>> external;

@@ -142,10 +142,11 @@ void CalcForceElements(const Model& model, double t, const Eigen::Ref<const Eige
   // their outputs as they were, while DaeSystem::Tangents takes differences: they have analytic
   // tangents, AddGearMeshTangents).
   const size_t n_meshes = data.skip_elements_with_tangents ? 0 : model.gear_meshes.size();
+  if (n_meshes > 0) CalcGearAngles(model, data);  // once per gear, for all its meshes
   for (size_t i = 0; i < n_meshes; ++i) {
     const GearMesh& mesh = model.gear_meshes[i];
     const GearMeshSpec& s = mesh.spec;
-    const MeshEvaluation e = EvaluateGearMesh(model, mesh, data);
+    const MeshEvaluation e = EvaluateGearMeshAtAngles(model, mesh, data);
     if (e.side != 0) {
       const MeshState& st = e.state;
       const Vec3& n = e.side > 0 ? st.n_drive_W : st.n_coast_W;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 namespace orrery {
 namespace {
@@ -58,25 +59,45 @@ MeshGeometry ComputeMeshGeometry(const std::string& what, const Data& data, Fram
   return g;
 }
 
+double GearSpinAngle(const Data& data, FrameIndex gear, FrameIndex reference, const Mat3& R_CG0) {
+  const Mat3 R_CG = data.X_WFrame[reference].R.transpose() * data.X_WFrame[gear].R;
+  return SpinAngle(R_CG * R_CG0.transpose());
+}
+
+void CalcGearAngles(const Model& model, Data& data) {
+  for (size_t i = 0; i < model.gear_angles.size(); ++i) {
+    const GearAngle& a = model.gear_angles[i];
+    data.gear_angle[i] = GearSpinAngle(data, a.gear, a.reference, a.R_CG0);
+  }
+}
+
 MeshState CalcMeshState(const MeshGeometry& g, const Data& data, FrameIndex gear_a,
                         FrameIndex gear_b, FrameIndex reference, double rba, double rbb,
                         double backlash) {
+  return CalcMeshState(g, data, gear_a, gear_b, reference, rba, rbb, backlash,
+                       GearSpinAngle(data, gear_a, reference, g.R_CA0),
+                       GearSpinAngle(data, gear_b, reference, g.R_CB0));
+}
+
+MeshState CalcMeshState(const MeshGeometry& g, const Data& data, FrameIndex gear_a,
+                        FrameIndex gear_b, FrameIndex reference, double rba, double rbb,
+                        double backlash, double theta_a, double theta_b) {
   MeshState s;
   const Transform& X_WC = data.X_WFrame[reference];
   const Mat3 R_CW = X_WC.R.transpose();
   const Transform& X_WA = data.X_WFrame[gear_a];
   const Transform& X_WB = data.X_WFrame[gear_b];
-  const Mat3 R_CA = R_CW * X_WA.R, R_CB = R_CW * X_WB.R;
   const Vec3 c_a = R_CW * (X_WA.p - X_WC.p), c_b = R_CW * (X_WB.p - X_WC.p);
   // Rotational part, wrapped to one base pitch around the middle of the backlash.
-  s.theta_a = SpinAngle(R_CA * g.R_CA0.transpose());
-  s.theta_b = SpinAngle(R_CB * g.R_CB0.transpose());
+  s.theta_a = theta_a;
+  s.theta_b = theta_b;
   double e = rba * s.theta_a + g.sigma * rbb * s.theta_b;
   if (g.base_pitch > 0) e -= g.base_pitch * std::round((e + 0.5 * backlash) / g.base_pitch);
   s.e = e;
   // Small displacements of the material points at P: centre translation plus tilt.
   const Vec3 dc = (c_a - c_b) - g.dc0_C;
-  const Vec3 za = R_CA.col(2), zb = R_CB.col(2);
+  // Gear axes in C (the third columns of R_CA = R_CW R_WA, R_CB).
+  const Vec3 za = R_CW * X_WA.R.col(2), zb = R_CW * X_WB.R.col(2);
   const double tilt_a = -(za.x() * g.r_a_C.x() + za.y() * g.r_a_C.y());
   const double tilt_b = -(zb.x() * g.r_b_C.x() + zb.y() * g.r_b_C.y());
   const double dz = dc.z() + tilt_a - tilt_b;
@@ -131,6 +152,52 @@ double TableSlopeAt(const std::vector<double>& table, int cycles, double psi) {
   return (table[(i + 1) % n] - table[i]) * n / cycles;
 }
 
+// Calls f(a_k, omega_k, cos(omega_k psi + phi_k), sin(omega_k psi + phi_k)) for each harmonic
+// k = 1, 2, ... of the static transmission error (omega_k = 2 pi k per cycle, a_k and phi_k the
+// spec's amplitudes and phases; phase(k) returns cos phi_k and sin phi_k). One cosine and sine
+// of 2 pi frac(psi); the multiples by the angle-addition recurrence cos((k+1) x) = cos(k x) cos x
+// - sin(k x) sin x (and the sine's), whose rounding grows by about an ulp per harmonic; the
+// phase turns each by its cosine and sine. frac(psi) is exact, so the argument keeps its
+// accuracy over a long run, where 2 pi k psi loses digits to psi's size.
+template <typename Phase, typename F>
+void ForEachHarmonic(const GearMeshSpec& spec, double psi, Phase&& phase, F&& f) {
+  const size_t n = spec.ste_amplitudes.size();
+  if (n == 0) return;
+  const double x = kTwoPi * (psi - std::floor(psi));
+  const double c1 = std::cos(x), s1 = std::sin(x);
+  double c = c1, s = s1;
+  for (size_t k = 0; k < n; ++k) {
+    const auto [cp, sp] = phase(k);
+    f(spec.ste_amplitudes[k], kTwoPi * double(k + 1), c * cp - s * sp, s * cp + c * sp);
+    const double c_next = c * c1 - s * s1;
+    s = s * c1 + c * s1;
+    c = c_next;
+  }
+}
+
+// The phases' cosines and sines from the spec (computed at each call).
+struct SpecPhase {
+  const GearMeshSpec& spec;
+  std::pair<double, double> operator()(size_t k) const {
+    const double phi = k < spec.ste_phases.size() ? spec.ste_phases[k] : 0.0;
+    return phi == 0 ? std::pair(1.0, 0.0) : std::pair(std::cos(phi), std::sin(phi));
+  }
+};
+
+// The same kept by the model (GearMesh::ste_phase_cos, ste_phase_sin).
+struct MeshPhaseTrig {
+  const GearMesh& mesh;
+  std::pair<double, double> operator()(size_t k) const { return {mesh.ste_phase_cos[k], mesh.ste_phase_sin[k]}; }
+};
+
+// Transmission error of the mesh at psi: the table and the harmonics (phases from `phase`).
+template <typename Phase>
+double TransmissionError(const GearMeshSpec& spec, double psi, Phase&& phase) {
+  double e = spec.ste_table_m.empty() ? 0.0 : TableAt(spec.ste_table_m, spec.ste_table_cycles, psi);
+  ForEachHarmonic(spec, psi, phase, [&](double a, double, double c, double) { e += a * c; });
+  return e;
+}
+
 // w += scale J_frame^T F: the row of the power F . V_frame (J_frame: the frame's body Jacobian,
 // plus the modal columns of a frame on a flexible body's node).
 void AddFrameRow(const Model& model, const Data& data, FrameIndex f, const Vec6& F, double scale,
@@ -151,11 +218,7 @@ double MeshStiffness(const GearMeshSpec& spec, double psi) {
 }
 
 double MeshTransmissionError(const GearMeshSpec& spec, double psi) {
-  double e = spec.ste_table_m.empty() ? 0.0 : TableAt(spec.ste_table_m, spec.ste_table_cycles, psi);
-  for (size_t k = 0; k < spec.ste_amplitudes.size(); ++k)
-    e += spec.ste_amplitudes[k] *
-         std::cos(kTwoPi * double(k + 1) * psi + (k < spec.ste_phases.size() ? spec.ste_phases[k] : 0.0));
-  return e;
+  return TransmissionError(spec, psi, SpecPhase{spec});
 }
 
 double MeshStiffnessSlope(const GearMeshSpec& spec, double psi) {
@@ -165,20 +228,20 @@ double MeshStiffnessSlope(const GearMeshSpec& spec, double psi) {
 
 double MeshTransmissionErrorSlope(const GearMeshSpec& spec, double psi) {
   double slope = spec.ste_table_m.empty() ? 0.0 : TableSlopeAt(spec.ste_table_m, spec.ste_table_cycles, psi);
-  for (size_t k = 0; k < spec.ste_amplitudes.size(); ++k) {
-    const double omega = kTwoPi * double(k + 1);
-    slope -= spec.ste_amplitudes[k] * omega *
-             std::sin(omega * psi + (k < spec.ste_phases.size() ? spec.ste_phases[k] : 0.0));
-  }
+  ForEachHarmonic(spec, psi, SpecPhase{spec}, [&](double a, double omega, double, double s) { slope -= a * omega * s; });
   return slope;
 }
 
-MeshEvaluation EvaluateGearMesh(const Model& model, const GearMesh& mesh, const Data& data) {
+namespace {
+
+// EvaluateGearMesh at the gear angles theta_a, theta_b.
+MeshEvaluation EvaluateAt(const Model& model, const GearMesh& mesh, const Data& data, double theta_a,
+                          double theta_b) {
   const GearMeshSpec& s = mesh.spec;
   const bool two_sided = s.contact == GearMeshSpec::Contact::kTwoSided;
   MeshEvaluation e;
   e.state = CalcMeshState(mesh.geometry, data, s.gear_a, s.gear_b, s.reference, s.base_radius_a,
-                          s.base_radius_b, two_sided ? s.backlash : 0.0);
+                          s.base_radius_b, two_sided ? s.backlash : 0.0, theta_a, theta_b);
   const MeshState& st = e.state;
   if (mesh.small_rotations_only && (std::abs(st.theta_a) > 1 || std::abs(st.theta_b) > 1))
     throw std::runtime_error("gear mesh '" + s.name +
@@ -186,7 +249,7 @@ MeshEvaluation EvaluateGearMesh(const Model& model, const GearMesh& mesh, const 
                              "gears turned more than 1 rad; give teeth_a and teeth_b");
   e.psi = MeshPhase(s, mesh.geometry, st);
   e.k = MeshStiffness(s, e.psi);
-  e.ste = MeshTransmissionError(s, e.psi);
+  e.ste = TransmissionError(s, e.psi, MeshPhaseTrig{mesh});
   // Engaged flank.
   e.side = s.contact == GearMeshSpec::Contact::kLinearCoast ? -1 : 1;
   if (two_sided) e.side = st.delta_drive - e.ste > 0 ? 1 : (st.delta_coast - e.ste > 0 ? -1 : 0);
@@ -197,6 +260,18 @@ MeshEvaluation EvaluateGearMesh(const Model& model, const GearMesh& mesh, const 
   e.force = e.k * (e.delta - e.ste) + mesh.c * e.rate;
   if (two_sided) e.force = std::max(e.force, 0.0);  // teeth push, never pull
   return e;
+}
+
+}  // namespace
+
+MeshEvaluation EvaluateGearMesh(const Model& model, const GearMesh& mesh, const Data& data) {
+  const GearMeshSpec& s = mesh.spec;
+  return EvaluateAt(model, mesh, data, GearSpinAngle(data, s.gear_a, s.reference, mesh.geometry.R_CA0),
+                    GearSpinAngle(data, s.gear_b, s.reference, mesh.geometry.R_CB0));
+}
+
+MeshEvaluation EvaluateGearMeshAtAngles(const Model& model, const GearMesh& mesh, const Data& data) {
+  return EvaluateAt(model, mesh, data, data.gear_angle[mesh.angle_a], data.gear_angle[mesh.angle_b]);
 }
 
 

@@ -40,6 +40,19 @@ struct MeshState {
 MeshState CalcMeshState(const MeshGeometry& g, const Data& data, FrameIndex gear_a,
                         FrameIndex gear_b, FrameIndex reference, double base_radius_a,
                         double base_radius_b, double backlash);
+// The same with the gear angles given (theta_a, theta_b: GearSpinAngle of a and b, as
+// CalcGearAngles leaves them in data.gear_angle).
+MeshState CalcMeshState(const MeshGeometry& g, const Data& data, FrameIndex gear_a,
+                        FrameIndex gear_b, FrameIndex reference, double base_radius_a,
+                        double base_radius_b, double backlash, double theta_a, double theta_b);
+
+// Angle (rad) of gear frame `gear` about the z axis of frame `reference` since the start, when
+// its orientation in the reference frame was R_CG0 (needs position kinematics in `data`).
+double GearSpinAngle(const Data& data, FrameIndex gear, FrameIndex reference, const Mat3& R_CG0);
+
+// data.gear_angle: every Model::gear_angles entry's angle (GearSpinAngle), once per evaluation for
+// all the meshes that share it (needs position kinematics). CalcForceElements calls it.
+void CalcGearAngles(const Model& model, Data& data);
 
 // Rate of the drive-flank compression for n_W = n_drive_W (of minus the coast-flank one for
 // n_coast_W): velocity of gear a's material point at its lever point relative to gear b's at its
@@ -73,6 +86,9 @@ struct MeshEvaluation {
   double force = 0;   // tooth force k (delta - ste) + c rate, >= 0 for two-sided contact (N)
 };
 MeshEvaluation EvaluateGearMesh(const Model& model, const GearMesh& mesh, const Data& data);
+// The same with the gear angles taken from data.gear_angle (CalcGearAngles done at this
+// configuration).
+MeshEvaluation EvaluateGearMeshAtAngles(const Model& model, const GearMesh& mesh, const Data& data);
 
 // Slopes of MeshStiffness and MeshTransmissionError in the mesh phase (N/m and m per cycle): the
 // slope of the table's segment at psi (the tables are piecewise linear) plus the harmonics'.

@@ -238,6 +238,19 @@ struct GearMesh {
   // Without tooth counts (1 and 1) the angles cannot be wrapped to a base pitch: the mesh then
   // holds for small rotations only (a published linear model), and a run stops past 1 rad.
   bool small_rotations_only = false;
+  // Gear angles of a and b: indices into Model::gear_angles (ModelBuilder::Finalize).
+  int angle_a = -1, angle_b = -1;
+  // Cosines and sines of spec.ste_phases, one per harmonic (0 and 1 where no phase is given),
+  // for EvaluateGearMeshAtAngles.
+  std::vector<double> ste_phase_cos, ste_phase_sin;
+};
+
+// A gear's angle about its reference frame's z axis since the start, shared by the meshes of the
+// same gear and reference (a planet's sun and ring meshes, a sun's meshes with every planet):
+// CalcGearAngles evaluates each once per pipeline evaluation.
+struct GearAngle {
+  FrameIndex gear = -1, reference = -1;
+  Mat3 R_CG0 = Mat3::Identity();  // the gear frame's orientation in the reference frame at the start
 };
 
 struct GearConstraint {
@@ -336,6 +349,7 @@ class Model {
   std::vector<BushingSpec> bushings;
   std::vector<BearingSpec> bearings;
   std::vector<GearMesh> gear_meshes;
+  std::vector<GearAngle> gear_angles;  // distinct (gear, reference) pairs of gear_meshes
   std::vector<GearConstraint> gear_constraints;
   std::vector<int> gear_constraint_row;  // constraint row of each gear constraint (holonomic)
   std::vector<std::shared_ptr<const ExternalForceElement>> external_forces;

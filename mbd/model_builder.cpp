@@ -15,6 +15,15 @@
 namespace orrery {
 namespace {
 
+// Index of the gear angle (gear, reference) in model.gear_angles, added if new. Two meshes of
+// the same gear and reference share one: the orientation at the start is the same configuration's.
+int GearAngleIndex(Model& model, FrameIndex gear, FrameIndex reference, const Mat3& R_CG0) {
+  for (size_t i = 0; i < model.gear_angles.size(); ++i)
+    if (model.gear_angles[i].gear == gear && model.gear_angles[i].reference == reference) return int(i);
+  model.gear_angles.push_back(GearAngle{gear, reference, R_CG0});
+  return int(model.gear_angles.size()) - 1;
+}
+
 std::string Fmt(const Vec3& v) {
   std::ostringstream s;
   s << "(" << v.x() << ", " << v.y() << ", " << v.z() << ")";
@@ -461,6 +470,13 @@ std::shared_ptr<const Model> ModelBuilder::Finalize() && {
         Fail(what + ": backlash " + std::to_string(s.backlash) + " m is not below the base pitch " +
              std::to_string(mesh.geometry.base_pitch) + " m");
       mesh.small_rotations_only = s.teeth_a <= 1 || s.teeth_b <= 1;
+      mesh.angle_a = GearAngleIndex(m, s.gear_a, s.reference, mesh.geometry.R_CA0);
+      mesh.angle_b = GearAngleIndex(m, s.gear_b, s.reference, mesh.geometry.R_CB0);
+      for (size_t k = 0; k < s.ste_amplitudes.size(); ++k) {
+        const double phase = k < s.ste_phases.size() ? s.ste_phases[k] : 0.0;
+        mesh.ste_phase_cos.push_back(std::cos(phase));
+        mesh.ste_phase_sin.push_back(std::sin(phase));
+      }
       mesh.k_mean = s.stiffness;
       if (!s.stiffness_table.empty()) {
         mesh.k_mean = 0;

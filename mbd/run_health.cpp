@@ -141,16 +141,20 @@ void RunHealth::OnStep(double t, const Eigen::Ref<const Eigen::VectorXd>& q,
   // deflections, so its rows suffice (a kinematics pass per step cost 14 % of seed003_lumped_healthy)
   if (model_.gear_meshes.empty() || integrator_.kind != IntegratorKind::kGeneralizedAlpha) return;
   CalcPositionKinematics(model_, q, data_);
-  CheckMeshes(t, data_);
+  CalcGearAngles(model_, data_);  // once per gear for all its meshes
+  CheckMeshes(t, data_, true);
 }
 
-void RunHealth::CheckMeshes(double t, const Data& d) {
+void RunHealth::CheckMeshes(double t, const Data& d, bool angles_current) {
   for (std::size_t i = 0; i < model_.gear_meshes.size(); ++i) {
     const GearMesh& m = model_.gear_meshes[i];
     const double p = m.geometry.base_pitch;
     if (!(p > 0) || m.small_rotations_only) continue;
     const GearMeshSpec& s = m.spec;
-    const MeshState st = CalcMeshState(m.geometry, d, s.gear_a, s.gear_b, s.reference, s.base_radius_a,
+    const MeshState st =
+        angles_current ? CalcMeshState(m.geometry, d, s.gear_a, s.gear_b, s.reference, s.base_radius_a,
+                                       s.base_radius_b, s.backlash, d.gear_angle[m.angle_a], d.gear_angle[m.angle_b])
+                       : CalcMeshState(m.geometry, d, s.gear_a, s.gear_b, s.reference, s.base_radius_a,
                                        s.base_radius_b, s.backlash);
     // Past its flank by more than the fraction of a pitch, or a jump of half a pitch
     const double past = std::abs(st.e + 0.5 * s.backlash) - 0.5 * s.backlash;
@@ -188,7 +192,7 @@ void RunHealth::CheckMeshRates(double t, const Data& d, double step_s) {
 }
 
 void RunHealth::OnOutput(const State& state, const Eigen::VectorXd& lambda, const Data& evaluated, double step_s) {
-  if (integrator_.kind == IntegratorKind::kIda) CheckMeshes(state.t, evaluated);
+  if (integrator_.kind == IntegratorKind::kIda) CheckMeshes(state.t, evaluated, false);
   CheckMeshRates(state.t, evaluated, step_s);
   CheckEnergy(state, lambda, evaluated);
   CheckDrift(state, evaluated);

@@ -131,7 +131,9 @@ class RunHealth {
   // and throws RunHealthError when it stops the run (or strict).
   void Report(const std::string& check, const std::string& element, double t, double value, double limit,
               bool stops, const std::string& cause);
-  void CheckMeshes(double t, const Data& d);
+  // Meshes past their flank or jumping by half a pitch; angles_current: d.gear_angle holds the
+  // gear angles at d's configuration (CalcGearAngles), else each mesh takes its own.
+  void CheckMeshes(double t, const Data& d, bool angles_current);
   void CheckMeshRates(double t, const Data& d, double step_s);
   void CheckEnergy(const State& state, const Eigen::VectorXd& lambda, const Data& d);
   void CheckDrift(const State& state, const Data& d);

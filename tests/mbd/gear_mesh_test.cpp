@@ -1,17 +1,22 @@
 // Lumped gear mesh and ideal gear constraint on a parallel-axis pair (two gears on revolute
 // joints), against closed forms: torsional natural frequency, static deflection under torque,
 // mesh damping decay, backlash free play, and the ideal ratio with its tooth force; the mesh's
-// analytic tangents (AddGearMeshTangents) against forward differences of the whole pipeline.
+// analytic tangents (AddGearMeshTangents) against forward differences of the whole pipeline; the
+// transmission error's harmonics against their own cosines; meshes of one gear sharing its angle.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
+#include <string>
+#include <vector>
 
 #include <Eigen/Eigenvalues>
 
 #include "mbd/dae.h"
 #include "mbd/dynamics.h"
 #include "mbd/evaluate.h"
+#include "mbd/gear_mesh.h"
+#include "mbd/kinematics.h"
 #include "mbd/integrator.h"
 #include "mbd/linearization.h"
 #include "mbd/model.h"
@@ -255,6 +260,87 @@ TEST(GearMesh, AnalyticTangentsMatchDifferencesThroughThePipeline) {
         << "C\n" << C_an << "\nfd\n" << C_fd;
     // The stiffness is not that of the mean: the table's slope term is in both.
     EXPECT_GT(K_fd.cwiseAbs().maxCoeff(), 0.5 * 4e8 * p.rba * p.rba);
+  }
+}
+
+// The transmission error's harmonics (taken by the angle-addition recurrence from one cosine
+// and sine of the phase, mbd/gear_mesh.cpp) against each harmonic's own std::cos and std::sin,
+// with and without phases, at phases of a long run: within a few ulp of the amplitudes' sum
+// (the recurrence adds about one per harmonic).
+TEST(GearMesh, TransmissionErrorHarmonicsMatchTheirCosines) {
+  GearMeshSpec s;
+  s.ste_amplitudes = {3e-6, 1e-6, -0.7e-6, 0.4e-6, 0.25e-6};
+  for (const std::vector<double>& phases :
+       {std::vector<double>{}, std::vector<double>{0.4, -0.8, 0.0, 2.5}}) {
+    s.ste_phases = phases;
+    double sum = 0;
+    for (double a : s.ste_amplitudes) sum += std::abs(a);
+    for (const double psi : {0.0, 0.125, 0.37, 0.999, 12.9, -3.2, 1234.5678, 98765.4321}) {
+      const double x = 2 * kPi * (psi - std::floor(psi));
+      double e = 0, slope = 0;
+      for (size_t k = 0; k < s.ste_amplitudes.size(); ++k) {
+        const double w = 2 * kPi * double(k + 1), phi = k < phases.size() ? phases[k] : 0.0;
+        e += s.ste_amplitudes[k] * std::cos(double(k + 1) * x + phi);
+        slope -= s.ste_amplitudes[k] * w * std::sin(double(k + 1) * x + phi);
+      }
+      const double eps = std::numeric_limits<double>::epsilon();
+      EXPECT_NEAR(MeshTransmissionError(s, psi), e, 16 * eps * sum) << "psi " << psi;
+      EXPECT_NEAR(MeshTransmissionErrorSlope(s, psi), slope, 16 * eps * sum * 2 * kPi * 5) << "psi " << psi;
+    }
+  }
+}
+
+// A sun meshing with two planets: the sun's angle is one entry of Model::gear_angles for both
+// meshes (three angles, not four), and the pipeline's meshes (CalcGearAngles, then each mesh at
+// the shared angles) give what each mesh gives alone (EvaluateGearMesh, its own angles), to the
+// last bit.
+TEST(GearMesh, MeshesOfOneGearShareItsAngle) {
+  const Pair p;
+  ModelBuilder mb;
+  const Mat3 Ia = Vec3(p.Ja / 2, p.Ja / 2, p.Ja).asDiagonal(), Ib = Vec3(p.Jb / 2, p.Jb / 2, p.Jb).asDiagonal();
+  const BodyIndex sun = mb.AddBody("sun", 1.0, Vec3::Zero(), Ia);
+  const double d = (p.rba + p.rbb) / std::cos(kAlpha);
+  mb.AddJoint({.name = "j_sun", .type = JointType::kRevolute, .parent = kWorldBody, .child = sun, .axis = Vec3::UnitZ()});
+  for (int i = 0; i < 2; ++i) {
+    const std::string name = "planet" + std::to_string(i);
+    const BodyIndex planet = mb.AddBody(name, 2.0, Vec3::Zero(), Ib);
+    const Vec3 at = i == 0 ? Vec3(d, 0, 0) : Vec3(-d, 0, 0);
+    mb.AddJoint({.name = "j_" + name, .type = JointType::kRevolute, .parent = kWorldBody, .child = planet,
+                 .X_PF = Transform::Translation(at), .axis = Vec3::UnitZ()});
+    GearMeshSpec s;
+    s.name = "sun-" + name;
+    s.contact = GearMeshSpec::Contact::kLinearDrive;
+    s.gear_a = mb.body_frame(sun);
+    s.gear_b = mb.body_frame(planet);
+    s.teeth_a = p.za;
+    s.teeth_b = p.zb;
+    s.base_radius_a = p.rba;
+    s.base_radius_b = p.rbb;
+    s.working_pressure_angle = kAlpha;
+    s.stiffness_table = {4e8, 5e8, 6e8, 5e8};
+    s.ste_amplitudes = {2e-6, 0.5e-6};
+    mb.AddGearMesh(s);
+  }
+  const std::shared_ptr<const Model> model = std::move(mb).Finalize();
+  const Model& m = *model;
+  ASSERT_EQ(m.gear_meshes.size(), 2u);
+  EXPECT_EQ(m.gear_angles.size(), 3u);
+  EXPECT_EQ(m.gear_meshes[0].angle_a, m.gear_meshes[1].angle_a);
+  EXPECT_NE(m.gear_meshes[0].angle_b, m.gear_meshes[1].angle_b);
+  State x = State::Initial(m);
+  x.q << 0.7, -0.7 * p.rba / p.rbb + 3e-5, 0.7 * p.rba / p.rbb - 2e-5;
+  x.v << 3.0, -1.7, 1.9;
+  Data d_run(m), d_alone(m);
+  EvaluateDynamics(m, 0, x.q, x.v, Eigen::VectorXd::Zero(m.nv), d_run);
+  CalcPositionKinematics(m, x.q, d_alone);
+  CalcVelocityKinematics(m, x.v, d_alone);
+  EXPECT_DOUBLE_EQ(d_run.gear_angle[m.gear_meshes[0].angle_a], 0.7);
+  for (size_t i = 0; i < m.gear_meshes.size(); ++i) {
+    const MeshEvaluation alone = EvaluateGearMesh(m, m.gear_meshes[i], d_alone);
+    EXPECT_GT(std::abs(alone.force), 1e3) << i;  // linear drive flank: either sign
+    EXPECT_EQ(d_run.mesh_force[i], alone.force) << i;
+    EXPECT_EQ(d_run.mesh_phase[i], alone.psi) << i;
+    EXPECT_EQ(d_run.mesh_deflection[i], alone.delta) << i;
   }
 }
 
