@@ -82,6 +82,19 @@ int LanczosVectors(const FeModesOptions& o, int n) {
   return std::min(n, o.lanczos_vectors > 0 ? o.lanczos_vectors : std::max(2 * o.num_modes + 1, o.num_modes + 20));
 }
 
+// Runs a Spectra solver for the largest nu, throwing if it does not converge; counts into r.
+template <typename Solver>
+void RunSpectra(Solver& eigs, const FeModesOptions& o, FeModes& r) {
+  eigs.init();
+  eigs.compute(Spectra::SortRule::LargestMagn, o.max_iterations, o.tolerance, Spectra::SortRule::SmallestAlge);
+  if (eigs.info() != Spectra::CompInfo::Successful)
+    throw std::runtime_error("eigen solve did not converge: " + std::to_string(eigs.eigenvalues().size()) + " of " +
+                             std::to_string(o.num_modes) + " modes after " + std::to_string(eigs.num_iterations()) +
+                             " restarts (raise the number of Lanczos vectors or iterations)");
+  r.iterations = static_cast<int>(eigs.num_iterations());
+  r.operations = r.block_solves = static_cast<int>(eigs.num_operations());
+}
+
 // Eigenpairs of S^-1 M by Spectra's implicitly restarted Lanczos on the standard form above; the
 // eigenvectors mapped back, x = P^T L^-T y (one solve of N columns), and M-normalized.
 void SolveStandardFormWithSpectra(const ShiftedFactor& f, const Eigen::SparseMatrix<double>& M,
@@ -89,14 +102,7 @@ void SolveStandardFormWithSpectra(const ShiftedFactor& f, const Eigen::SparseMat
   const int n = static_cast<int>(f.rows()), nev = o.num_modes;
   StandardFormOp op(f, M);
   Spectra::SymEigsSolver<StandardFormOp> eigs(op, nev, LanczosVectors(o, n));
-  eigs.init();
-  eigs.compute(Spectra::SortRule::LargestMagn, o.max_iterations, o.tolerance, Spectra::SortRule::SmallestAlge);
-  if (eigs.info() != Spectra::CompInfo::Successful)
-    throw std::runtime_error("eigen solve did not converge: " + std::to_string(eigs.eigenvalues().size()) + " of " +
-                             std::to_string(nev) + " modes after " + std::to_string(eigs.num_iterations()) +
-                             " restarts (raise the number of Lanczos vectors or iterations)");
-  r.iterations = static_cast<int>(eigs.num_iterations());
-  r.operations = r.block_solves = static_cast<int>(eigs.num_operations());
+  RunSpectra(eigs, o, r);
   const Eigen::VectorXd nu = eigs.eigenvalues();
   const Eigen::MatrixXd Y = eigs.eigenvectors();
   r.eigenvalues = f.shift() + nu.cwiseInverse().array();
@@ -120,14 +126,7 @@ void SolveWithSpectra(const ShiftedFactor& f, const Eigen::SparseMatrix<double>&
   Spectra::SparseSymMatProd<double, Eigen::Upper> bop(M);
   Spectra::SymGEigsShiftSolver<FactorOp, Spectra::SparseSymMatProd<double, Eigen::Upper>, Spectra::GEigsMode::ShiftInvert>
       eigs(op, bop, nev, ncv, f.shift());
-  eigs.init();
-  eigs.compute(Spectra::SortRule::LargestMagn, o.max_iterations, o.tolerance, Spectra::SortRule::SmallestAlge);
-  if (eigs.info() != Spectra::CompInfo::Successful)
-    throw std::runtime_error("eigen solve did not converge: " + std::to_string(eigs.eigenvalues().size()) + " of " +
-                             std::to_string(nev) + " modes after " + std::to_string(eigs.num_iterations()) +
-                             " restarts (raise the number of Lanczos vectors or iterations)");
-  r.iterations = static_cast<int>(eigs.num_iterations());
-  r.operations = r.block_solves = static_cast<int>(eigs.num_operations());
+  RunSpectra(eigs, o, r);
   r.eigenvalues = eigs.eigenvalues();  // w^2 (Spectra transforms back)
   r.shapes = eigs.eigenvectors();
 }
