@@ -169,6 +169,13 @@ void ContactElement::Compute(const Model& /*model*/, double /*t*/, const Data& d
              &ws.power_dissipated);
 }
 
+void ContactElement::WarmStart(const ExternalForceWorkspace& source,
+                               ExternalForceWorkspace& target) const {
+  if (spec_.gap_method != ContactGapMethod::kTracked) return;
+  static_cast<ContactWorkspace&>(target).tracked.WarmStartFrom(
+      static_cast<const ContactWorkspace&>(source).tracked);
+}
+
 void ContactElement::AddTo(const Model& /*model*/, const ExternalForceWorkspace& workspace,
                            Data& data) const {
   const auto& ws = static_cast<const ContactWorkspace&>(workspace);

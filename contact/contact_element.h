@@ -137,6 +137,12 @@ class ContactElement final : public ExternalForceElement, public ElementHealthRe
                ExternalForceWorkspace& workspace) const override;
   void AddTo(const Model& model, const ExternalForceWorkspace& workspace,
              Data& data) const override;
+  // The tracking state of `source` into `target` (external_force.h; TrackedGaps::
+  // WarmStartFrom). Not copied: the last gaps and their poses (target's own, which it keeps
+  // while the poses do not change), the monitor's state, the outputs. Nothing with candidate
+  // pairs.
+  void WarmStart(const ExternalForceWorkspace& source,
+                 ExternalForceWorkspace& target) const override;
   const std::vector<OutputDescription>& outputs() const override { return outputs_; }
   void GetOutputs(const ExternalForceWorkspace& workspace, double* values) const override;
   // Health (the header): the penetration against the gap distance.

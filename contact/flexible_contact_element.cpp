@@ -330,6 +330,20 @@ void FlexibleContactElement::Compute(const Model& model, double /*t*/, const Dat
   Evaluate(SideState(model, data, spec_.a), SideState(model, data, spec_.b), ws);
 }
 
+void FlexibleContactElement::WarmStart(const ExternalForceWorkspace& source,
+                                       ExternalForceWorkspace& target) const {
+  if (spec_.gap_method != ContactGapMethod::kTracked) return;
+  const auto& from = static_cast<const FlexibleContactWorkspace&>(source);
+  auto& to = static_cast<FlexibleContactWorkspace&>(target);
+  to.tracked.WarmStartFrom(from.tracked);
+  // The modal coordinates and tracked parts the deformation change is measured from (same
+  // sizes: copied into the existing storage).
+  for (const auto& [f, t] : {std::pair{&from.side_a, &to.side_a}, std::pair{&from.side_b, &to.side_b}}) {
+    t->q_f_previous = f->q_f_previous;
+    std::copy(f->part_current.begin(), f->part_current.end(), t->part_current.begin());
+  }
+}
+
 void FlexibleContactElement::AddTo(const Model& model, const ExternalForceWorkspace& workspace,
                                    Data& data) const {
   const auto& ws = static_cast<const FlexibleContactWorkspace&>(workspace);

@@ -194,6 +194,13 @@ class FlexibleContactElement final : public ExternalForceElement, public Element
                ExternalForceWorkspace& workspace) const override;
   void AddTo(const Model& model, const ExternalForceWorkspace& workspace,
              Data& data) const override;
+  // The tracking state of `source` into `target` (external_force.h): the tracked gaps'
+  // (TrackedGaps::WarmStartFrom) and each flexible side's modal coordinates and tracked parts
+  // at its last evaluation (the deformation change bound is taken from them). Not copied: the
+  // lazy vertices and normals with their stamps (target's own epochs say what is current), the
+  // monitor's state, the outputs. Nothing with candidate pairs.
+  void WarmStart(const ExternalForceWorkspace& source,
+                 ExternalForceWorkspace& target) const override;
   const std::vector<OutputDescription>& outputs() const override { return outputs_; }
   void GetOutputs(const ExternalForceWorkspace& workspace, double* values) const override;
   // Health (the header): the penetration against the gap distance.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 namespace orrery::contact {
 
@@ -132,6 +133,47 @@ void TrackedGaps::Reset() {
     std::fill(pass->block_wake.begin(), pass->block_wake.end(),
               -std::numeric_limits<double>::infinity());
   }
+}
+
+void TrackedGaps::WarmStartFrom(const TrackedGaps& source) {
+  if (&source == this) return;
+  if (&source.a_ != &a_ || &source.b_ != &b_)
+    throw std::invalid_argument("TrackedGaps::WarmStartFrom: the source tracks other surfaces");
+  // Pairs and parts (capacities reserved for every pair and part: no allocation).
+  tracked_.assign(source.tracked_.begin(), source.tracked_.end());
+  tracked_parts_a_.assign(source.tracked_parts_a_.begin(), source.tracked_parts_a_.end());
+  tracked_parts_b_.assign(source.tracked_parts_b_.begin(), source.tracked_parts_b_.end());
+  std::copy(source.active_b_.begin(), source.active_b_.end(), active_b_.begin());
+  // The nodes of the tracked parts, per pass.
+  auto copy_parts = [](const ContactSurface& surface, const std::vector<int>& parts,
+                       const Pass& from, Pass& to) {
+    for (const int part : parts) {
+      const int v0 = surface.part_vertex_start()[part], v1 = surface.part_vertex_start()[part + 1];
+      auto range = [&](const auto& x, auto& y) {
+        std::copy(x.begin() + v0, x.begin() + v1, y.begin() + v0);
+      };
+      range(from.face, to.face);
+      range(from.reach, to.reach);
+      range(from.distance, to.distance);
+      range(from.odometer_reach, to.odometer_reach);
+      range(from.stamp, to.stamp);
+      range(from.stamp_position, to.stamp_position);
+      range(from.stamp_face_deformation, to.stamp_face_deformation);
+      std::copy(from.block_wake.begin() + from.part_block_start[part],
+                from.block_wake.begin() + from.part_block_start[part + 1],
+                to.block_wake.begin() + to.part_block_start[part]);
+    }
+  };
+  copy_parts(a_, source.tracked_parts_a_, source.pass_a_, pass_a_);
+  copy_parts(b_, source.tracked_parts_b_, source.pass_b_, pass_b_);
+  // Odometers and the pose they were last advanced to.
+  X_AB_previous_ = source.X_AB_previous_;
+  have_previous_ = source.have_previous_;
+  odometer_ = source.odometer_;
+  face_deformation_a_ = source.face_deformation_a_;
+  face_deformation_b_ = source.face_deformation_b_;
+  std::copy(source.odometer_a_.begin(), source.odometer_a_.end(), odometer_a_.begin());
+  std::copy(source.odometer_b_.begin(), source.odometer_b_.end(), odometer_b_.begin());
 }
 
 void TrackedGaps::ResetPart(Pass& pass, const ContactSurface& node_surface, int part) {

@@ -164,6 +164,18 @@ class TrackedGaps {
   const std::vector<int>& tracked_parts_b() const { return tracked_parts_b_; }
   // Forget every node's face and distance (the next Update() seeds them all).
   void Reset();
+  // Takes over the tracking state of `source`, a TrackedGaps of the same two surfaces (another
+  // workspace of the same element): its tracked pairs, the faces, reaches, stamps and block
+  // wake-ups of the nodes of its tracked parts, its odometers and last relative pose, so that
+  // the next Update() continues from source's last one (a workspace a step behind instead of
+  // an output interval: ExternalForceElement::WarmStart). The gaps that Update() then lists
+  // are those the tracking finds from any start (the header: sleeping nodes cannot have reached
+  // the other surface, the others are walked or searched exactly); only the work differs.
+  // Nodes of parts source does not track are left: a pair that joins the tracked set resets
+  // its parts' nodes before they are read. Not copied: the statistics and the broad phase's
+  // windows (a cache checked against the poses). Allocation-free; throws std::invalid_argument
+  // when source tracks other surfaces.
+  void WarmStartFrom(const TrackedGaps& source);
 
   // A surface as the passes use it: its topology, and its vertices and normals (own or deformed;
   // lazy vertices and normals as TrackedSide's, made on first read).

@@ -88,6 +88,7 @@ class DaeSystem {
   void set_element_tangents(bool use) { use_element_tangents_ = use; }
 
   Data& data() { return data_; }
+  const Data& data() const { return data_; }
   const Model& model() const { return model_; }
   long residual_evaluations() const { return residual_evaluations_; }
 

@@ -80,6 +80,17 @@ class ExternalForceElement {
                            ExternalForceWorkspace& workspace, Eigen::Ref<Eigen::MatrixXd> K,
                            Eigen::Ref<Eigen::MatrixXd> C) const = 0;
 
+  // Warm start: copies what `source` keeps from one evaluation to the next to steer the next
+  // (a contact's tracked closest faces, sleeping nodes and odometers, tracked_gaps.h) into
+  // `target`, a workspace of the same element in another Data, so that target's next evaluation
+  // starts from where source's last one stood instead of from its own older one. It must not
+  // change what that evaluation computes (only how much work it takes), nor copy caches whose
+  // validity `target` tracks itself, nor addresses; it must not allocate. Default: nothing.
+  // The result recorder calls it before each row with the integrator's workspace as source
+  // (WarmStartExternalWorkspaces, mbd/force_elements.h).
+  virtual void WarmStart(const ExternalForceWorkspace& /*source*/,
+                         ExternalForceWorkspace& /*target*/) const {}
+
   // The element's outputs, fixed from construction (the recorder declares them once).
   virtual const std::vector<OutputDescription>& outputs() const = 0;
   // Writes the outputs' values of the last Apply(), in the order of outputs(), each output's

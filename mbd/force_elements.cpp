@@ -216,4 +216,9 @@ void CalcExternalForces(const Model& model, double t, Data& data) {
   }
 }
 
+void WarmStartExternalWorkspaces(const Model& model, const Data& source, Data& target) {
+  for (size_t e = 0; e < model.external_forces.size(); ++e)
+    model.external_forces[e]->WarmStart(*source.external[e], *target.external[e]);
+}
+
 }  // namespace orrery

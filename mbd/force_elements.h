@@ -23,4 +23,10 @@ void CalcForceElements(const Model& model, double t, const Eigen::Ref<const Eige
 // thread is rethrown here (the first in element order).
 void CalcExternalForces(const Model& model, double t, Data& data);
 
+// ExternalForceElement::WarmStart of every external element from source's workspaces into
+// target's (two Data of the same model): the recorder's evaluation at an output row then
+// starts its tracking from the integrator's last evaluation, a step away, instead of from the
+// last row. Allocation-free.
+void WarmStartExternalWorkspaces(const Model& model, const Data& source, Data& target);
+
 }  // namespace orrery

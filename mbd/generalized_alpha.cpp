@@ -145,6 +145,7 @@ class GeneralizedAlpha final : public Integrator {
 
   const State& state() const override { return state_; }
   const Eigen::VectorXd& vdot() const override { return vdot_; }
+  const Data& data() const override { return dae_.data(); }
   const Eigen::VectorXd& lambda() const override { return lambda_; }
   std::string name() const override { return "generalized-alpha"; }
 

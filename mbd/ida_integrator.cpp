@@ -135,6 +135,7 @@ class IdaIntegrator final : public Integrator {
 
   const State& state() const override { return state_; }
   const Eigen::VectorXd& vdot() const override { return vdot_; }
+  const Data& data() const override { return dae_.data(); }
   const Eigen::VectorXd& lambda() const override { return lambda_; }
   std::string name() const override { return "ida"; }
   void SetStepCallback(StepCallback callback) override { step_callback_ = std::move(callback); }

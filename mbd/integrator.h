@@ -22,6 +22,7 @@
 
 #include <Eigen/Core>
 
+#include "mbd/data.h"
 #include "mbd/model.h"
 #include "mbd/state.h"
 
@@ -128,6 +129,11 @@ class Integrator {
   virtual const Eigen::VectorXd& lambda() const = 0;   // n_constraints, at state().t
   virtual IntegratorStats stats() const = 0;
   virtual std::string name() const = 0;
+  // The Data of the integrator's last pipeline evaluation (a Newton iterate or IDA residual
+  // near state(), not necessarily at it: the generalized-alpha step ends without evaluating its
+  // accepted iterate). Read-only: the recorder warms its own element workspaces from it
+  // (WarmStartExternalWorkspaces); nothing may rely on its values being those at state().
+  virtual const Data& data() const = 0;
 
   // The solution at t inside the last accepted step [t_begin, t_end] (of the last OnStep):
   // q (nq), v (nv), vdot (nv). IDA: its interpolating polynomial (IDAGetDky, orders 0 and 1).

@@ -7,6 +7,7 @@
 #include "mbd/constraints.h"
 #include "mbd/dynamics.h"
 #include "mbd/evaluate.h"
+#include "mbd/force_elements.h"
 
 namespace orrery {
 namespace {
@@ -133,8 +134,9 @@ ResultRecorder::ResultRecorder(const Model& model, ResultFile& out)
 }
 
 void ResultRecorder::Record(const State& s, const Eigen::VectorXd& vdot,
-                            const Eigen::VectorXd& lambda) {
+                            const Eigen::VectorXd& lambda, const Data* warm) {
   Data& d = data_;
+  if (warm) WarmStartExternalWorkspaces(model_, *warm, d);
   EvaluateDynamics(model_, s.t, s.q, s.v, vdot, d);
   out_.Append(time_, &s.t);
   // Energy and drift.

@@ -52,7 +52,12 @@ class ResultRecorder {
   // Declares every series in `out`. The recorder keeps references to both.
   ResultRecorder(const Model& model, ResultFile& out);
   // Computes and appends one row of every series at (state, vdot, lambda). Allocation-free.
-  void Record(const State& state, const Eigen::VectorXd& vdot, const Eigen::VectorXd& lambda);
+  // warm: a Data of the same model evaluated near the state (the integrator's,
+  // Integrator::data()), whose external elements' tracking state is copied into the recorder's
+  // before its evaluation (WarmStartExternalWorkspaces): the contacts then track from a step
+  // back instead of from the last row; the row is the same.
+  void Record(const State& state, const Eigen::VectorXd& vdot, const Eigen::VectorXd& lambda,
+              const Data* warm = nullptr);
   // The pipeline as the last Record() evaluated it (energies, powers, constraints at the row).
   const Data& data() const { return data_; }
 

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "mbd/evaluate.h"
+#include "mbd/force_elements.h"
 #include "mbd/output_schedule.h"
 #include "mbd/result_recorder.h"
 
@@ -55,16 +56,19 @@ void FinishSensors(SensorSampler* sensors, double last_row_t) {
 }
 
 // One output row: room in the file, the recorder's row, then the row's health from the
-// recorder's evaluation (or from an evaluation of its own without a file).
+// recorder's evaluation (or from an evaluation of its own without a file). Both evaluations
+// start their contacts' tracking from the integrator's last evaluation (a step back), not
+// from the last row (ExternalForceElement::WarmStart).
 void RecordRow(const Model& model, const Integrator& integrator, ResultFile* out, ResultRecorder* recorder,
                RunHealth& health, Data* own) {
   const State& s = integrator.state();
   if (recorder) {
     out->CheckRoom();
-    recorder->Record(s, integrator.vdot(), integrator.lambda());
+    recorder->Record(s, integrator.vdot(), integrator.lambda(), &integrator.data());
     health.OnOutput(s, integrator.lambda(), recorder->data(), integrator.stats().last_step);
     return;
   }
+  WarmStartExternalWorkspaces(model, integrator.data(), *own);
   EvaluateDynamics(model, s.t, s.q, s.v, integrator.vdot(), *own);
   health.OnOutput(s, integrator.lambda(), *own, integrator.stats().last_step);
 }

@@ -1,0 +1,218 @@
+// Warm starts of the contacts' tracked gaps (ExternalForceElement::WarmStart, TrackedGaps::
+// WarmStartFrom; mbd/force_elements.h WarmStartExternalWorkspaces): the result recorder copies
+// the integrator's tracking state into its own workspaces before each row, so that its
+// evaluation tracks from a step back instead of from the last row. The oracle: the same
+// evaluation in a workspace that was not warmed (a cold one, tracking from the last row as the
+// recorder did before), compared to the last bit; and the candidate-pair path (the flexible
+// block). The warm evaluations must also do less work (fewer nodes evaluated), or the copy
+// copied nothing.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "contact/contact_element.h"
+#include "contact/flexible_contact_element.h"
+#include "flex/craig_bampton.h"
+#include "flex/fe_assembly.h"
+#include "flex/box_mesher.h"
+#include "flex/flexible_body_modes.h"
+#include "mbd/data.h"
+#include "mbd/evaluate.h"
+#include "mbd/force_elements.h"
+#include "mbd/model.h"
+#include "mbd/state.h"
+#include "models/gear_contact.h"
+
+namespace orrery::contact {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+bool BitEqual(const Eigen::VectorXd& x, const Eigen::VectorXd& y) {
+  return x.size() == y.size() &&
+         std::memcmp(x.data(), y.data(), sizeof(double) * static_cast<size_t>(x.size())) == 0;
+}
+
+// Everything an evaluation hands to the recorder: generalized forces, body forces, energies and
+// every element's outputs, bit for bit.
+void ExpectSameEvaluation(const Model& m, const Data& warm, const Data& cold, int row) {
+  ASSERT_TRUE(BitEqual(warm.tau_id, cold.tau_id)) << "row " << row;
+  for (int b = 0; b < m.nbodies; ++b) ASSERT_TRUE(warm.f_ext[b] == cold.f_ext[b]) << "row " << row;
+  ASSERT_EQ(warm.potential_energy, cold.potential_energy) << "row " << row;
+  ASSERT_EQ(warm.power_dissipated, cold.power_dissipated) << "row " << row;
+  for (size_t e = 0; e < m.external_forces.size(); ++e) {
+    const ExternalForceElement& element = *m.external_forces[e];
+    const int n = OutputValueCount(element.outputs());
+    Eigen::VectorXd w(n), c(n);
+    element.GetOutputs(*warm.external[e], w.data());
+    element.GetOutputs(*cold.external[e], c.data());
+    ASSERT_TRUE(BitEqual(w, c)) << "row " << row << ", element " << element.name();
+  }
+}
+
+// A pinion (18 teeth) driving two 34-tooth gears by tooth contact (tests/contact/
+// parallel_contacts_test.cpp's pair), all on revolute joints about z.
+std::shared_ptr<const Model> TwoMeshModel() {
+  const double deg = kPi / 180;
+  gears::GearSpec s1{.teeth = 18, .normal_module_m = 1.5e-3,
+                     .normal_pressure_angle_rad = 21.3 * deg, .face_width_m = 0.03};
+  gears::GearSpec s2 = s1;
+  s2.teeth = 34;
+  const gears::GearPair pair{gears::Gear(s1), gears::Gear(s2)};
+  ModelBuilder b;
+  const Mat3 I = Mat3::Identity() * 1e-4;
+  const BodyIndex pinion = b.AddBody("pinion", 0.3, Vec3::Zero(), I);
+  JointSpec jp;
+  jp.name = "pinion", jp.type = JointType::kRevolute, jp.parent = kWorldBody, jp.child = pinion;
+  b.AddJoint(jp);
+  gears::GearContactOptions o;
+  o.involute_intervals = 16;
+  o.face_intervals = 2;
+  for (int k = 0; k < 2; ++k) {
+    const std::string name = "gear" + std::to_string(k + 1);
+    const BodyIndex gear = b.AddBody(name, 1.0, Vec3::Zero(), I);
+    JointSpec jg = jp;
+    jg.name = name, jg.child = gear;
+    const double side = k == 0 ? 0.0 : kPi;
+    jg.X_PF = Transform(AxisAngle(Vec3::UnitZ(), side + kPi * (1 + 1.0 / 34)),
+                        AxisAngle(Vec3::UnitZ(), side) * Vec3(pair.center_distance_m(), 0, 0));
+    b.AddJoint(jg);
+    b.AddExternalForce(std::make_shared<ContactElement>(
+        gears::MakeGearContactSpec("mesh" + std::to_string(k + 1), pair, pinion, gear, o)));
+  }
+  return std::move(b).Finalize();
+}
+
+long NodeEvaluations(const Data& d, size_t e) {
+  return static_cast<const ContactWorkspace&>(*d.external[e]).tracked.stats().node_evaluations;
+}
+
+// The gears roll through two and a half pinion pitches in 400 small steps (an integrator's
+// evaluations in `stepping`), the pinion pressed a little ahead (a few micrometres at the
+// flanks, varying) so that teeth come in and out of contact on both meshes. Every 10th state is
+// a row: `warm` is warmed from `stepping` and evaluated there, `cold` just evaluated there.
+TEST(WarmStart, RigidGearRowsEqualColdRows) {
+  const std::shared_ptr<const Model> model = TwoMeshModel();
+  const Model& m = *model;
+  Data stepping(m), warm(m), cold(m);
+  State s = State::Initial(m);
+  const Eigen::VectorXd vdot = Eigen::VectorXd::Zero(m.nv);
+  int pressed = 0;
+  for (int k = 0; k <= 400; ++k) {
+    const double turn = 2e-3 * k;
+    s.q(0) = turn + (3e-6 + 2e-6 * std::sin(0.05 * k)) / 0.0135;
+    s.q(1) = s.q(2) = -turn * 18.0 / 34.0;
+    s.v << 20, -20 * 18.0 / 34.0, -20 * 18.0 / 34.0;
+    EvaluateDynamics(m, 0.0, s.q, s.v, vdot, stepping);
+    if (k % 10 != 0) continue;
+    // The row, a step after the integrator's evaluation of a slightly different state.
+    s.q(0) += 1e-4;
+    s.q(1) -= 0.5e-4;
+    WarmStartExternalWorkspaces(m, stepping, warm);
+    EvaluateDynamics(m, 0.0, s.q, s.v, vdot, warm);
+    EvaluateDynamics(m, 0.0, s.q, s.v, vdot, cold);
+    ExpectSameEvaluation(m, warm, cold, k / 10);
+    pressed += static_cast<const ContactWorkspace&>(*cold.external[0]).contact_points > 0 &&
+               static_cast<const ContactWorkspace&>(*cold.external[1]).contact_points > 0;
+  }
+  // Both meshes carried load at most rows (the comparison is not of zeros), and the warm rows
+  // evaluated fewer nodes than the cold ones (they started from the step before).
+  EXPECT_GT(pressed, 30);
+  for (size_t e = 0; e < 2; ++e) {
+    EXPECT_LT(NodeEvaluations(warm, e), NodeEvaluations(cold, e));
+    std::printf("mesh %zu: node evaluations of 41 rows: warm %ld, cold %ld\n", e + 1,
+                NodeEvaluations(warm, e), NodeEvaluations(cold, e));
+  }
+}
+
+// A flexible block (hex8, 6 modes) over a rigid plane, sliding across it while its modes press
+// its bottom face into the plane and release it: rows of a warmed workspace equal the rows of a
+// cold one to the last bit (tracked gaps, lazy vertices and normals, the deformation-change
+// bound from the copied modal coordinates), and the candidate-pair path's to its rounding.
+TEST(WarmStart, FlexibleBlockRowsEqualColdRows) {
+  flex::FeMesh mesh = flex::MakeBoxMesh({.origin_m = {-0.01, -0.01, 0}, .size_m = {0.02, 0.02, 0.01},
+                                         .divisions = {4, 4, 2}, .type = flex::ElementType::kHex8});
+  mesh.AssignMaterialToAll(
+      {.name = "STEEL", .youngs_modulus_pa = 210e9, .poissons_ratio = 0.0, .density_kg_m3 = 7850});
+  const flex::FeSystem sys = flex::AssembleFeSystem(mesh);
+  const std::vector<flex::FeInterface> ifs = {flex::MakeInterface(mesh, "ZMAX", flex::InterfaceKind::kRbe2)};
+  const flex::CraigBamptonModel cb = flex::ReduceCraigBampton(mesh, sys, ifs, {.num_modes = 6});
+  auto modes = std::make_shared<const FlexibleBodyModes>(flex::MakeFlexibleBodyModes(mesh, sys, cb, ifs));
+  auto surface = std::make_shared<const FlexibleContactSurface>(
+      modes, FlexibleContactSurfaceSpec{.node_sets = {"ZMIN"}, .gap_margin_m = 30e-6,
+                                        .deformation_allowance_m = 60e-6});
+  TriangleMesh plane;
+  const int n = 9;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) plane.vertices.push_back(Vec3(-0.0225 + i * 5e-3, -0.0225 + j * 5e-3, 0));
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const int v = j * (n + 1) + i;
+      plane.triangles.push_back({v, v + 1, v + n + 2});
+      plane.triangles.push_back({v, v + n + 2, v + n + 1});
+    }
+  auto rigid = std::make_shared<const ContactSurface>(std::vector{plane}, 30e-6);
+  auto element = [&](ContactGapMethod method) {
+    return FlexibleContactElement({.name = "block_on_plane", .a = {.body = 1, .flexible = surface},
+                                   .b = {.body = 0, .rigid = rigid},
+                                   .law = {.stiffness_per_area = 2.1e13, .hunt_crossley_s_per_m = 0.4,
+                                           .friction_coefficient = 0.2, .slip_velocity_m_s = 1e-2},
+                                   .gap_method = method});
+  };
+  const FlexibleContactElement tracked = element(ContactGapMethod::kTracked);
+  const FlexibleContactElement pairs = element(ContactGapMethod::kCandidatePairs);
+  FlexibleContactWorkspace stepping(tracked.spec().a, tracked.spec().b);
+  FlexibleContactWorkspace warm(tracked.spec().a, tracked.spec().b);
+  FlexibleContactWorkspace cold(tracked.spec().a, tracked.spec().b);
+  FlexibleContactWorkspace oracle(pairs.spec().a, pairs.spec().b);
+  // A modal direction moving the bottom face down by 1 m per unit at its lowest vertex.
+  const int nf = modes->nf;
+  Eigen::VectorXd dir(nf);
+  for (int k = 0; k < nf; ++k) dir(k) = std::sin(0.9 * k + 0.4);
+  Eigen::VectorXd u(3 * surface->undeformed().num_vertices());
+  std::vector<Vec3> xv(surface->undeformed().num_vertices());
+  std::vector<Vec3> nv(surface->undeformed().num_triangles());
+  surface->Deform(dir, &u, &xv, &nv);
+  double down = 0;
+  for (int v = 0; v < surface->undeformed().num_vertices(); ++v) down = std::min(down, u(3 * v + 2));
+  ASSERT_LT(down, 0);
+  dir /= -down;
+  auto state = [&](int k, Eigen::VectorXd* q) {
+    *q = (20e-6 + 12e-6 * std::sin(0.02 * k)) * dir;
+    return Transform::Translation(Vec3(2e-6 * k, 1e-6 * k, 0.01 + 12e-6));
+  };
+  Eigen::VectorXd q(nf), q_row(nf);
+  int pressed = 0;
+  for (int k = 0; k <= 600; ++k) {
+    const Transform X = state(k, &q);
+    tracked.Evaluate({.X_WB = X, .q_f = &q}, {.X_WB = Transform()}, stepping);
+    if (k % 20 != 0) continue;
+    const Transform X_row = state(k + 1, &q_row);  // a step on
+    tracked.WarmStart(stepping, warm);
+    tracked.Evaluate({.X_WB = X_row, .q_f = &q_row}, {.X_WB = Transform()}, warm);
+    tracked.Evaluate({.X_WB = X_row, .q_f = &q_row}, {.X_WB = Transform()}, cold);
+    pairs.Evaluate({.X_WB = X_row, .q_f = &q_row}, {.X_WB = Transform()}, oracle);
+    ASSERT_EQ(warm.contact_points, cold.contact_points) << k;
+    ASSERT_EQ(warm.normal_force, cold.normal_force) << k;
+    ASSERT_EQ(warm.friction_force, cold.friction_force) << k;
+    ASSERT_EQ(warm.energy, cold.energy) << k;
+    ASSERT_TRUE(BitEqual(warm.side_a.modal_force, cold.side_a.modal_force)) << k;
+    ASSERT_TRUE(warm.side_a.f_W == cold.side_a.f_W) << k;
+    EXPECT_EQ(warm.contact_points, oracle.contact_points) << k;
+    EXPECT_NEAR(warm.normal_force, oracle.normal_force, 1e-9 * oracle.normal_force + 1e-12) << k;
+    pressed += warm.contact_points > 0;
+  }
+  EXPECT_GT(pressed, 15);  // pressed at most of the 31 rows
+  const long w = warm.tracked.stats().node_evaluations, c = cold.tracked.stats().node_evaluations;
+  std::printf("flexible block: node evaluations of 31 rows: warm %ld, cold %ld\n", w, c);
+  EXPECT_LT(w, c);
+}
+
+}  // namespace
+}  // namespace orrery::contact
