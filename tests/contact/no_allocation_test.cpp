@@ -23,6 +23,7 @@
 #include "mbd/data.h"
 #include "mbd/dynamics.h"
 #include "mbd/evaluate.h"
+#include "mbd/force_elements.h"
 #include "mbd/model.h"
 #include "mbd/state.h"
 
@@ -115,6 +116,17 @@ void CheckGearContactEvaluation(ContactGapMethod method, int threads = 1) {
   const long seeds = ws.tracked.stats().seeds, walks = ws.tracked.stats().walk_steps;
   const long searches = ws.search.stats().searches;
   EXPECT_EQ(AllocationsIn(pass), 0);
+  // The result recorder's row: its Data warmed from this one (ExternalForceElement::WarmStart),
+  // then evaluated a little further on, without allocating once sized.
+  Data row(m);
+  auto record = [&] {
+    WarmStartExternalWorkspaces(m, data, row);
+    s.q(iq1) += 1e-7;
+    EvaluateDynamics(m, 0.0, s.q, s.v, vdot, row);
+  };
+  record();
+  pass();
+  EXPECT_EQ(AllocationsIn(record), 0);
   if (method == ContactGapMethod::kTracked) {
     // Nodes were searched in the hierarchies and walked, under load.
     EXPECT_GT(ws.tracked.stats().seeds - seeds, 25);
@@ -187,6 +199,16 @@ TEST(ContactNoAllocation, FlexibleContactEvaluation) {
   const long evaluations = ws.tracked.stats().node_evaluations;
   EXPECT_EQ(AllocationsIn(pass), 0);
   EXPECT_GT(ws.tracked.stats().node_evaluations - evaluations, 40);
+  // The result recorder's row (as in the gear test above).
+  Data row(m);
+  auto record = [&] {
+    WarmStartExternalWorkspaces(m, data, row);
+    s.q(iq) -= 1e-8;
+    EvaluateDynamics(m, 0.0, s.q, s.v, vdot, row);
+  };
+  record();
+  pass();
+  EXPECT_EQ(AllocationsIn(record), 0);
   EXPECT_GT(ws.normal_force, 0);
   EXPECT_GT(ws.side_a.modal_force.norm(), 0);
   ExpectTangentsWithoutAllocation(m, s);
