@@ -275,8 +275,9 @@ TEST(ResultFileErrorsTest, BadSeriesAndObjectsNameThePaths) {
   ResultFile out = ResultFile::Create(file.path());
   out.AddSeries("/bodies/a/position", 3, "m");
   out.WriteVector("/fixed", {1.0}, "1");
-  // Duplicate series, a series over a fixed dataset: invalid_argument naming both paths
-  for (const std::string path : {"/bodies/a/position", "/fixed"}) {
+  // Duplicate series, a series over a fixed dataset or a group: invalid_argument naming both
+  // paths
+  for (const std::string path : {"/bodies/a/position", "/fixed", "/bodies/a"}) {
     try {
       out.AddSeries(path, 3, "m");
       FAIL() << "added a duplicate " << path;
