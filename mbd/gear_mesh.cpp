@@ -9,6 +9,7 @@
 namespace orrery {
 namespace {
 
+constexpr double kPi = 3.141592653589793238463;
 constexpr double kTwoPi = 6.283185307179586476925;
 
 // Angle of a gear frame about the reference z axis.
@@ -55,6 +56,9 @@ MeshGeometry ComputeMeshGeometry(const std::string& what, const Data& data, Fram
   g.sigma = internal_b ? -1.0 : 1.0;
   g.cos_beta = std::cos(beta_b);
   g.sin_beta = std::sin(beta_b);
+  g.n_drive_helix_C = g.cos_beta * g.n_drive_C + g.sin_beta * Vec3::UnitZ();
+  g.n_coast_helix_C = g.cos_beta * g.n_coast_C + g.sin_beta * Vec3::UnitZ();
+  g.k_spin_base = g.cos_beta * (rba + g.sigma * rbb);
   g.base_pitch = teeth_a > 0 ? kTwoPi * rba / teeth_a : 0.0;
   return g;
 }
@@ -64,11 +68,94 @@ double GearSpinAngle(const Data& data, FrameIndex gear, FrameIndex reference, co
   return SpinAngle(R_CG * R_CG0.transpose());
 }
 
-void CalcGearAngles(const Model& model, Data& data) {
-  for (size_t i = 0; i < model.gear_angles.size(); ++i) {
-    const GearAngle& a = model.gear_angles[i];
-    data.gear_angle[i] = GearSpinAngle(data, a.gear, a.reference, a.R_CG0);
+namespace {
+
+// Tolerance on the components of joint axes and of fixed rotations' z columns against +-z.
+constexpr double kAxisTolerance = 1e-9;
+
+bool Near(const Vec3& a, const Vec3& b) { return (a - b).cwiseAbs().maxCoeff() <= kAxisTolerance; }
+
+// Appends the rotation coordinate of joint `jt` (side +1 below the gear, -1 below the reference);
+// false if the joint turns its child other than about z.
+bool AddJointTerm(const Model& model, const Joint& jt, double side, std::vector<GearAngleTerm>* terms) {
+  const Vec3 z = Vec3::UnitZ();
+  if (!Near(jt.spec.X_PF.R.col(2), z) || !Near(jt.X_MC.R.col(2), z)) return false;
+  int rotation = -1;  // offset of the rotation coordinate in the joint's q
+  switch (jt.spec.type) {
+    case JointType::kFixed:
+    case JointType::kPrismatic: return true;  // no rotation
+    case JointType::kRevolute:
+    case JointType::kCylindrical: rotation = 0; break;
+    case JointType::kPlanar: rotation = 2; break;
+    default: return false;
   }
+  const double axis_sign = Near(jt.axis, z) ? 1.0 : Near(jt.axis, -z) ? -1.0 : 0.0;
+  if (axis_sign == 0) return false;
+  const int q = jt.q_start + rotation;
+  terms->push_back({q, side * axis_sign, model.q_initial(q)});
+  return true;
+}
+
+// Bodies from `b` up to the world (inclusive).
+std::vector<BodyIndex> PathToWorld(const Model& model, BodyIndex b) {
+  std::vector<BodyIndex> path{b};
+  while (b != kWorldBody) {
+    b = model.joints[model.bodies[b].parent_joint].spec.parent;
+    path.push_back(b);
+  }
+  return path;
+}
+
+}  // namespace
+
+bool FindGearAngleTerms(const Model& model, FrameIndex gear, FrameIndex reference,
+                        std::vector<GearAngleTerm>* terms) {
+  terms->clear();
+  const Frame& fg = model.frames[gear];
+  const Frame& fc = model.frames[reference];
+  if (fg.node >= 0 || fc.node >= 0) return false;
+  if (!Near(fg.X_BF.R.col(2), Vec3::UnitZ()) || !Near(fc.X_BF.R.col(2), Vec3::UnitZ())) return false;
+  const std::vector<BodyIndex> up_g = PathToWorld(model, fg.body), up_c = PathToWorld(model, fc.body);
+  // The lowest common body; the joints below it on each side.
+  BodyIndex common = kWorldBody;
+  for (BodyIndex b : up_c)
+    if (std::find(up_g.begin(), up_g.end(), b) != up_g.end()) {
+      common = b;
+      break;
+    }
+  for (const auto& [path, side] : {std::pair(&up_g, 1.0), std::pair(&up_c, -1.0)})
+    for (BodyIndex b : *path) {
+      if (b == common) break;
+      if (!AddJointTerm(model, model.joints[model.bodies[b].parent_joint], side, terms)) {
+        terms->clear();
+        return false;
+      }
+    }
+  return true;
+}
+
+double GearAngleFromCoordinates(const GearAngle& angle, const double* q) {
+  double theta = 0;
+  for (const GearAngleTerm& t : angle.terms) theta += t.sign * (q[t.q] - t.q0);
+  if (std::abs(theta) <= kPi) return theta;
+  return theta - kTwoPi * std::nearbyint(theta / kTwoPi);
+}
+
+double GearAngleAt(const Model& model, const Data& data, int i) {
+  const GearAngle& a = model.gear_angles[i];
+  if (a.by_coordinates) return GearAngleFromCoordinates(a, data.q_normalized.data());
+  return GearSpinAngle(data, a.gear, a.reference, a.R_CG0);
+}
+
+void CalcGearAngles(const Model& model, Data& data) {
+  for (size_t i = 0; i < model.gear_angles.size(); ++i) data.gear_angle[i] = GearAngleAt(model, data, int(i));
+}
+
+double MeshTransmissionCoordinate(const MeshGeometry& g, double rba, double rbb, double backlash,
+                                  double theta_a, double theta_b) {
+  double e = rba * theta_a + g.sigma * rbb * theta_b;
+  if (g.base_pitch > 0) e -= g.base_pitch * std::round((e + 0.5 * backlash) / g.base_pitch);
+  return e;
 }
 
 MeshState CalcMeshState(const MeshGeometry& g, const Data& data, FrameIndex gear_a,
@@ -91,26 +178,30 @@ MeshState CalcMeshState(const MeshGeometry& g, const Data& data, FrameIndex gear
   // Rotational part, wrapped to one base pitch around the middle of the backlash.
   s.theta_a = theta_a;
   s.theta_b = theta_b;
-  double e = rba * s.theta_a + g.sigma * rbb * s.theta_b;
-  if (g.base_pitch > 0) e -= g.base_pitch * std::round((e + 0.5 * backlash) / g.base_pitch);
+  const double e = MeshTransmissionCoordinate(g, rba, rbb, backlash, theta_a, theta_b);
   s.e = e;
   // Small displacements of the material points at P: centre translation plus tilt.
   const Vec3 dc = (c_a - c_b) - g.dc0_C;
-  // Gear axes in C (the third columns of R_CA = R_CW R_WA, R_CB).
-  const Vec3 za = R_CW * X_WA.R.col(2), zb = R_CW * X_WB.R.col(2);
-  const double tilt_a = -(za.x() * g.r_a_C.x() + za.y() * g.r_a_C.y());
-  const double tilt_b = -(zb.x() * g.r_b_C.x() + zb.y() * g.r_b_C.y());
-  const double dz = dc.z() + tilt_a - tilt_b;
-  s.delta_drive = g.cos_beta * (e + g.n_drive_C.dot(dc)) + g.sin_beta * dz;
-  s.delta_coast = -g.cos_beta * (e + g.n_coast_C.dot(dc)) - g.sin_beta * dz - g.cos_beta * backlash;
+  s.delta_drive = g.cos_beta * (e + g.n_drive_C.dot(dc));
+  s.delta_coast = -g.cos_beta * (e + g.n_coast_C.dot(dc));
+  if (g.sin_beta != 0) {  // helical: the axial part (spur gears add exactly nothing)
+    // Gear axes in C (the third columns of R_CA = R_CW R_WA, R_CB).
+    const Vec3 za = R_CW * X_WA.R.col(2), zb = R_CW * X_WB.R.col(2);
+    const double tilt_a = -(za.x() * g.r_a_C.x() + za.y() * g.r_a_C.y());
+    const double tilt_b = -(zb.x() * g.r_b_C.x() + zb.y() * g.r_b_C.y());
+    const double dz = dc.z() + tilt_a - tilt_b;
+    s.delta_drive += g.sin_beta * dz;
+    s.delta_coast -= g.sin_beta * dz;
+  }
+  s.delta_coast -= g.cos_beta * backlash;
   // World quantities for the forces.
   s.p_a_W = X_WA.p + X_WC.R * g.r_a_C;
   s.p_b_W = X_WB.p + X_WC.R * g.r_b_C;
-  s.n_drive_W = X_WC.R * (g.cos_beta * g.n_drive_C + g.sin_beta * Vec3::UnitZ());
-  s.n_coast_W = X_WC.R * (g.cos_beta * g.n_coast_C + g.sin_beta * Vec3::UnitZ());
+  s.n_drive_W = X_WC.R * g.n_drive_helix_C;
+  s.n_coast_W = X_WC.R * g.n_coast_helix_C;
   s.z_W = X_WC.R.col(2);
   s.dc_W = X_WA.p - X_WB.p;
-  s.k_spin_base = g.cos_beta * (rba + g.sigma * rbb);
+  s.k_spin_base = g.k_spin_base;
   return s;
 }
 
@@ -265,9 +356,7 @@ MeshEvaluation EvaluateAt(const Model& model, const GearMesh& mesh, const Data& 
 }  // namespace
 
 MeshEvaluation EvaluateGearMesh(const Model& model, const GearMesh& mesh, const Data& data) {
-  const GearMeshSpec& s = mesh.spec;
-  return EvaluateAt(model, mesh, data, GearSpinAngle(data, s.gear_a, s.reference, mesh.geometry.R_CA0),
-                    GearSpinAngle(data, s.gear_b, s.reference, mesh.geometry.R_CB0));
+  return EvaluateAt(model, mesh, data, GearAngleAt(model, data, mesh.angle_a), GearAngleAt(model, data, mesh.angle_b));
 }
 
 MeshEvaluation EvaluateGearMeshAtAngles(const Model& model, const GearMesh& mesh, const Data& data) {

@@ -46,11 +46,34 @@ MeshState CalcMeshState(const MeshGeometry& g, const Data& data, FrameIndex gear
                         FrameIndex gear_b, FrameIndex reference, double base_radius_a,
                         double base_radius_b, double backlash, double theta_a, double theta_b);
 
+// The rotational transmission coordinate e = r_ba theta_a + sigma r_bb theta_b wrapped to one
+// base pitch around the middle of the backlash (MeshState::e), from the gear angles alone.
+double MeshTransmissionCoordinate(const MeshGeometry& g, double base_radius_a, double base_radius_b,
+                                  double backlash, double theta_a, double theta_b);
+
 // Angle (rad) of gear frame `gear` about the z axis of frame `reference` since the start, when
-// its orientation in the reference frame was R_CG0 (needs position kinematics in `data`).
+// its orientation in the reference frame was R_CG0 (needs position kinematics in `data`): the
+// general path, atan2 of the relative rotation, in [-pi, pi].
 double GearSpinAngle(const Data& data, FrameIndex gear, FrameIndex reference, const Mat3& R_CG0);
 
-// data.gear_angle: every Model::gear_angles entry's angle (GearSpinAngle), once per evaluation for
+// For ModelBuilder::Finalize (model with coordinates assigned and q_initial set): whether the
+// angle of frame `gear` about frame `reference`'s z axis is a sum of joint coordinates
+// (GearAngle::by_coordinates, model.h), and if so its terms. Joint axes and the z columns of the
+// fixed rotations must be +-z within 1e-9 per component: a tilt eps moves the general path's
+// angle by O(eps^2) only (the first-order terms of atan2(R_10, R_00) vanish for tilts about
+// in-plane axes), so the two agree to rounding.
+bool FindGearAngleTerms(const Model& model, FrameIndex gear, FrameIndex reference,
+                        std::vector<GearAngleTerm>* terms);
+
+// A by_coordinates gear angle from positions q (nq): sum_k sign_k (q_k - q0_k), wrapped to
+// [-pi, pi] (an angle already within it is returned unchanged).
+double GearAngleFromCoordinates(const GearAngle& angle, const double* q);
+
+// Model::gear_angles entry `i` at the configuration in `data`: from data.q_normalized when it is
+// by_coordinates, else GearSpinAngle (needs position kinematics).
+double GearAngleAt(const Model& model, const Data& data, int i);
+
+// data.gear_angle: every Model::gear_angles entry's angle (GearAngleAt), once per evaluation for
 // all the meshes that share it (needs position kinematics). CalcForceElements calls it.
 void CalcGearAngles(const Model& model, Data& data);
 

@@ -1,5 +1,7 @@
 #include "mbd/kinematics.h"
 
+#include <cmath>
+
 #include "mbd/flexible_dynamics.h"
 
 namespace orrery {
@@ -24,6 +26,29 @@ void CalcPositionKinematics(const Model& model, const Eigen::Ref<const Eigen::Ve
   CalcFlexibleInertiaTerms(model, data);
 }
 
+namespace {
+
+// A revolute joint about sigma z of F (Joint::revolute_z = sigma): X_FM = Rz(sigma q), the
+// child's pose X_WF X_FM and the motion subspace Ad(X_WF) (sigma z, 0), with the zeros of the
+// rotation written out. The same roundings as the general path (RevolutePosition's AngleAxis
+// matrix holds c, -+sigma s, zeros and (1 - c) + c; the zero terms of the products add nothing
+// exactly; no fused multiply-adds), so the poses are the general path's to the last bit.
+void RevoluteAboutZ(int sigma, double angle, const Transform& X_WF, Transform& X_FM, Transform& X_WB,
+                    Eigen::Ref<Vec6> S) {
+  const double c = std::cos(angle), s_z = sigma * std::sin(angle), r22 = (1 - c) + c;
+  X_FM.R << c, -s_z, 0, s_z, c, 0, 0, 0, r22;
+  X_FM.p.setZero();
+  const Mat3& R = X_WF.R;
+  X_WB.R.col(0) = R.col(0) * c + R.col(1) * s_z;
+  X_WB.R.col(1) = R.col(0) * -s_z + R.col(1) * c;
+  X_WB.R.col(2) = R.col(2) * r22;
+  X_WB.p = X_WF.p;
+  S.head<3>() = sigma > 0 ? Vec3(R.col(2)) : Vec3(-R.col(2));
+  S.tail<3>() = X_WF.p.cross(S.head<3>());
+}
+
+}  // namespace
+
 void CalcFramePoses(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& q_in, Data& data) {
   data.q_normalized = q_in;
   NormalizeQuaternions(model, data.q_normalized);
@@ -33,17 +58,22 @@ void CalcFramePoses(const Model& model, const Eigen::Ref<const Eigen::VectorXd>&
   for (const JointIndex j : model.tree_order) {
     const Joint& jt = model.joints[j];
     const int qs = jt.q_start, vs = jt.v_start;
+    // F: on the world its pose is X_PF itself (what the identity's product gives).
     const Transform& X_WP = data.X_WB[jt.spec.parent];
-    const Transform X_WF = jt.X_PF_is_identity ? X_WP : X_WP * jt.spec.X_PF;
+    Transform& X_WF = data.X_WF[j];
+    X_WF = jt.spec.parent == kWorldBody ? jt.spec.X_PF : jt.X_PF_is_identity ? X_WP : X_WP * jt.spec.X_PF;
     Transform& X_FM = data.X_FM[j];
-    // Joint transform and motion subspace S_F (about F's origin, F axes), mapped to world.
-    const JointTypeInfo& info = JointInfo(jt.spec.type);
-    Vec6 S_F[6];
-    info.position(jt, q.data() + qs, X_FM, S_F);
-    for (int k = 0; k < info.nv; ++k) data.S.col(vs + k) = MotionToWorld(X_WF, S_F[k]);
-    data.X_WF[j] = X_WF;
     const BodyIndex b = jt.spec.child;
-    data.X_WB[b] = X_WF * X_FM;
+    if (jt.revolute_z != 0) {
+      RevoluteAboutZ(jt.revolute_z, q(qs), X_WF, X_FM, data.X_WB[b], data.S.col(vs));
+    } else {
+      // Joint transform and motion subspace S_F (about F's origin, F axes), mapped to world.
+      const JointTypeInfo& info = JointInfo(jt.spec.type);
+      Vec6 S_F[6];
+      info.position(jt, q.data() + qs, X_FM, S_F);
+      for (int k = 0; k < info.nv; ++k) data.S.col(vs + k) = MotionToWorld(X_WF, S_F[k]);
+      data.X_WB[b] = X_WF * X_FM;
+    }
     if (!jt.X_MC_is_identity) data.X_WB[b] = data.X_WB[b] * jt.X_MC;
   }
 

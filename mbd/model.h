@@ -227,6 +227,9 @@ struct MeshGeometry {
                                          // start (angles are measured from them)
   double sigma = 1;                      // +1 external, -1 internal
   double cos_beta = 1, sin_beta = 0;
+  // The contact normals in C with the helix: cos(beta_b) n_C + sin(beta_b) z (drive, coast).
+  Vec3 n_drive_helix_C = Vec3::Zero(), n_coast_helix_C = Vec3::Zero();
+  double k_spin_base = 0;                // cos(beta_b) (r_ba + sigma r_bb) (MeshState::k_spin_base)
   double base_pitch = 0;                 // m, transverse: 2 pi r_ba / z_a (0 if z unknown)
 };
 
@@ -245,12 +248,31 @@ struct GearMesh {
   std::vector<double> ste_phase_cos, ste_phase_sin;
 };
 
+// One joint coordinate of a gear angle read from the coordinates (GearAngle::terms).
+struct GearAngleTerm {
+  int q = -1;       // index into q of a joint's rotation coordinate
+  double sign = 1;  // +1 on the gear's side of the tree, -1 on the reference's (times the sign
+                    //   of the joint axis along z)
+  double q0 = 0;    // the coordinate at the start (Model::q_initial)
+};
+
 // A gear's angle about its reference frame's z axis since the start, shared by the meshes of the
 // same gear and reference (a planet's sun and ring meshes, a sun's meshes with every planet):
 // CalcGearAngles evaluates each once per pipeline evaluation.
+//
+// Read from the coordinates (by_coordinates, decided by ModelBuilder::Finalize with
+// FindGearAngleTerms): when the gear frame and the reference frame hang from a common body
+// through joints and fixed offsets that all turn about that body's z axis (revolute and
+// cylindrical joints about +-z, planar joints normal to +-z, prismatic and fixed joints; joint and
+// frame offsets whose rotations keep z; no node frames), every rotation on both paths is one about
+// z, they commute, and R_CG R_CG0^T = Rz(theta) with theta = sum_k sign_k (q_k - q0_k): no
+// trigonometry, wrapped to [-pi, pi] as the general path's atan2. Otherwise the general path
+// (GearSpinAngle: the relative rotation's atan2).
 struct GearAngle {
   FrameIndex gear = -1, reference = -1;
   Mat3 R_CG0 = Mat3::Identity();  // the gear frame's orientation in the reference frame at the start
+  bool by_coordinates = false;
+  std::vector<GearAngleTerm> terms;  // by_coordinates: the coordinates the angle sums
 };
 
 struct GearConstraint {
@@ -296,6 +318,9 @@ struct Joint {
   JointSpec spec;
   Transform X_MC;   // inverse of spec.X_CM (child frame from M)
   bool X_PF_is_identity = false, X_MC_is_identity = false;  // skip the products in kinematics
+  // +1 or -1: a revolute joint whose axis is exactly +z or -z of F, posed by CalcFramePoses with
+  // the rotation's zeros written out (kinematics.cpp RevoluteAboutZ); 0 for every other joint.
+  int revolute_z = 0;
   int q_start = 0;  // offset in q
   int v_start = 0;  // offset in v
   int nq = 0, nv = 0;
@@ -350,6 +375,7 @@ class Model {
   std::vector<BearingSpec> bearings;
   std::vector<GearMesh> gear_meshes;
   std::vector<GearAngle> gear_angles;  // distinct (gear, reference) pairs of gear_meshes
+  bool gear_angles_by_coordinates = false;  // every gear angle is read from the coordinates
   std::vector<GearConstraint> gear_constraints;
   std::vector<int> gear_constraint_row;  // constraint row of each gear constraint (holonomic)
   std::vector<std::shared_ptr<const ExternalForceElement>> external_forces;

@@ -156,6 +156,8 @@ JointIndex ModelBuilder::AddJoint(const JointSpec& spec) {
     j.axis2 = a2;
     j.axis3 = j.axis.cross(a2);  // planar: in-plane y = n x x
   }
+  if (spec.type == JointType::kRevolute && j.axis.x() == 0 && j.axis.y() == 0)
+    j.revolute_z = j.axis.z() > 0 ? 1 : -1;  // normalized: exactly +-1
   const JointIndex index = static_cast<JointIndex>(model_->joints.size());
   model_->joints.push_back(j);
   model_->joint_by_name_[spec.name] = index;
@@ -489,6 +491,12 @@ std::shared_ptr<const Model> ModelBuilder::Finalize() && {
         if (!(inv_m > 0)) Fail(what + ": a damping ratio needs at least one gear that can turn");
         mesh.c = 2 * s.damping_ratio * std::sqrt(mesh.k_mean / inv_m);
       }
+    }
+    // Gear angles read from the joint coordinates where the tree allows (GearAngle, model.h).
+    m.gear_angles_by_coordinates = true;
+    for (GearAngle& a : m.gear_angles) {
+      a.by_coordinates = FindGearAngleTerms(m, a.gear, a.reference, &a.terms);
+      m.gear_angles_by_coordinates = m.gear_angles_by_coordinates && a.by_coordinates;
     }
     for (GearConstraint& gc : m.gear_constraints) {
       const GearConstraintSpec& s = gc.spec;

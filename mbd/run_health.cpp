@@ -140,8 +140,15 @@ void RunHealth::OnStep(double t, const Eigen::Ref<const Eigen::VectorXd>& q,
   // Meshes after every fixed step (generalized-alpha); IDA's error control resolves the
   // deflections, so its rows suffice (a kinematics pass per step cost 14 % of seed003_lumped_healthy)
   if (model_.gear_meshes.empty() || integrator_.kind != IntegratorKind::kGeneralizedAlpha) return;
-  CalcPositionKinematics(model_, q, data_);
-  CalcGearAngles(model_, data_);  // once per gear for all its meshes
+  // The gear angles (once per gear for all its meshes) are all the check reads: from the
+  // coordinates alone where the model allows, else from the frame poses.
+  if (model_.gear_angles_by_coordinates) {
+    for (std::size_t i = 0; i < model_.gear_angles.size(); ++i)
+      data_.gear_angle[i] = GearAngleFromCoordinates(model_.gear_angles[i], q.data());
+  } else {
+    CalcFramePoses(model_, q, data_);
+    CalcGearAngles(model_, data_);
+  }
   CheckMeshes(t, data_, true);
 }
 
@@ -151,15 +158,15 @@ void RunHealth::CheckMeshes(double t, const Data& d, bool angles_current) {
     const double p = m.geometry.base_pitch;
     if (!(p > 0) || m.small_rotations_only) continue;
     const GearMeshSpec& s = m.spec;
-    const MeshState st =
-        angles_current ? CalcMeshState(m.geometry, d, s.gear_a, s.gear_b, s.reference, s.base_radius_a,
-                                       s.base_radius_b, s.backlash, d.gear_angle[m.angle_a], d.gear_angle[m.angle_b])
+    const double e =
+        angles_current ? MeshTransmissionCoordinate(m.geometry, s.base_radius_a, s.base_radius_b, s.backlash,
+                                                    d.gear_angle[m.angle_a], d.gear_angle[m.angle_b])
                        : CalcMeshState(m.geometry, d, s.gear_a, s.gear_b, s.reference, s.base_radius_a,
-                                       s.base_radius_b, s.backlash);
+                                       s.base_radius_b, s.backlash).e;
     // Past its flank by more than the fraction of a pitch, or a jump of half a pitch
-    const double past = std::abs(st.e + 0.5 * s.backlash) - 0.5 * s.backlash;
-    const double jump = std::abs(st.e - mesh_e_prev_[i]);
-    mesh_e_prev_[i] = st.e;
+    const double past = std::abs(e + 0.5 * s.backlash) - 0.5 * s.backlash;
+    const double jump = std::abs(e - mesh_e_prev_[i]);
+    mesh_e_prev_[i] = e;
     const double limit = options_.ratchet_fraction * p;
     if (past > limit)
       Report("mesh_ratchet", "mesh '" + s.name + "'", t, past / p, options_.ratchet_fraction, true,

@@ -2,7 +2,8 @@
 // joints), against closed forms: torsional natural frequency, static deflection under torque,
 // mesh damping decay, backlash free play, and the ideal ratio with its tooth force; the mesh's
 // analytic tangents (AddGearMeshTangents) against forward differences of the whole pipeline; the
-// transmission error's harmonics against their own cosines; meshes of one gear sharing its angle.
+// transmission error's harmonics against their own cosines; meshes of one gear sharing its angle;
+// gear angles read from the joint coordinates against the general path.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -342,6 +343,139 @@ TEST(GearMesh, MeshesOfOneGearShareItsAngle) {
     EXPECT_EQ(d_run.mesh_phase[i], alone.psi) << i;
     EXPECT_EQ(d_run.mesh_deflection[i], alone.delta) << i;
   }
+}
+
+// A planetary tree on a free, tilted housing: sun (revolute about +z), ring (planar, normal to
+// +z), carrier (revolute about -z, offset turned about z) and a planet on the carrier (revolute,
+// pin offset and frames turned about z). Every gear angle about the carrier is then a sum of
+// joint coordinates (GearAngle::by_coordinates); a second planet on a spherical joint keeps the
+// general path. Both against the general path (GearSpinAngle, atan2 of the relative rotation) at
+// configurations with large angles, to the rounding of the coordinates' sums and the wrap.
+struct PlanetaryTree {
+  std::shared_ptr<const Model> model;
+  JointIndex housing = -1;
+};
+
+PlanetaryTree MakePlanetaryTree(bool spherical_second_planet) {
+  const Pair p;
+  ModelBuilder mb;
+  const Mat3 I = Vec3(1e-3, 1e-3, 2e-3).asDiagonal();
+  auto rz = [](double a) { return AxisAngle(Vec3::UnitZ(), a); };
+  PlanetaryTree t;
+  const BodyIndex housing = mb.AddBody("housing", 10.0, Vec3::Zero(), I);
+  t.housing = mb.AddJoint({.name = "j_housing", .type = JointType::kFree, .child = housing});
+  const BodyIndex sun = mb.AddBody("sun", 1.0, Vec3::Zero(), I);
+  const BodyIndex ring = mb.AddBody("ring", 3.0, Vec3::Zero(), I);
+  const BodyIndex carrier = mb.AddBody("carrier", 2.0, Vec3::Zero(), I);
+  mb.AddJoint({.name = "j_sun", .type = JointType::kRevolute, .parent = housing, .child = sun,
+               .X_PF = Transform::Translation(Vec3(0, 0, 0.1)), .axis = Vec3::UnitZ()});
+  mb.AddJoint({.name = "j_ring", .type = JointType::kPlanar, .parent = housing, .child = ring,
+               .X_PF = Transform(rz(0.4), Vec3::Zero()), .axis = Vec3::UnitZ(), .axis2 = Vec3::UnitX()});
+  mb.AddJoint({.name = "j_carrier", .type = JointType::kRevolute, .parent = housing, .child = carrier,
+               .X_PF = Transform(rz(0.3), Vec3(0, 0, 0.2)), .axis = -Vec3::UnitZ()});
+  const FrameIndex reference = mb.AddFrame("carrier_c", carrier, Transform(rz(-1.1), Vec3(0, 0, 0.01)));
+  const FrameIndex sun_gear = mb.AddFrame("sun_gear", sun, Transform(rz(0.2), Vec3::Zero()));
+  const FrameIndex ring_gear = mb.body_frame(ring);
+  const double d_sp = (p.rba + p.rbb) / std::cos(kAlpha);
+  const double rbr = p.rba + 2 * p.rbb;  // ring base radius: centre distance rbr - rbb = rba + rbb
+  for (int i = 0; i < 2; ++i) {
+    const std::string name = "planet" + std::to_string(i);
+    const BodyIndex planet = mb.AddBody(name, 0.5, Vec3::Zero(), I);
+    // The pin at angle psi in the carrier frame C (which is turned by -1.1 on the carrier body).
+    const double psi = 0.5 + 2.5 * i;
+    const Transform X_CP(rz(psi), d_sp * Vec3(std::cos(psi), std::sin(psi), 0));
+    const Transform X_PF = Transform(rz(-1.1), Vec3(0, 0, 0.01)) * X_CP;
+    const bool spherical = spherical_second_planet && i == 1;
+    mb.AddJoint({.name = "j_" + name, .type = spherical ? JointType::kSpherical : JointType::kRevolute,
+                 .parent = carrier, .child = planet, .X_PF = X_PF, .X_CM = Transform(rz(0.7), Vec3::Zero()),
+                 .axis = Vec3::UnitZ()});
+    const FrameIndex planet_gear = mb.AddFrame(name + "_gear", planet, Transform(rz(-0.4), Vec3::Zero()));
+    for (int k = 0; k < 2; ++k) {
+      GearMeshSpec s;
+      s.name = (k ? "ring-" : "sun-") + name;
+      s.contact = GearMeshSpec::Contact::kLinearDrive;
+      s.gear_a = k ? planet_gear : sun_gear;
+      s.gear_b = k ? ring_gear : planet_gear;
+      s.reference = reference;
+      s.teeth_a = k ? p.zb : p.za;
+      s.teeth_b = k ? p.za + 2 * p.zb : p.zb;
+      s.base_radius_a = k ? p.rbb : p.rba;
+      s.base_radius_b = k ? rbr : p.rbb;
+      s.internal_b = k == 1;
+      s.working_pressure_angle = kAlpha;
+      s.stiffness = 4e8;
+      mb.AddGearMesh(s);
+    }
+  }
+  t.model = std::move(mb).Finalize();
+  return t;
+}
+
+// Positions with the housing tilted and every joint angle large (several turns).
+Eigen::VectorXd TurnedPositions(const Model& m, JointIndex housing, int sample) {
+  Eigen::VectorXd q = m.q_initial;
+  for (int k = 0; k < m.nq; ++k) q(k) += 7.3 * std::sin(1.7 * k + 0.9 * sample) + 0.3 * sample;
+  const int h = m.joints[housing].q_start;
+  const Quat tilt(Eigen::AngleAxisd(0.6 + 0.1 * sample, Vec3(1, 2, 0.5).normalized()));
+  q(h + 3) = tilt.w();
+  q.segment<3>(h + 4) = tilt.vec();
+  NormalizeQuaternions(m, q);  // the spherical planet's block too
+  return q;
+}
+
+void ExpectAnglesAgree(const Model& m, JointIndex housing) {
+  const double eps = std::numeric_limits<double>::epsilon();
+  Data d(m);
+  for (int sample = 0; sample < 8; ++sample) {
+    const Eigen::VectorXd q = TurnedPositions(m, housing, sample);
+    CalcPositionKinematics(m, q, d);
+    for (size_t i = 0; i < m.gear_angles.size(); ++i) {
+      const GearAngle& a = m.gear_angles[i];
+      const double general = GearSpinAngle(d, a.gear, a.reference, a.R_CG0);
+      const double angle = GearAngleAt(m, d, int(i));
+      if (!a.by_coordinates) {
+        EXPECT_EQ(angle, general) << i;
+        continue;
+      }
+      // Rounding: the sum's terms (each |q| + |q0| at an ulp), the wrap's multiple of 2 pi, and
+      // the general path's rotation products (a few ulp of 1 rad).
+      double scale = 2 * kPi;
+      for (const GearAngleTerm& t : a.terms) scale += std::abs(q(t.q)) + std::abs(t.q0);
+      EXPECT_LE(std::abs(angle), kPi) << i;
+      const double diff = std::remainder(angle - general, 2 * kPi);
+      EXPECT_LE(std::abs(diff), 8 * eps * scale) << "angle " << i << " sample " << sample;
+    }
+  }
+}
+
+TEST(GearAngle, CoordinatesAgreeWithTheGeneralPath) {
+  const PlanetaryTree t = MakePlanetaryTree(false);
+  const Model& m = *t.model;
+  // sun, planet0, ring, planet1 about the carrier frame
+  ASSERT_EQ(m.gear_angles.size(), 4u);
+  EXPECT_TRUE(m.gear_angles_by_coordinates);
+  for (const GearAngle& a : m.gear_angles) EXPECT_TRUE(a.by_coordinates);
+  // The sun: its own joint and the carrier's (about -z): two terms, both +1.
+  const GearAngle& sun = m.gear_angles[m.gear_meshes[0].angle_a];
+  ASSERT_EQ(sun.terms.size(), 2u);
+  EXPECT_EQ(sun.terms[0].sign, 1.0);
+  EXPECT_EQ(sun.terms[1].sign, 1.0);  // -1 for the reference's side times -1 for the axis
+  // A planet: its own joint only.
+  EXPECT_EQ(m.gear_angles[m.gear_meshes[0].angle_b].terms.size(), 1u);
+  ExpectAnglesAgree(m, t.housing);
+}
+
+TEST(GearAngle, GeneralPathWhereTheTreeDoesNotTurnAboutZ) {
+  const PlanetaryTree t = MakePlanetaryTree(true);
+  const Model& m = *t.model;
+  ASSERT_EQ(m.gear_angles.size(), 4u);
+  EXPECT_FALSE(m.gear_angles_by_coordinates);
+  // The spherical planet's angle keeps the general path; the others still read coordinates.
+  const GearMesh& spherical = m.gear_meshes[2];
+  EXPECT_FALSE(m.gear_angles[spherical.angle_b].by_coordinates);
+  EXPECT_TRUE(m.gear_angles[spherical.angle_a].by_coordinates);
+  EXPECT_TRUE(m.gear_angles[m.gear_meshes[0].angle_b].by_coordinates);
+  ExpectAnglesAgree(m, t.housing);
 }
 
 }  // namespace
