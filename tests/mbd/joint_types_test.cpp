@@ -7,13 +7,17 @@
 //   w = vee(R-dot R^T), v_O = p-dot + p x w, which must equal S_F(q) v;
 // - the velocity-product term is the time derivative of S_F along the same motion,
 //   dS_F/dt v = (S_F(q(h)) - S_F(q(-h))) v / 2h;
-// - a loop closure of a type removes exactly the motions the joint allows: 6 - nv rows.
+// - a loop closure of a type removes exactly the motions the joint allows: 6 - nv rows;
+// - CalcFramePoses' own path for revolute joints about +-z (RevoluteAboutZ) gives the table
+//   entry's poses and motion subspace to the last bit.
 #include <cmath>
 #include <string>
 
 #include <gtest/gtest.h>
 
+#include "mbd/data.h"
 #include "mbd/joint_types.h"
+#include "mbd/kinematics.h"
 #include "mbd/model.h"
 
 namespace orrery {
@@ -140,6 +144,52 @@ TEST(JointTypes, UnitsAsTheResultFilesWriteThem) {
   EXPECT_EQ(JointCoordinateUnits(JointType::kFree, true), "m/s, m/s, m/s, rad/s, rad/s, rad/s");
   JointType t;
   EXPECT_FALSE(JointTypeFromName("hinge", &t));
+}
+
+// A chain world -(free, tilted)- A -(revolute +z, turned and offset X_PF, X_CM)- B -(revolute -z)- C:
+// the poses CalcFramePoses writes for B and C against the general path composed by hand
+// (X_WF = X_WP X_PF, the table's X_FM, X_MC; S = Ad(X_WF) S_F), bit for bit.
+TEST(JointTypes, RevoluteAboutZPosesAsTheTableEntry) {
+  ModelBuilder mb;
+  const Mat3 I = Vec3(1e-3, 2e-3, 3e-3).asDiagonal();
+  const BodyIndex a = mb.AddBody("a", 1.0, Vec3::Zero(), I);
+  const BodyIndex b = mb.AddBody("b", 1.0, Vec3::Zero(), I);
+  const BodyIndex c = mb.AddBody("c", 1.0, Vec3::Zero(), I);
+  mb.AddJoint({.name = "free", .type = JointType::kFree, .child = a});
+  const Transform X_PF(AxisAngle(Vec3(0.2, 0.9, -0.4).normalized(), 0.8), Vec3(0.1, -0.2, 0.3));
+  const Transform X_CM(AxisAngle(Vec3(-0.5, 0.1, 0.7).normalized(), -1.3), Vec3(0.05, 0.02, -0.01));
+  const JointIndex jb = mb.AddJoint({.name = "jb", .type = JointType::kRevolute, .parent = a, .child = b,
+                                     .X_PF = X_PF, .X_CM = X_CM, .axis = Vec3::UnitZ()});
+  const JointIndex jc = mb.AddJoint({.name = "jc", .type = JointType::kRevolute, .parent = b, .child = c,
+                                     .X_PF = X_CM, .axis = Vec3(0, 0, -2)});
+  const std::shared_ptr<const Model> model = std::move(mb).Finalize();
+  const Model& m = *model;
+  EXPECT_EQ(m.joints[jb].revolute_z, 1);
+  EXPECT_EQ(m.joints[jc].revolute_z, -1);
+  Data d(m);
+  for (int sample = 0; sample < 6; ++sample) {
+    Eigen::VectorXd q = m.q_initial;
+    for (int k = 0; k < m.nq; ++k) q(k) += 2.9 * std::sin(1.3 * k + 0.7 * sample) + sample;
+    NormalizeQuaternions(m, q);
+    CalcFramePoses(m, q, d);
+    for (JointIndex j : {jb, jc}) {
+      const Joint& jt = m.joints[j];
+      const Transform X_WF = d.X_WB[jt.spec.parent] * jt.spec.X_PF;
+      Transform X_FM;
+      Vec6 S_F[6];
+      JointInfo(JointType::kRevolute).position(jt, q.data() + jt.q_start, X_FM, S_F);
+      const Transform X_WB = (X_WF * X_FM) * jt.X_MC;
+      const Vec6 S = MotionToWorld(X_WF, S_F[0]);
+      for (int r = 0; r < 3; ++r) {
+        EXPECT_EQ(d.X_WB[jt.spec.child].p(r), X_WB.p(r)) << j << " " << sample;
+        for (int k = 0; k < 3; ++k) {
+          EXPECT_EQ(d.X_WB[jt.spec.child].R(r, k), X_WB.R(r, k)) << j << " " << sample;
+          EXPECT_EQ(d.X_FM[j].R(r, k), X_FM.R(r, k)) << j << " " << sample;
+        }
+      }
+      for (int r = 0; r < 6; ++r) EXPECT_EQ(d.S(r, jt.v_start), S(r)) << j << " " << sample;
+    }
+  }
 }
 
 }  // namespace
