@@ -186,8 +186,10 @@ void RunHealth::CheckMeshRates(double t, const Data& d, double step_s) {
     const double p = m.geometry.base_pitch;
     if (!(p > 0) || m.small_rotations_only || !(step_s > 0)) continue;
     const GearMeshSpec& s = m.spec;
+    // The rate reads the lever points and normals, not the angles: those of the model's angles.
     const MeshState st = CalcMeshState(m.geometry, d, s.gear_a, s.gear_b, s.reference, s.base_radius_a,
-                                       s.base_radius_b, s.backlash);
+                                       s.base_radius_b, s.backlash, GearAngleAt(model_, d, m.angle_a),
+                                       GearAngleAt(model_, d, m.angle_b));
     const double rate = CalcMeshRate(model_, d, s.gear_a, s.gear_b, s.reference, st, st.n_drive_W);
     const double roll = std::abs(rate) * step_s / p;
     if (roll > options_.ratchet_fraction)
