@@ -172,6 +172,7 @@ struct CandidateSearch::Impl {
   std::vector<Vec3> centers_b_A;
   // Parts inside the ring zone (part rings on both surfaces): flags, #parts_A and #parts_B.
   std::vector<char> zone_a, zone_b;
+  std::vector<char> zone_a_grown, zone_b_grown;  // the same at the grown reach
   Transform X_WA, X_WB, X_AB_search, X_AB_previous;
   bool have_pairs = false, have_previous = false;
   // Mesh-zone windows of the last two (centre distance, reach) seen.
@@ -193,6 +194,8 @@ CandidateSearch::CandidateSearch(const ContactSurface& surface_a, const ContactS
   impl_->centers_b_A.resize(surface_b.num_parts());
   impl_->zone_a.assign(surface_a.num_parts(), 1);
   impl_->zone_b.assign(surface_b.num_parts(), 1);
+  impl_->zone_a_grown.assign(surface_a.num_parts(), 1);
+  impl_->zone_b_grown.assign(surface_b.num_parts(), 1);
 }
 
 CandidateSearch::~CandidateSearch() = default;
@@ -205,72 +208,94 @@ double CandidateSearch::MotionBound(const Transform& X_AB0, const Transform& X_A
   return (X_AB1.R - X_AB0.R).norm() * b_.max_vertex_radius_m() + (X_AB1.p - X_AB0.p).norm();
 }
 
+void CandidateSearch::FlagZones(const Transform& X_WA, const Transform& X_WB, double reach,
+                                std::vector<char>* zone_a, std::vector<char>* zone_b) {
+  Impl& m = *impl_;
+  const int na = a_.num_parts(), nb = b_.num_parts();
+  // Ring zone of two part rings on (nearly) parallel axes: only parts whose angular span meets
+  // the overlap of the two bands (at the rings' current angles) go on.
+  std::fill(zone_a->begin(), zone_a->end(), 1);
+  std::fill(zone_b->begin(), zone_b->end(), 1);
+  stats_.zone_parts_a = na;
+  stats_.zone_parts_b = nb;
+  if (!a_.part_ring() || !b_.part_ring()) return;
+  const PartRing& ra = *a_.part_ring();
+  const PartRing& rb = *b_.part_ring();
+  const Transform X_GaGb = (X_WA * ra.X_BG).Inverse() * (X_WB * rb.X_BG);
+  const Vec3 o_b = X_GaGb.p;                       // B's axis origin in Ga
+  const Vec3 o_a = X_GaGb.Inverse().p;             // A's axis origin in Gb
+  const double a = std::hypot(o_b.x(), o_b.y());
+  const bool parallel = X_GaGb.R(2, 2) > 1 - 1e-6;  // both axes +z (tilt below ~1.4 mrad)
+  // The windows depend on a and the reach only: kept (two reaches) while a stays within
+  // kWindowTolerance of the a they were computed at, with the reach grown by as much (the
+  // distances |P - O'| change by at most the change of a).
+  constexpr double kWindowTolerance = 1e-6;
+  Impl::Window* w = nullptr;
+  for (Impl::Window& c : m.windows)
+    if (c.reach == reach && std::abs(c.a - a) <= kWindowTolerance) w = &c;
+  if (!w && parallel && a > 0) {
+    w = &m.windows[m.next_window];
+    m.next_window = (m.next_window + 1) % 2;
+    w->a = a;
+    w->reach = reach;
+    const double r = reach + kWindowTolerance;
+    w->meet = ZoneWindow(a, ra.inner_radius_m, ra.outer_radius_m, rb.inner_radius_m,
+                         rb.outer_radius_m, r, &w->a_min, &w->a_max) &&
+              ZoneWindow(a, rb.inner_radius_m, rb.outer_radius_m, ra.inner_radius_m,
+                         ra.outer_radius_m, r, &w->b_min, &w->b_max);
+  }
+  const double a_min = w ? w->a_min : 0, a_max = w ? w->a_max : 0;
+  const double b_min = w ? w->b_min : 0, b_max = w ? w->b_max : 0;
+  if (parallel && a > 0 && w->meet) {
+    stats_.zone_parts_a = FlagZoneParts(ra, std::atan2(o_b.y(), o_b.x()), a_min, a_max,
+                                        reach / std::max(ra.inner_radius_m, 1e-12), zone_a);
+    stats_.zone_parts_b = FlagZoneParts(rb, std::atan2(o_a.y(), o_a.x()), b_min, b_max,
+                                        reach / std::max(rb.inner_radius_m, 1e-12), zone_b);
+  } else if (parallel && a > 0) {
+    // The bands cannot meet: no part pair.
+    std::fill(zone_a->begin(), zone_a->end(), 0);
+    stats_.zone_parts_a = 0;
+  }
+}
+
 void CandidateSearch::UpdateBroadPhase(const Transform& X_WA, const Transform& X_WB,
                                        double extra_reach_m) {
+  UpdateBroadPhase(X_WA, X_WB, extra_reach_m, 0, nullptr);
+}
+
+void CandidateSearch::UpdateBroadPhase(const Transform& X_WA, const Transform& X_WB,
+                                       double extra_reach_m, double grow_m,
+                                       std::vector<std::pair<int, int>>* grown) {
   Impl& m = *impl_;
   m.X_WA = X_WA;
   m.X_WB = X_WB;
   const Transform X_AB = X_WA.Inverse() * X_WB;
-  // Part spheres of B in A's frame, grown by d + s, against A's spheres.
+  // Part spheres of B in A's frame, grown by d + s, against A's spheres; for *grown the zone
+  // and the spheres at the grown reach, in the same loop.
   const double reach = search_distance_ + slack_ + extra_reach_m;
+  const double reach_grown = search_distance_ + slack_ + (extra_reach_m + grow_m);
   const int na = a_.num_parts(), nb = b_.num_parts();
   for (int j = 0; j < nb; ++j) m.centers_b_A[j] = X_AB * b_.part_centers()[j];
-  // Ring zone of two part rings on (nearly) parallel axes: only parts whose angular span meets
-  // the overlap of the two bands (at the rings' current angles) go on.
-  std::fill(m.zone_a.begin(), m.zone_a.end(), 1);
-  std::fill(m.zone_b.begin(), m.zone_b.end(), 1);
-  stats_.zone_parts_a = na;
-  stats_.zone_parts_b = nb;
-  if (a_.part_ring() && b_.part_ring()) {
-    const PartRing& ra = *a_.part_ring();
-    const PartRing& rb = *b_.part_ring();
-    const Transform X_GaGb = (X_WA * ra.X_BG).Inverse() * (X_WB * rb.X_BG);
-    const Vec3 o_b = X_GaGb.p;                       // B's axis origin in Ga
-    const Vec3 o_a = X_GaGb.Inverse().p;             // A's axis origin in Gb
-    const double a = std::hypot(o_b.x(), o_b.y());
-    const bool parallel = X_GaGb.R(2, 2) > 1 - 1e-6;  // both axes +z (tilt below ~1.4 mrad)
-    // The windows depend on a and the reach only: kept (two reaches) while a stays within
-    // kWindowTolerance of the a they were computed at, with the reach grown by as much (the
-    // distances |P - O'| change by at most the change of a).
-    constexpr double kWindowTolerance = 1e-6;
-    Impl::Window* w = nullptr;
-    for (Impl::Window& c : m.windows)
-      if (c.reach == reach && std::abs(c.a - a) <= kWindowTolerance) w = &c;
-    if (!w && parallel && a > 0) {
-      w = &m.windows[m.next_window];
-      m.next_window = (m.next_window + 1) % 2;
-      w->a = a;
-      w->reach = reach;
-      const double r = reach + kWindowTolerance;
-      w->meet = ZoneWindow(a, ra.inner_radius_m, ra.outer_radius_m, rb.inner_radius_m,
-                           rb.outer_radius_m, r, &w->a_min, &w->a_max) &&
-                ZoneWindow(a, rb.inner_radius_m, rb.outer_radius_m, ra.inner_radius_m,
-                           ra.outer_radius_m, r, &w->b_min, &w->b_max);
-    }
-    const double a_min = w ? w->a_min : 0, a_max = w ? w->a_max : 0;
-    const double b_min = w ? w->b_min : 0, b_max = w ? w->b_max : 0;
-    if (parallel && a > 0 && w->meet) {
-      stats_.zone_parts_a =
-          FlagZoneParts(ra, std::atan2(o_b.y(), o_b.x()), a_min, a_max,
-                        reach / std::max(ra.inner_radius_m, 1e-12), &m.zone_a);
-      stats_.zone_parts_b =
-          FlagZoneParts(rb, std::atan2(o_a.y(), o_a.x()), b_min, b_max,
-                        reach / std::max(rb.inner_radius_m, 1e-12), &m.zone_b);
-    } else if (parallel && a > 0) {
-      // The bands cannot meet: no part pair.
-      std::fill(m.zone_a.begin(), m.zone_a.end(), 0);
-      stats_.zone_parts_a = 0;
-    }
-  }
+  if (grown) FlagZones(X_WA, X_WB, reach_grown, &m.zone_a_grown, &m.zone_b_grown);
+  FlagZones(X_WA, X_WB, reach, &m.zone_a, &m.zone_b);
   m.part_pairs.clear();
+  if (grown) grown->clear();
+  auto in = [&](const std::vector<char>& zone, const std::vector<char>& zone_grown, int k) {
+    return zone[k] || (grown && zone_grown[k]);
+  };
   for (int i = 0; i < na; ++i) {
-    if (!m.zone_a[i]) continue;
+    if (!in(m.zone_a, m.zone_a_grown, i)) continue;
     const Vec3& c_a = a_.part_centers()[i];
     const double r_a = a_.part_radii()[i] + reach;
+    const double r_a_grown = a_.part_radii()[i] + reach_grown;
     for (int j = 0; j < nb; ++j) {
-      if (!m.zone_b[j]) continue;
+      if (!in(m.zone_b, m.zone_b_grown, j)) continue;
+      const double d2 = (m.centers_b_A[j] - c_a).squaredNorm();
       const double r = r_a + b_.part_radii()[j];
-      if ((m.centers_b_A[j] - c_a).squaredNorm() <= r * r) m.part_pairs.emplace_back(i, j);
+      const double r_grown = r_a_grown + b_.part_radii()[j];
+      if (grown && m.zone_a_grown[i] && m.zone_b_grown[j] && d2 <= r_grown * r_grown)
+        grown->emplace_back(i, j);
+      if (m.zone_a[i] && m.zone_b[j] && d2 <= r * r) m.part_pairs.emplace_back(i, j);
     }
   }
   stats_.part_pairs = static_cast<int>(m.part_pairs.size());

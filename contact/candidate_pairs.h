@@ -140,6 +140,11 @@ class CandidateSearch {
   // Stage 1: poses of the bodies of A and B in the world; lists the part pairs whose spheres
   // are within d + s (+ extra_reach_m, and the ring zone grown by as much).
   void UpdateBroadPhase(const Transform& X_WA, const Transform& X_WB, double extra_reach_m = 0);
+  // The same, and in one pass over the part pairs *grown (cleared; capacity #parts_A #parts_B):
+  // the pairs within d + s + extra_reach_m + grow_m (grow_m >= 0), those of
+  // UpdateBroadPhase(X_WA, X_WB, extra_reach_m + grow_m), sorted as part_pairs().
+  void UpdateBroadPhase(const Transform& X_WA, const Transform& X_WB, double extra_reach_m,
+                        double grow_m, std::vector<std::pair<int, int>>* grown);
   // The part pairs (part of A, part of B) of the last UpdateBroadPhase().
   const std::vector<std::pair<int, int>>& part_pairs() const;
   // Stage 2: triangle pairs of the part pairs of the last UpdateBroadPhase(); clears *pairs.
@@ -154,6 +159,9 @@ class CandidateSearch {
 
  private:
   struct Impl;
+  // The ring-zone flags (stage 1a) of both surfaces' parts at this reach (all set without rings).
+  void FlagZones(const Transform& X_WA, const Transform& X_WB, double reach,
+                 std::vector<char>* zone_a, std::vector<char>* zone_b);
   std::unique_ptr<Impl> impl_;
   const ContactSurface& a_;
   const ContactSurface& b_;

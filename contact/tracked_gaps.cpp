@@ -227,9 +227,18 @@ void TrackedGaps::TrackPairs(const Transform& X_WA, const Transform& X_WB, bool 
   // Tracked pairs: the broad phase's, plus tracked pairs still in the broad phase grown by s;
   // with the parts' boxes (rigid surfaces), a new pair's boxes within d + s, a tracked pair's
   // within d + 2 s (one box test per pair).
-  search_.UpdateBroadPhase(X_WA, X_WB, s);
-  keep_.assign(search_.part_pairs().begin(), search_.part_pairs().end());
-  search_.UpdateBroadPhase(X_WA, X_WB);
+  // Deformed sides: the broad phase's reach holds deformations up to the surfaces' allowances
+  // (their margins' share beyond the gap distance, flexible_contact_surface.h); beyond, it is
+  // grown by the excess of the largest part bounds.
+  double excess = 0;
+  if (deformed) {
+    auto largest = [](const std::vector<double>* v) {
+      return v ? *std::max_element(v->begin(), v->end()) : 0.0;
+    };
+    excess = std::max(0.0, largest(deformed->a) + largest(deformed->b) -
+                               (search_.search_distance_m() - deformed->gap_distance_m));
+  }
+  search_.UpdateBroadPhase(X_WA, X_WB, excess, s, &keep_);
   const auto& broad = search_.part_pairs();  // sorted: A's part, then B's
   // Deformed sides: a part's deformed vertices lie within its displacement bound of its own, so
   // its box is grown by it (DeformedParts).
