@@ -243,6 +243,28 @@ void ContactSurface::CalcInnerReach() {
   }
 }
 
+PartRing MeasurePartRing(const std::vector<TriangleMesh>& parts, const Transform& X_BG,
+                         std::vector<double> part_angles_rad) {
+  if (part_angles_rad.size() != parts.size())
+    throw std::invalid_argument("MeasurePartRing: " + std::to_string(part_angles_rad.size()) +
+                                " angles for " + std::to_string(parts.size()) + " parts");
+  constexpr double kPi = 3.14159265358979323846;
+  PartRing ring{.X_BG = X_BG, .inner_radius_m = std::numeric_limits<double>::infinity()};
+  const Transform X_GB = X_BG.Inverse();
+  for (size_t j = 0; j < parts.size(); ++j)
+    for (const Vec3& v_B : parts[j].vertices) {
+      const Vec3 v = X_GB * v_B;
+      const double r = std::hypot(v.x(), v.y());
+      ring.inner_radius_m = std::min(ring.inner_radius_m, r);
+      ring.outer_radius_m = std::max(ring.outer_radius_m, r);
+      double d = std::atan2(v.y(), v.x()) - part_angles_rad[j];
+      d -= 2 * kPi * std::floor((d + kPi) / (2 * kPi));
+      ring.part_half_angle_rad = std::max(ring.part_half_angle_rad, std::abs(d));
+    }
+  ring.part_angles_rad = std::move(part_angles_rad);
+  return ring;
+}
+
 void ContactSurface::CheckPartRing() const {
   if (part_ring_) {
     if (static_cast<int>(part_ring_->part_angles_rad.size()) != num_parts())

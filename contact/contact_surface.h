@@ -60,6 +60,13 @@ struct PartRing {
   double part_half_angle_rad = 0;    // every vertex of part j lies within this of its angle
 };
 
+// The ring of parts (body-frame vertices) about the axis z of frame G (X_BG in the body frame),
+// part j about angle part_angles_rad[j] (#parts): the radial band and the half angle measured
+// on the vertices, so that every vertex lies inside whatever the reference angles. Throws
+// std::invalid_argument when the angles do not match the parts.
+PartRing MeasurePartRing(const std::vector<TriangleMesh>& parts, const Transform& X_BG,
+                         std::vector<double> part_angles_rad);
+
 class ContactSurface {
  public:
   // parts: at least one non-empty mesh, vertices in the body frame (m). Throws

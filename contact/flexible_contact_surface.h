@@ -36,6 +36,7 @@
 //   auto surface = std::make_shared<const FlexibleContactSurface>(modes, s);
 #include <array>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -54,6 +55,11 @@ struct FlexibleContactSurfaceSpec {
   double slack_m = 0;                   // >= 0: rigid relative motion kept (contact_surface.h)
   int angular_parts = 1;                // >= 1 sectors about z
   double part_angle_offset_rad = 0;     // sector k spans offset + (k -+ 1/2) 2 pi / angular_parts
+  // Optional: the parts' ring (contact_surface.h PartRing; the undeformed vertices), for the
+  // broad phase's ring zone (candidate_pairs.h; a deformed vertex lies within the part's
+  // displacement bound of its own, which the tracked gaps add to the zone's reach). For a
+  // gear the gear layer measures it as for its rigid surfaces (MeasurePartRing).
+  std::optional<PartRing> part_ring;
 };
 
 class FlexibleContactSurface {

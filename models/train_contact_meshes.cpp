@@ -165,15 +165,19 @@ std::shared_ptr<const FlexibleContactSurface> FlexibleGearSurface(
   *z0 = faces.z0;
   const Transform X_BG(Mat3::Identity(), Vec3(0, 0, faces.z0));
   std::vector<TriangleMesh> parts;
+  std::vector<double> angles;  // tooth t about 2 pi t / z in the gear frame (the ring zone)
   for (int t = 0; t < gear.teeth(); ++t) {
     if (std::find(missing.begin(), missing.end(), t) != missing.end()) continue;
     TriangleMesh part = EmbeddedTooth(what, gear, t, faces, X_BG, c, faults);
-    if (!part.triangles.empty()) parts.push_back(std::move(part));
+    if (part.triangles.empty()) continue;
+    parts.push_back(std::move(part));
+    angles.push_back(2 * kPi * t / gear.teeth());
   }
   if (parts.empty()) FailTrain(what + "no tooth left");
   const FlexibleContactSurfaceSpec spec{.node_sets = faces.sets, .gap_margin_m = c.gear.margin_m,
                                         .deformation_allowance_m = c.flexible.deformation_allowance_m,
-                                        .slack_m = c.gear.slack_m};
+                                        .slack_m = c.gear.slack_m,
+                                        .part_ring = contact::MeasurePartRing(parts, X_BG, std::move(angles))};
   try {
     return std::make_shared<const FlexibleContactSurface>(modes, parts, spec, c.flexible.embed_tolerance_m);
   } catch (const std::invalid_argument& e) {
