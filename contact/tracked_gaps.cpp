@@ -33,6 +33,15 @@ ClosestFace OnFace(const Geometry& g, int face, const Vec3& p) {
   return c;
 }
 
+// Rounding allowance of the walk's skip test (m): the distances it compares are computed to
+// about 1e-17 m (coordinates below 1 m).
+constexpr double kWalkRounding = 1e-12;
+
+bool IsVertex(TriangleFeature f) {
+  return f == TriangleFeature::kVertex0 || f == TriangleFeature::kVertex1 ||
+         f == TriangleFeature::kVertex2;
+}
+
 // Whether the closest point's feature lies on a rim edge next to another part.
 bool OnSharedRim(const ContactSurface& s, const ClosestFace& c) {
   return s.shared_rim_edges()[c.face] & FeatureEdges(c.point.feature);
@@ -42,14 +51,18 @@ bool OnSharedRim(const ContactSurface& s, const ClosestFace& c) {
 // three edges, and around its vertex when the closest point is one, are tried, and the walk
 // moves to the closest (ties to the lower index); a node below its face also tries the faces
 // two edges away before it settles. False if it did not settle within kMaxWalkSteps.
-bool Walk(const Geometry& g, const Vec3& p, ClosestFace* current, long* steps) {
+// *margin_m: at the face it settled on, the smallest distance of the faces it tried there less
+// the face's own (what lets a later evaluation skip the walk, RunPass).
+bool Walk(const Geometry& g, const Vec3& p, ClosestFace* current, long* steps, double* margin_m) {
   const ContactSurface& s = g.s;
   const auto& tris = s.triangles();
   for (int step = 0; step < kMaxWalkSteps; ++step) {
     ClosestFace best = *current;
+    double tried_d2 = std::numeric_limits<double>::infinity();
     auto consider = [&](int face) {
       if (face < 0 || face == current->face) return;
       const ClosestFace c = OnFace(g, face, p);
+      tried_d2 = std::min(tried_d2, c.d2);
       if (c.d2 < best.d2 || (c.d2 == best.d2 && face < best.face)) best = c;
     };
     for (const int neighbor : s.face_neighbors()[current->face]) consider(neighbor);
@@ -70,7 +83,10 @@ bool Walk(const Geometry& g, const Vec3& p, ClosestFace* current, long* steps) {
       for (const int neighbor : s.face_neighbors()[current->face])
         if (neighbor >= 0)
           for (const int second : s.face_neighbors()[neighbor]) consider(second);
-    if (best.face == current->face) return true;
+    if (best.face == current->face) {
+      *margin_m = std::sqrt(tried_d2) - std::sqrt(current->d2);
+      return true;
+    }
     *current = best;
     ++*steps;
   }
@@ -86,7 +102,12 @@ TrackedGaps::Pass::Pass(const ContactSurface& node_surface)
       odometer_reach(node_surface.num_vertices(), 0.0),
       stamp(node_surface.num_vertices(), 0.0),
       stamp_position(node_surface.num_vertices(), Vec3::Zero()),
-      stamp_face_deformation(node_surface.num_vertices(), 0.0) {
+      stamp_face_deformation(node_surface.num_vertices(), 0.0),
+      walk_margin(node_surface.num_vertices(), 0.0),
+      walk_position(node_surface.num_vertices(), Vec3::Zero()),
+      walk_face_deformation(node_surface.num_vertices(), 0.0),
+      walk_feature(node_surface.num_vertices(), TriangleFeature::kFace),
+      walk_below(node_surface.num_vertices(), 0) {
   const auto& start = node_surface.part_vertex_start();
   part_block_start.assign(start.size(), 0);
   for (size_t part = 0; part + 1 < start.size(); ++part)
@@ -403,12 +424,26 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
         ClosestFace best;
         double unseen_d2 = far_m * far_m;
         bool search = pass.face[v] < 0 || pass.distance[v] > walk_reach;
+        double walk_margin = 0;
         if (pass.face[v] >= 0) {
           best = OnFace(faces, pass.face[v], p);
+          // The walk from the node's face stays there while every face it tried at its last
+          // walk is farther than this one: their distances change by at most the node's motion
+          // in the face frame plus the faces' deformation since, each (a face tried then is
+          // tried now only if the closest point's vertex, if any, and its side, if below, are
+          // those of then: the tried set is then no larger).
+          const bool stays =
+              !search && pass.walk_margin[v] > 0 &&
+              2 * ((p - pass.walk_position[v]).norm() + face_deformation_odometer_m -
+                   pass.walk_face_deformation[v]) + kWalkRounding < pass.walk_margin[v] &&
+              (!IsVertex(best.point.feature) || best.point.feature == pass.walk_feature[v]) &&
+              ((p - best.point.point).dot(faces.Normal(best.face)) >= 0 || pass.walk_below[v]);
+          if (stays) walk_margin = -1;  // keeps the margin of the last walk
           // A walk that ends on its part's rim next to another part may belong in that part.
-          if (!search)
-            search = !Walk(faces, p, &best, &stats_.walk_steps) ||
+          if (!search && !stays)
+            search = !Walk(faces, p, &best, &stats_.walk_steps, &walk_margin) ||
                      OnSharedRim(face_surface, best);
+          if (!search && stays) search = OnSharedRim(face_surface, best);
           // Inside the other body the distance has a local minimum on every face the node lies
           // under (a tip corner: flank and tip): deeper than the face's inner reach, the closest
           // needs the search, bounded by the walk's distance.
@@ -452,6 +487,17 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
         pass.stamp[v] = odometer;
         pass.stamp_position[v] = p;
         pass.stamp_face_deformation[v] = face_deformation_odometer_m;
+        // What a later evaluation needs to skip the walk (a search, or a face new to the node:
+        // none).
+        if (search) {
+          pass.walk_margin[v] = 0;
+        } else if (walk_margin >= 0) {
+          pass.walk_margin[v] = walk_margin;
+          pass.walk_position[v] = p;
+          pass.walk_face_deformation[v] = face_deformation_odometer_m;
+          pass.walk_feature[v] = best.point.feature;
+          pass.walk_below[v] = (p - best.point.point).dot(faces.Normal(best.face)) < 0;
+        }
         // Reach: the motion before the node can press. Off the surface (beyond the rim) its
         // sideways distance must first come within the face's rim fade f (signed_gap.h), by at
         // least s - f; on it, its gap must close.

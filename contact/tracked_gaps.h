@@ -160,6 +160,8 @@ class TrackedGaps {
   void ComputeGaps(const Transform& X_WA, const Transform& X_WB, const TrackedSide& a,
                    const TrackedSide& b, double gap_distance_m, std::vector<NodeGap>* gaps_a,
                    std::vector<NodeGap>* gaps_b);
+  // The tracked part pairs (part of A, part of B), sorted, of the last TrackPairs().
+  const std::vector<std::pair<int, int>>& tracked_pairs() const { return tracked_; }
   const std::vector<int>& tracked_parts_a() const { return tracked_parts_a_; }
   const std::vector<int>& tracked_parts_b() const { return tracked_parts_b_; }
   // Forget every node's face and distance (the next Update() seeds them all).
@@ -213,6 +215,14 @@ class TrackedGaps {
     std::vector<double> stamp;    // odometer at the last evaluation or look (m)
     std::vector<Vec3> stamp_position;  // the node in the face frame at the last evaluation
     std::vector<double> stamp_face_deformation;  // the pass's face deformation odometer then
+    // At the node's last walk (RunPass skips the next walks while they cannot leave its face):
+    // the margin of the faces it tried over its own (m; 0: none, walk), the node in the face
+    // frame, the face deformation odometer, the closest point's feature, whether it was below.
+    std::vector<double> walk_margin;
+    std::vector<Vec3> walk_position;
+    std::vector<double> walk_face_deformation;
+    std::vector<TriangleFeature> walk_feature;
+    std::vector<char> walk_below;
     // Blocks of kBlock consecutive nodes of one part (a part's first block starts at its first
     // node): the smallest stamp + odometer_reach of the block's nodes (-inf while one has no
     // face), so that a block whose nodes all sleep by the odometer is passed in one test.
