@@ -51,6 +51,11 @@
 //     (contact_surface.h; inside the other body the distance has a local minimum on every face
 //     the node lies under, such as flank and tip at a tip corner), is searched exactly in the paired parts' FCL hierarchies
 //     (FindClosestFaceInPart), the face it had giving the first bound.
+// A walk that settled records its margin (the smallest distance of the faces it tried at the
+// end less the face's own); the next evaluations keep the face without walking while twice the
+// node's motion in the face frame plus the faces' deformation since stays below the margin
+// (and the closest point is on no other vertex, the node below the face only if it was then):
+// the walk would try no face it did not try then, each still farther, and stay.
 // The sleep test is also taken for blocks of 16 consecutive nodes of a part at once (the
 // block's smallest wake-up reading), which passes a sleeping block in one comparison. A node
 // without a face (not seeded yet, or far) is searched only within the far distance
