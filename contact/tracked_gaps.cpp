@@ -180,6 +180,11 @@ void TrackedGaps::WarmStartFrom(const TrackedGaps& source) {
       range(from.stamp, to.stamp);
       range(from.stamp_position, to.stamp_position);
       range(from.stamp_face_deformation, to.stamp_face_deformation);
+      range(from.walk_margin, to.walk_margin);
+      range(from.walk_position, to.walk_position);
+      range(from.walk_face_deformation, to.walk_face_deformation);
+      range(from.walk_feature, to.walk_feature);
+      range(from.walk_below, to.walk_below);
       std::copy(from.block_wake.begin() + from.part_block_start[part],
                 from.block_wake.begin() + from.part_block_start[part + 1],
                 to.block_wake.begin() + to.part_block_start[part]);

@@ -172,7 +172,8 @@ class TrackedGaps {
   // Forget every node's face and distance (the next Update() seeds them all).
   void Reset();
   // Takes over the tracking state of `source`, a TrackedGaps of the same two surfaces (another
-  // workspace of the same element): its tracked pairs, the faces, reaches, stamps and block
+  // workspace of the same element): its tracked pairs, the faces, reaches, stamps, walk margins
+  // (with the position, face deformation, feature and side they were measured at) and block
   // wake-ups of the nodes of its tracked parts, its odometers and last relative pose, so that
   // the next Update() continues from source's last one (a workspace a step behind instead of
   // an output interval: ExternalForceElement::WarmStart). The gaps that Update() then lists
