@@ -443,7 +443,10 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
                    pass.walk_face_deformation[v]) + kWalkRounding < pass.walk_margin[v] &&
               (!IsVertex(best.point.feature) || best.point.feature == pass.walk_feature[v]) &&
               ((p - best.point.point).dot(faces.Normal(best.face)) >= 0 || pass.walk_below[v]);
-          if (stays) walk_margin = -1;  // keeps the margin of the last walk
+          if (stays) {  // keeps the margin of the last walk
+            walk_margin = -1;
+            ++stats_.walks_skipped;
+          }
           // A walk that ends on its part's rim next to another part may belong in that part.
           if (!search && !stays)
             search = !Walk(faces, p, &best, &stats_.walk_steps, &walk_margin) ||

@@ -99,6 +99,7 @@ struct TrackedGapStats {
   long node_evaluations = 0;    // since construction
   long seeds = 0;               // since construction
   long walk_steps = 0;          // face changes by walking, since construction
+  long walks_skipped = 0;       // walks a node's margin made unnecessary, since construction
   long pair_changes = 0;        // pairs that joined or left, since construction
   double odometer_m = 0;        // sum of the per-call largest part motion bounds
   double max_motion_between_calls_m = 0;  // largest per-call motion bound (tracked parts of B)
