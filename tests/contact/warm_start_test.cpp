@@ -28,11 +28,10 @@
 #include "mbd/model.h"
 #include "mbd/state.h"
 #include "models/gear_contact.h"
+#include "tests/contact/two_mesh_model.h"
 
 namespace orrery::contact {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 bool BitEqual(const Eigen::VectorXd& x, const Eigen::VectorXd& y) {
   return x.size() == y.size() &&
@@ -56,38 +55,7 @@ void ExpectSameEvaluation(const Model& m, const Data& warm, const Data& cold, in
   }
 }
 
-// A pinion (18 teeth) driving two 34-tooth gears by tooth contact (tests/contact/
-// parallel_contacts_test.cpp's pair), all on revolute joints about z.
-std::shared_ptr<const Model> TwoMeshModel() {
-  const double deg = kPi / 180;
-  gears::GearSpec s1{.teeth = 18, .normal_module_m = 1.5e-3,
-                     .normal_pressure_angle_rad = 21.3 * deg, .face_width_m = 0.03};
-  gears::GearSpec s2 = s1;
-  s2.teeth = 34;
-  const gears::GearPair pair{gears::Gear(s1), gears::Gear(s2)};
-  ModelBuilder b;
-  const Mat3 I = Mat3::Identity() * 1e-4;
-  const BodyIndex pinion = b.AddBody("pinion", 0.3, Vec3::Zero(), I);
-  JointSpec jp;
-  jp.name = "pinion", jp.type = JointType::kRevolute, jp.parent = kWorldBody, jp.child = pinion;
-  b.AddJoint(jp);
-  gears::GearContactOptions o;
-  o.involute_intervals = 16;
-  o.face_intervals = 2;
-  for (int k = 0; k < 2; ++k) {
-    const std::string name = "gear" + std::to_string(k + 1);
-    const BodyIndex gear = b.AddBody(name, 1.0, Vec3::Zero(), I);
-    JointSpec jg = jp;
-    jg.name = name, jg.child = gear;
-    const double side = k == 0 ? 0.0 : kPi;
-    jg.X_PF = Transform(AxisAngle(Vec3::UnitZ(), side + kPi * (1 + 1.0 / 34)),
-                        AxisAngle(Vec3::UnitZ(), side) * Vec3(pair.center_distance_m(), 0, 0));
-    b.AddJoint(jg);
-    b.AddExternalForce(std::make_shared<ContactElement>(
-        gears::MakeGearContactSpec("mesh" + std::to_string(k + 1), pair, pinion, gear, o)));
-  }
-  return std::move(b).Finalize();
-}
+using test_scenes::TwoMeshModel;
 
 long NodeEvaluations(const Data& d, size_t e) {
   return static_cast<const ContactWorkspace&>(*d.external[e]).tracked.stats().node_evaluations;
