@@ -232,14 +232,18 @@ FeModes ModesOfFreeDofs(const FeSystem& system, FeSystem* release, std::span<con
   ShiftedFactor f;
   double sigma = 0, factorize_seconds = 0;
   {
-    // Only S = K_f - sigma M_f (and M_f) stay while CHOLMOD works: K_f goes once S is formed
-    Eigen::SparseMatrix<double> S;
-    {
+    // Only S = K_f - sigma M_f (and M_f) stay while CHOLMOD works: K_f goes once S is formed.
+    // Eigen 3.4's SparseMatrix has no move assignment and keeps its storage when assigned an
+    // empty matrix: released storage is swapped out (K and M of the 92k-DOF block: 230 MB).
+    const Eigen::SparseMatrix<double> S = [&] {
       const Eigen::SparseMatrix<double> Kf = RestrictUpper(system.K, map);
-      if (release) release->K = release->M = Eigen::SparseMatrix<double>();
+      if (release) {
+        Eigen::SparseMatrix<double>().swap(release->K);
+        Eigen::SparseMatrix<double>().swap(release->M);
+      }
       sigma = options.use_shift ? options.shift : DefaultShift(Kf, Mf);
-      S = UpperShifted(Kf, Mf, sigma);
-    }
+      return UpperShifted(Kf, Mf, sigma);
+    }();
     factorize_seconds = Factorize(S, sigma, options, f);
   }
   FeModes r = SolveLowestModes(f, Mf, options);
