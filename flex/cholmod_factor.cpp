@@ -12,13 +12,16 @@ namespace orrery::flex {
 
 struct CholmodCholesky::Impl {
   cholmod_common common;
+  // Factor of B = P S P^T, analysed with the natural ordering (see factorize); P from the first
+  // analysis of S (METIS or AMD, postordered): (P b)(i) = b(perm[i])
   cholmod_factor* L = nullptr;
+  std::vector<int> perm;
   double lnz = 0;
   // Solve workspace (cholmod_solve2): solution and two scratch matrices, kept between solves
   cholmod_dense* X = nullptr;
   cholmod_dense* Y = nullptr;
   cholmod_dense* E = nullptr;
-  // Permuted right-hand sides of solve_forward (n x columns), kept between solves
+  // Permuted right-hand sides (n x columns), kept between solves
   mutable std::vector<double> permuted;
 
   Impl() {
@@ -67,7 +70,49 @@ CholmodCholesky::CholmodCholesky() : impl_(std::make_unique<Impl>()) {}
 
 CholmodCholesky::~CholmodCholesky() = default;
 
-bool CholmodCholesky::factorize(const Eigen::SparseMatrix<double>& S) {
+bool CholmodCholesky::factorize(const Eigen::SparseMatrix<double>& S) { return Factorize(S, nullptr); }
+
+bool CholmodCholesky::factorize(Eigen::SparseMatrix<double>&& S) { return Factorize(S, &S); }
+
+// The fill-reducing permutation of S, from CHOLMOD's default analysis (AMD, METIS where AMD fills
+// in much; postordered), into impl.perm; the nonzeros of L into impl.lnz.
+void CholmodCholesky::Order(cholmod_sparse& A) {
+  cholmod_common& c = impl_->common;
+  cholmod_factor* L0 = cholmod_analyze(&A, &c);
+  if (!L0 || c.status < CHOLMOD_OK) {
+    if (L0) cholmod_free_factor(&L0, &c);
+    throw std::runtime_error("CholmodCholesky: symbolic analysis failed (" + Status(c) + ")");
+  }
+  const int* p = static_cast<const int*>(L0->Perm);
+  impl_->perm.assign(p, p + L0->n);
+  impl_->lnz = c.lnz;
+  cholmod_free_factor(&L0, &c);
+}
+
+// The supernodal analysis of the permuted matrix B with the natural ordering: B's elimination
+// tree is already postordered (P includes the postorder), so the supernodes are those of the
+// analysis of S, and cholmod_factorize then works on B itself (a natural ordering with a lower
+// triangle is the one case in which it makes no permuted copy).
+void CholmodCholesky::AnalyzePermuted(cholmod_sparse& B) {
+  cholmod_common& c = impl_->common;
+  const int nmethods = c.nmethods, ordering = c.method[0].ordering, postorder = c.postorder;
+  c.nmethods = 1;
+  c.method[0].ordering = CHOLMOD_NATURAL;
+  c.postorder = 0;
+  impl_->L = cholmod_analyze(&B, &c);
+  c.nmethods = nmethods;
+  c.method[0].ordering = ordering;
+  c.postorder = postorder;
+  if (!impl_->L || c.status < CHOLMOD_OK)
+    throw std::runtime_error("CholmodCholesky: symbolic analysis of the permuted matrix failed (" + Status(c) + ")");
+  if (impl_->L->ordering != CHOLMOD_NATURAL || !impl_->L->is_super)
+    throw std::logic_error("CholmodCholesky: the permuted matrix was not analysed as supernodal in natural order");
+}
+
+// Factorizes S: B = lower triangle of P S P^T (CHOLMOD's own permuted copy, which
+// cholmod_factorize would otherwise make and hold next to S), S's storage released into
+// `release` if given, then L L^T = B.
+bool CholmodCholesky::Factorize(const Eigen::SparseMatrix<double>& S, Eigen::SparseMatrix<double>* release) {
   if (S.rows() != S.cols()) throw std::invalid_argument("CholmodCholesky: matrix must be square");
   if (!S.isCompressed()) throw std::invalid_argument("CholmodCholesky: matrix must be compressed");
   if (impl_->L && S.rows() != n_)
@@ -76,14 +121,21 @@ bool CholmodCholesky::factorize(const Eigen::SparseMatrix<double>& S) {
   cholmod_sparse A = View(S);
   cholmod_common& c = impl_->common;
   factorized_ = false;
-  if (!impl_->L) {
-    impl_->L = cholmod_analyze(&A, &c);
-    if (!impl_->L || c.status < CHOLMOD_OK)
-      throw std::runtime_error("CholmodCholesky: symbolic analysis failed (" + Status(c) + ")");
-    n_ = S.rows();
-    impl_->lnz = c.lnz;
+  if (!impl_->L) Order(A);
+  cholmod_sparse* B = cholmod_ptranspose(&A, 2, impl_->perm.data(), nullptr, 0, &c);
+  if (!B || c.status < CHOLMOD_OK) throw std::runtime_error("CholmodCholesky: permuting the matrix failed (" + Status(c) + ")");
+  if (release) Eigen::SparseMatrix<double>().swap(*release);
+  try {
+    if (!impl_->L) {
+      AnalyzePermuted(*B);
+      n_ = static_cast<Eigen::Index>(impl_->perm.size());
+    }
+  } catch (...) {
+    cholmod_free_sparse(&B, &c);
+    throw;
   }
-  const int ok = cholmod_factorize(&A, impl_->L, &c);
+  const int ok = cholmod_factorize(B, impl_->L, &c);
+  cholmod_free_sparse(&B, &c);
   if (c.status == CHOLMOD_NOT_POSDEF) return false;
   if (!ok || c.status < CHOLMOD_OK)
     throw std::runtime_error("CholmodCholesky: numeric factorization failed (" + Status(c) + ")");
@@ -110,7 +162,8 @@ cholmod_dense DenseView(const double* B, std::size_t n, std::size_t k) {
 
 }  // namespace
 
-// sys: CHOLMOD_A (S^-1 B), CHOLMOD_L or CHOLMOD_Lt (no permutation); the result in impl->X.
+// sys: CHOLMOD_A, CHOLMOD_L or CHOLMOD_Lt of the permuted factor (L has the natural ordering:
+// no permutation inside CHOLMOD); the result in impl->X.
 void CholmodCholesky::SolveSystem(int sys, const double* B, int columns, const char* name) const {
   if (!factorized_) throw std::logic_error(std::string("CholmodCholesky::") + name + " without a successful factorize()");
   if (columns < 1) throw std::invalid_argument(std::string("CholmodCholesky::") + name + ": columns must be >= 1");
@@ -121,32 +174,43 @@ void CholmodCholesky::SolveSystem(int sys, const double* B, int columns, const c
     throw std::runtime_error(std::string("CholmodCholesky: ") + name + " failed (" + Status(c) + ")");
 }
 
-void CholmodCholesky::solve(const double* B, double* X, int columns) const {
-  SolveSystem(CHOLMOD_A, B, columns, "solve");
-  std::memcpy(X, impl_->X->x, sizeof(double) * static_cast<std::size_t>(n_) * columns);
-}
-
-// (P B)(i) = B(Perm(i)): row i of P S P^T is row Perm(i) of S (CHOLMOD's convention).
-void CholmodCholesky::solve_forward(const double* B, double* X, int columns) const {
-  if (!factorized_) throw std::logic_error("CholmodCholesky::solve_forward without a successful factorize()");
-  if (columns < 1) throw std::invalid_argument("CholmodCholesky::solve_forward: columns must be >= 1");
+// (P B)(i) = B(perm(i)) into impl->permuted: row i of P S P^T is row perm(i) of S (CHOLMOD's
+// convention).
+const double* CholmodCholesky::Permuted(const double* B, int columns, const char* name) const {
+  if (!factorized_) throw std::logic_error(std::string("CholmodCholesky::") + name + " without a successful factorize()");
+  if (columns < 1) throw std::invalid_argument(std::string("CholmodCholesky::") + name + ": columns must be >= 1");
   const std::size_t n = static_cast<std::size_t>(n_);
   std::vector<double>& pb = impl_->permuted;
   pb.resize(n * columns);
-  const int* perm = static_cast<const int*>(impl_->L->Perm);
+  const int* perm = impl_->perm.data();
   for (int j = 0; j < columns; ++j)
     for (std::size_t i = 0; i < n; ++i) pb[j * n + i] = B[j * n + perm[i]];
-  SolveSystem(CHOLMOD_L, pb.data(), columns, "solve_forward");
-  std::memcpy(X, impl_->X->x, sizeof(double) * n * columns);
+  return pb.data();
+}
+
+// X = P^T Y for the solution Y in impl->X.
+void CholmodCholesky::Unpermute(double* X, int columns) const {
+  const std::size_t n = static_cast<std::size_t>(n_);
+  const int* perm = impl_->perm.data();
+  const double* y = static_cast<const double*>(impl_->X->x);
+  for (int j = 0; j < columns; ++j)
+    for (std::size_t i = 0; i < n; ++i) X[j * n + perm[i]] = y[j * n + i];
+}
+
+// S^-1 B = P^T (L L^T)^-1 P B
+void CholmodCholesky::solve(const double* B, double* X, int columns) const {
+  SolveSystem(CHOLMOD_A, Permuted(B, columns, "solve"), columns, "solve");
+  Unpermute(X, columns);
+}
+
+void CholmodCholesky::solve_forward(const double* B, double* X, int columns) const {
+  SolveSystem(CHOLMOD_L, Permuted(B, columns, "solve_forward"), columns, "solve_forward");
+  std::memcpy(X, impl_->X->x, sizeof(double) * static_cast<std::size_t>(n_) * columns);
 }
 
 void CholmodCholesky::solve_backward(const double* B, double* X, int columns) const {
   SolveSystem(CHOLMOD_Lt, B, columns, "solve_backward");
-  const std::size_t n = static_cast<std::size_t>(n_);
-  const int* perm = static_cast<const int*>(impl_->L->Perm);
-  const double* y = static_cast<const double*>(impl_->X->x);
-  for (int j = 0; j < columns; ++j)
-    for (std::size_t i = 0; i < n; ++i) X[j * n + perm[i]] = y[j * n + i];
+  Unpermute(X, columns);
 }
 
 Eigen::Index CholmodCholesky::factor_nonzeros() const { return static_cast<Eigen::Index>(impl_->lnz); }

@@ -193,14 +193,17 @@ void FinishModes(const FeModesOptions& options, FeModes& r) {
   }
 }
 
-// Factorizes S = K - sigma M into f (the caller may release S afterwards); returns the seconds.
-// Throws if eigenvalues lie below the default (negative) shift.
-double Factorize(const Eigen::SparseMatrix<double>& S, double sigma, const FeModesOptions& options, ShiftedFactor& f) {
+// Factorizes S = K - sigma M into f; returns the seconds. At the default (negative) shift S is
+// released before the numeric factorization (a Cholesky must succeed there: throws if K is not
+// positive semi-definite); at a shift of the caller's it is kept for the LDL^T fallback.
+double Factorize(Eigen::SparseMatrix<double>&& S, double sigma, const FeModesOptions& options, ShiftedFactor& f) {
   const Clock::time_point t0 = Clock::now();
-  f.Factorize(S, sigma);
-  if (f.num_eigenvalues_below_shift() > 0 && !options.use_shift)
-    throw std::runtime_error(std::to_string(f.num_eigenvalues_below_shift()) +
-                             " eigenvalues below the negative shift: K is not positive semi-definite");
+  if (options.use_shift) {
+    f.Factorize(S, sigma);
+  } else if (!f.FactorizeIfPositiveDefinite(std::move(S), sigma)) {
+    throw std::runtime_error("K - sigma M is not positive definite at the negative shift sigma = " +
+                             std::to_string(sigma) + ": K is not positive semi-definite");
+  }
   return Seconds(t0, Clock::now());
 }
 
@@ -235,7 +238,7 @@ FeModes ModesOfFreeDofs(const FeSystem& system, FeSystem* release, std::span<con
     // Only S = K_f - sigma M_f (and M_f) stay while CHOLMOD works: K_f goes once S is formed.
     // Eigen 3.4's SparseMatrix has no move assignment and keeps its storage when assigned an
     // empty matrix: released storage is swapped out (K and M of the 92k-DOF block: 230 MB).
-    const Eigen::SparseMatrix<double> S = [&] {
+    Eigen::SparseMatrix<double> S = [&] {
       const Eigen::SparseMatrix<double> Kf = RestrictUpper(system.K, map);
       if (release) {
         Eigen::SparseMatrix<double>().swap(release->K);
@@ -244,7 +247,7 @@ FeModes ModesOfFreeDofs(const FeSystem& system, FeSystem* release, std::span<con
       sigma = options.use_shift ? options.shift : DefaultShift(Kf, Mf);
       return UpperShifted(Kf, Mf, sigma);
     }();
-    factorize_seconds = Factorize(S, sigma, options, f);
+    factorize_seconds = Factorize(std::move(S), sigma, options, f);
   }
   FeModes r = SolveLowestModes(f, Mf, options);
   r.factorize_seconds = factorize_seconds;

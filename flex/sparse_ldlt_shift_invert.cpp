@@ -79,13 +79,22 @@ void ShiftedFactor::Factorize(const Eigen::SparseMatrix<double>& S, double sigma
 }
 
 bool ShiftedFactor::FactorizeIfPositiveDefinite(const Eigen::SparseMatrix<double>& S, double sigma) {
+  return FactorizeCholesky(S, sigma, nullptr);
+}
+
+bool ShiftedFactor::FactorizeIfPositiveDefinite(Eigen::SparseMatrix<double>&& S, double sigma) {
+  return FactorizeCholesky(S, sigma, &S);
+}
+
+bool ShiftedFactor::FactorizeCholesky(const Eigen::SparseMatrix<double>& S, double sigma,
+                                      Eigen::SparseMatrix<double>* release) {
   if (S.rows() != S.cols()) throw std::invalid_argument("ShiftedFactor: matrix must be square");
   if (n_ != 0 && S.rows() != n_)
     throw std::invalid_argument("ShiftedFactor: size " + std::to_string(S.rows()) + " differs from the analysed " +
                                 std::to_string(n_));
   n_ = S.rows();
   if (!cholesky_) cholesky_ = std::make_unique<CholmodCholesky>();
-  factorized_ = uses_cholesky_ = cholesky_->factorize(S);
+  factorized_ = uses_cholesky_ = release ? cholesky_->factorize(std::move(*release)) : cholesky_->factorize(S);
   negative_pivots_ = 0;
   sigma_ = sigma;
   return factorized_;

@@ -67,6 +67,9 @@ class ShiftedFactor {
   // Cholesky only: returns false (and leaves no factorization) if S is not positive definite;
   // throws as Factorize for other failures.
   bool FactorizeIfPositiveDefinite(const Eigen::SparseMatrix<double>& S, double sigma);
+  // The same, freeing S's storage (S is left empty) before the numeric factorization
+  // (CholmodCholesky::factorize(S&&)): S and CHOLMOD's permuted copy never coexist.
+  bool FactorizeIfPositiveDefinite(Eigen::SparseMatrix<double>&& S, double sigma);
 
   // X = S^-1 B for `columns` right-hand sides (B, X: n x columns, column-major, leading dimension
   // n, not overlapping). Throws std::logic_error before a successful Factorize.
@@ -89,6 +92,8 @@ class ShiftedFactor {
   bool uses_cholesky() const { return uses_cholesky_; }
 
  private:
+  bool FactorizeCholesky(const Eigen::SparseMatrix<double>& S, double sigma, Eigen::SparseMatrix<double>* release);
+
   std::unique_ptr<CholmodCholesky> cholesky_;  // created on the first Cholesky attempt
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Upper, Eigen::AMDOrdering<int>> ldlt_;
   bool ldlt_analyzed_ = false;

@@ -10,11 +10,13 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
+#include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "flex/blas_kernels.h"
@@ -189,6 +191,37 @@ TEST(CholmodFactorTest, ForwardAndBackwardHalvesComposeTheSolve) {
   const Eigen::MatrixXd residual = c.K.selfadjointView<Eigen::Upper>() * X - B;
   EXPECT_LT(residual.cwiseAbs().maxCoeff(), 1e-8 * B.cwiseAbs().maxCoeff());
   EXPECT_THROW(chol.solve_forward(B.data(), Y.data(), 0), std::invalid_argument);
+}
+
+// factorize(S&&) frees S before the numeric factorization and gives the same factor as
+// factorize(const S&) (same solves to the bit); both agree with Eigen's simplicial LL^T (an
+// independent factorization with its own ordering) on the clamped box, whose ordering permutes;
+// a second factorization of another matrix of the same pattern (K - sigma M) reuses the analysis.
+TEST(CholmodFactorTest, ReleasingFactorizationIsTheSameFactor) {
+  const Clamped c = MakeClampedBox();
+  const Eigen::Index n = c.K.rows();
+  const Eigen::MatrixXd B = Eigen::MatrixXd::Random(n, 2);
+  Eigen::MatrixXd X(n, 2), Xr(n, 2);
+  CholmodCholesky kept, released;
+  ASSERT_TRUE(kept.factorize(c.K));
+  Eigen::SparseMatrix<double> S = c.K;
+  ASSERT_TRUE(released.factorize(std::move(S)));
+  EXPECT_EQ(S.data().allocatedSize(), 0);  // NOLINT(bugprone-use-after-move): released by contract
+  EXPECT_EQ(released.factor_nonzeros(), kept.factor_nonzeros());
+  kept.solve(B.data(), X.data(), 2);
+  released.solve(B.data(), Xr.data(), 2);
+  EXPECT_EQ((X - Xr).cwiseAbs().maxCoeff(), 0.0);
+  const Eigen::SimplicialLLT<Eigen::SparseMatrix<double>, Eigen::Upper> llt(c.K);
+  ASSERT_EQ(llt.info(), Eigen::Success);
+  const Eigen::MatrixXd Xe = llt.solve(B);
+  EXPECT_LT((X - Xe).cwiseAbs().maxCoeff(), 1e-10 * Xe.cwiseAbs().maxCoeff());
+  // Same pattern, other values: the analysis is kept
+  const double sigma = -1e3;
+  ASSERT_TRUE(released.factorize(UpperShifted(c.K, c.M, sigma)));
+  released.solve(B.data(), Xr.data(), 2);
+  const Eigen::SparseMatrix<double> Ss = UpperShifted(c.K, c.M, sigma);
+  const Eigen::MatrixXd residual = Ss.selfadjointView<Eigen::Upper>() * Xr - B;
+  EXPECT_LT(residual.cwiseAbs().maxCoeff(), 1e-8 * B.cwiseAbs().maxCoeff());
 }
 
 }  // namespace
