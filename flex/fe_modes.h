@@ -96,8 +96,10 @@ FeModes SolveLowestModes(const ShiftedFactor& factor, const Eigen::SparseMatrix<
 
 // Modes of an assembled system with `fixed_dofs` (any order, duplicates allowed) held at zero.
 FeModes CalcFeModes(const FeSystem& system, std::span<const int> fixed_dofs, const FeModesOptions& options);
-// The same, releasing the system's K and M once the free-DOF matrices are made (peak memory: the
-// factor, the free-DOF upper triangles of K - sigma M and M; `orrery fe-modes` uses it).
+// The same, releasing the system's K and M once the free-DOF matrices are made, and at the default
+// shift K - sigma M once CHOLMOD has its permuted copy (peak memory, during the numeric
+// factorization: the factor, that copy, the free-DOF upper triangle of M and CHOLMOD's workspace;
+// `orrery fe-modes` uses it).
 FeModes CalcFeModes(FeSystem&& system, std::span<const int> fixed_dofs, const FeModesOptions& options);
 
 // The rows and columns of the free DOFs (map[d] = new index, -1 for a removed DOF; ascending
