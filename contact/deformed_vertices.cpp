@@ -25,4 +25,24 @@ const Vec3& DeformedVertices::Make(int v) {
   return (*vertices_)[v];
 }
 
+VertexRates::VertexRates(const FlexibleContactSurface& surface)
+    : surface_(&surface),
+      rate_(surface.undeformed().num_vertices(), Vec3::Zero()),
+      stamp_(surface.undeformed().num_vertices(), -1) {}
+
+void VertexRates::Begin(const Eigen::VectorXd* q_f_dot, const Mat3& R_WB) {
+  q_f_dot_ = q_f_dot;
+  R_WB_ = R_WB;
+  ++epoch_;
+  made_ = 0;
+}
+
+const Vec3& VertexRates::Make(int v) {
+  // The direct product's expression: the same numbers as without the cache.
+  rate_[v] = Vec3(R_WB_ * surface_->VertexShapeTimes(v, *q_f_dot_));
+  stamp_[v] = epoch_;
+  ++made_;
+  return rate_[v];
+}
+
 }  // namespace orrery::contact

@@ -1,6 +1,7 @@
 #pragma once
 // The deformed vertices of a flexible contact surface made on first read within one evaluation,
-// and the reader the gap passes take for a surface's vertices (own or deformed).
+// their deformation rates made on first read within one pass over the contact points, and the
+// reader the gap passes take for a surface's vertices (own or deformed).
 //
 // Why: the tracked gaps (tracked_gaps.h) read the vertices of the awake nodes and of the faces
 // those nodes end on and walk over: a few hundred per evaluation, against the ~7 700 vertices of
@@ -54,6 +55,46 @@ class DeformedVertices {
   std::vector<long> base_stamp_;         // #bases
   long epoch_ = 0;
   int vertices_made_ = 0, bases_made_ = 0;
+};
+
+// The deformation rates of a flexible contact surface's vertices in the world axes,
+//   v_v = R_WB Phi_v q_f-dot      (flexible_contact_surface.h VertexShapeTimes),
+// made on first read within one pass over the contact points (flexible_contact_element.h): a
+// face vertex is read by every contact point on the faces around it, and a node of one pass is
+// a face vertex of the other, so the points of one evaluation read each vertex's rate about
+// twice on average (four 3 x nf products per point pair before this cache). The same expression
+// as a direct product: the numbers are the same to the last bit. Stamped per vertex with the
+// epoch of the Begin() that made it (a rate made at an earlier Begin() is never returned).
+// Sized once (no allocation in Begin() or a read).
+//
+// Usage:
+//   VertexRates rates(surface);                       // once
+//   rates.Begin(&q_f_dot, X_WB.R);                    // per pass over the contact points
+//   const Vec3& v = rates[vertex];                    // made on first read
+class VertexRates {
+ public:
+  VertexRates() = default;  // no surface: Begin() must not be called
+  // Keeps a reference to the surface, which must outlive it.
+  explicit VertexRates(const FlexibleContactSurface& surface);
+
+  // Starts a pass at the modal rates *q_f_dot (nf, kept by pointer until the next Begin()) and
+  // the body's rotation R_WB.
+  void Begin(const Eigen::VectorXd* q_f_dot, const Mat3& R_WB);
+  // R_WB Phi_v q_f-dot of vertex v (world), made on its first read since Begin().
+  const Vec3& operator[](int v) { return stamp_[v] == epoch_ ? rate_[v] : Make(v); }
+  // Rates made since Begin() (statistics, tests).
+  int made() const { return made_; }
+
+ private:
+  const Vec3& Make(int v);
+
+  const FlexibleContactSurface* surface_ = nullptr;
+  const Eigen::VectorXd* q_f_dot_ = nullptr;
+  Mat3 R_WB_ = Mat3::Identity();
+  std::vector<Vec3> rate_;   // #V: the rate of vertex v as of stamp_[v]
+  std::vector<long> stamp_;  // #V: epoch_ at which rate_[v] was made
+  long epoch_ = 0;
+  int made_ = 0;
 };
 
 // A surface's vertices as a gap pass reads them: a vector (a rigid surface's own, or deformed

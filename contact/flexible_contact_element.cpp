@@ -35,6 +35,7 @@ ContactSideBuffers::ContactSideBuffers(const ContactSide& side)
   part_current.assign(np, 0);
   if (side.flexible) {
     deformed = DeformedVertices(*side.flexible);
+    rates = VertexRates(*side.flexible);
     q_f_previous = Eigen::VectorXd::Zero(nf);
     q_f_change = Eigen::VectorXd::Zero(nf);
   }
@@ -118,19 +119,22 @@ std::unique_ptr<ExternalForceWorkspace> FlexibleContactElement::MakeWorkspace(
 template <class Fn>
 void FlexibleContactElement::ForEachContactPoint(const ContactSideState& a,
                                                  const ContactSideState& b,
-                                                 const FlexibleContactWorkspace& ws,
+                                                 FlexibleContactWorkspace& ws,
                                                  Fn&& fn) const {
-  // Velocity (world) of a vertex's deformation rate, R Phi_P q_f-dot.
-  auto vertex_rate = [](const ContactSide& side, const ContactSideBuffers& buf,
-                        const ContactSideState& st, int i) {
-    if (!side.flexible || !buf.q_f_dot) return Vec3(Vec3::Zero());
-    return Vec3(st.X_WB.R * side.flexible->VertexShapeTimes(i, *buf.q_f_dot));
+  // Velocity (world) of a vertex's deformation rate, R Phi_P q_f-dot: each vertex's made once
+  // in this call (deformed_vertices.h VertexRates), zero on a rigid side or without rates.
+  const bool rates_a = spec_.a.flexible && ws.side_a.q_f_dot;
+  const bool rates_b = spec_.b.flexible && ws.side_b.q_f_dot;
+  if (rates_a) ws.side_a.rates.Begin(ws.side_a.q_f_dot, a.X_WB.R);
+  if (rates_b) ws.side_b.rates.Begin(ws.side_b.q_f_dot, b.X_WB.R);
+  auto vertex_rate = [](bool has_rates, ContactSideBuffers& buf, int i) {
+    return has_rates ? buf.rates[i] : Vec3(Vec3::Zero());
   };
   // One pass: nodes of side N against faces of side F.
   auto pass = [&](const std::vector<NodeGap>& gaps, const ContactSide& node_side,
                   const ContactSide& face_side, const ContactSideState& N,
-                  const ContactSideState& F, const ContactSideBuffers& bn,
-                  const ContactSideBuffers& bf, bool node_on_a) {
+                  const ContactSideState& F, ContactSideBuffers& bn, ContactSideBuffers& bf,
+                  bool node_rates, bool face_rates, bool node_on_a) {
     const ContactSurface& node_surface = node_side.surface();
     const auto& face_tris = face_side.surface().triangles();
     const Transform X_FW = F.X_WB.Inverse();
@@ -142,16 +146,16 @@ void FlexibleContactElement::ForEachContactPoint(const ContactSideState& a,
       c.face_weights = Barycentric(X_FW * g.q_W, bf.vertices[tri[0]], bf.vertices[tri[1]],
                                    bf.vertices[tri[2]]);
       Vec3 v_face = PointVelocity(F.V_WB, g.p_W);
-      for (int k = 0; k < 3; ++k) v_face += c.face_weights(k) * vertex_rate(face_side, bf, F, tri[k]);
-      c.v_rel = PointVelocity(N.V_WB, g.p_W) + vertex_rate(node_side, bn, N, g.node) - v_face;
+      for (int k = 0; k < 3; ++k) v_face += c.face_weights(k) * vertex_rate(face_rates, bf, tri[k]);
+      c.v_rel = PointVelocity(N.V_WB, g.p_W) + vertex_rate(node_rates, bn, g.node) - v_face;
       c.area_weight = 0.5 * g.weight * node_surface.vertex_areas()[g.node] *
                       node_surface.vertex_stiffness_scale()[g.node] *
                       face_side.surface().face_stiffness_scale()[g.face];
       fn(c);
     }
   };
-  pass(ws.gaps_a, spec_.a, spec_.b, a, b, ws.side_a, ws.side_b, true);
-  pass(ws.gaps_b, spec_.b, spec_.a, b, a, ws.side_b, ws.side_a, false);
+  pass(ws.gaps_a, spec_.a, spec_.b, a, b, ws.side_a, ws.side_b, rates_a, rates_b, true);
+  pass(ws.gaps_b, spec_.b, spec_.a, b, a, ws.side_b, ws.side_a, rates_b, rates_a, false);
 }
 
 void FlexibleContactElement::Evaluate(const ContactSideState& a, const ContactSideState& b,

@@ -126,6 +126,7 @@ struct ContactSideBuffers {
   // positions and are not read).
   std::vector<Vec3> vertices;
   DeformedVertices deformed;    // a flexible side's, with tracked gaps
+  VertexRates rates;            // a flexible side's: R Phi_v q_f-dot per pass over the points
   std::vector<Vec3> normals;    // #T: deformed face normals (B); with tracked gaps made lazily
   std::vector<long> normal_stamp;  // #T: normal_epoch at which normals[face] was made (tracked)
   long normal_epoch = 0;           // advanced by every tracked deformation
@@ -227,10 +228,11 @@ class FlexibleContactElement final : public ExternalForceElement, public Element
     Vec3 v_rel = Vec3::Zero();         // node relative to the face point, deformation rates in
     double area_weight = 0;            // 1/2 w A_P of the node (w: its rim weight, signed_gap.h)
   };
-  // Calls fn(ContactPoint) for every penetrating node of ws's gaps, both passes.
+  // Calls fn(ContactPoint) for every penetrating node of ws's gaps, both passes; the vertices'
+  // deformation rates from ws's rate caches (started again here: each call at its own q_f-dot).
   template <class Fn>
   void ForEachContactPoint(const ContactSideState& a, const ContactSideState& b,
-                           const FlexibleContactWorkspace& ws, Fn&& fn) const;
+                           FlexibleContactWorkspace& ws, Fn&& fn) const;
   // A side's state from the kinematics in data.
   static ContactSideState SideState(const Model& model, const Data& data, const ContactSide& side);
 

@@ -321,6 +321,94 @@ TEST(FlexibleContactSurface, LazyVerticesAndPartBounds) {
   EXPECT_EQ(surface.PartDeformationBound(0, Eigen::VectorXd::Zero(nf)), 0.0);
 }
 
+// Vertex rates made on first read (deformed_vertices.h VertexRates) are the direct product
+// R Phi_v q_f-dot to the last bit, each made once per Begin(), and a Begin() at new rates (the
+// same vector changed in place, as Data's q_f-dot is from one evaluation to the next) and a new
+// rotation makes them again: a stamp that did not move would return the first rates.
+TEST(FlexibleContactSurface, VertexRatesAreMadeOncePerPassAtThatPassRates) {
+  const Block b = MakeBlock(8);
+  const FlexibleContactSurface surface(b.modes, {.node_sets = {"ZMIN"}, .gap_margin_m = 30e-6});
+  const int nf = surface.nf(), nv = surface.undeformed().num_vertices();
+  Eigen::VectorXd q_dot(nf);
+  for (int k = 0; k < nf; ++k) q_dot(k) = 1e-3 * std::sin(1.3 * k + 0.2) / surface.mode_bounds()(k);
+  Mat3 R = AxisAngle(Vec3(1, 2, 3).normalized(), 0.7);
+  VertexRates rates(surface);
+  rates.Begin(&q_dot, R);
+  for (int v = 0; v < nv; ++v) EXPECT_EQ(rates[v], Vec3(R * surface.VertexShapeTimes(v, q_dot))) << v;
+  for (int v = 0; v < nv; ++v) EXPECT_EQ(rates[v], Vec3(R * surface.VertexShapeTimes(v, q_dot))) << v;
+  EXPECT_EQ(rates.made(), nv);  // read twice, made once
+  // New rates in the same vector, a new rotation: every rate read is that of the new pass.
+  const Eigen::VectorXd first = q_dot;
+  for (int k = 0; k < nf; ++k) q_dot(k) = 1e-3 * std::cos(0.7 * k + 0.5) / surface.mode_bounds()(k);
+  const Mat3 R_first = R;
+  R = AxisAngle(Vec3(-2, 1, 0.5).normalized(), 1.1);
+  rates.Begin(&q_dot, R);
+  EXPECT_EQ(rates.made(), 0);
+  int moved = 0;
+  for (int v = 0; v < nv; v += 2) {
+    EXPECT_EQ(rates[v], Vec3(R * surface.VertexShapeTimes(v, q_dot))) << v;
+    moved += rates[v] != Vec3(R_first * surface.VertexShapeTimes(v, first));
+  }
+  EXPECT_EQ(rates.made(), (nv + 1) / 2);
+  EXPECT_EQ(moved, (nv + 1) / 2);  // the two passes' rates differ at every vertex read
+}
+
+// The element reads the rates of each evaluation: the block pressed onto the plane and sliding,
+// with damping and friction (both read the relative velocity, which holds the node's rate and
+// the face vertices' rates), evaluated twice at one pose with two modal rates (one vector,
+// changed in place). The second evaluation's forces equal, to the last bit, those of a workspace
+// whose first evaluation had other rates, and differ from the first evaluation's; after it every
+// vertex's rate in the cache is the direct product at the second rates.
+TEST(FlexibleContactElement, ContactPointsReadTheRatesOfTheirEvaluation) {
+  const Block b = MakeBlock(8);
+  auto block = std::make_shared<const FlexibleContactSurface>(
+      b.modes, FlexibleContactSurfaceSpec{.node_sets = {"ZMIN"}, .gap_margin_m = 30e-6,
+                                          .deformation_allowance_m = 20e-6});
+  const FlexibleContactElement e({.name = "block_on_plane", .a = {.body = 1, .flexible = block},
+                                  .b = {.body = 0, .rigid = Plane()},
+                                  .law = {.stiffness_per_area = 2.1e13,
+                                          .hunt_crossley_s_per_m = 0.5,
+                                          .friction_coefficient = 0.3}});
+  const int nf = b.modes->nf;
+  Eigen::VectorXd q(nf), q_dot(nf);
+  for (int k = 0; k < nf; ++k) q(k) = 0.5e-6 * std::sin(2.1 * k + 0.3) / block->mode_bounds()(k);
+  auto set_rates = [&](double phase) {
+    for (int k = 0; k < nf; ++k) q_dot(k) = 1e-3 * std::sin(1.7 * k + phase) / block->mode_bounds()(k);
+  };
+  Vec6 V = Vec6::Zero();
+  V << 0, 0, 0.3, 2e-4, -1e-4, -1e-3;  // spinning about z, sliding, closing
+  const ContactSideState plane{.X_WB = Transform()};
+  const ContactSideState a{.X_WB = Transform::Translation(Vec3(0, 0, kL - 2e-6)), .V_WB = V,
+                           .q_f = &q, .q_f_dot = &q_dot};
+  struct Forces {
+    double normal, friction;
+    Vec6 f_W;
+    Eigen::VectorXd modal;
+  };
+  auto forces = [](const FlexibleContactWorkspace& ws) {
+    return Forces{ws.normal_force, ws.friction_force, ws.side_a.f_W, ws.side_a.modal_force};
+  };
+  FlexibleContactWorkspace ws1(e.spec().a, e.spec().b), ws2(e.spec().a, e.spec().b);
+  set_rates(0.4);
+  e.Evaluate(a, plane, ws1);
+  const Forces first = forces(ws1);
+  set_rates(2.9);
+  e.Evaluate(a, plane, ws2);
+  set_rates(1.1);
+  e.Evaluate(a, plane, ws1);
+  e.Evaluate(a, plane, ws2);
+  const Forces one = forces(ws1), two = forces(ws2);
+  ASSERT_GT(ws1.contact_points, 10);
+  EXPECT_EQ(one.normal, two.normal);
+  EXPECT_EQ(one.friction, two.friction);
+  EXPECT_EQ(one.f_W, two.f_W);
+  EXPECT_EQ(one.modal, two.modal);
+  EXPECT_NE(one.friction, first.friction);  // the rates matter here
+  EXPECT_NE(one.normal, first.normal);
+  for (int v = 0; v < block->undeformed().num_vertices(); ++v)
+    EXPECT_EQ(ws1.side_a.rates[v], Vec3(block->VertexShapeTimes(v, q_dot))) << v;
+}
+
 // The block held 20 um above the plane (within the gap distance d = 30 um) and deformed into
 // it by its modes alone, 2 um per evaluation, the pose fixed: the tracked path (vertices made on
 // first read; nodes sleep until the modal bound on the change has used up their reach) gives
