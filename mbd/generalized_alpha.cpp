@@ -417,10 +417,10 @@ class GeneralizedAlpha final : public Integrator {
       double increment = Increment();
       if (!fresh && (increment > options_.matrix_refresh_rate * previous || !std::isfinite(increment))) {
         // Slow with an old matrix: refresh it at the current iterate and take this step again.
+        // The iterate has not moved since Residual(): rhs_ and ratio are still its residual
+        // (evaluating it again gave the same numbers: one whole evaluation per refresh saved).
         RefreshIterationMatrix(t, h);
         fresh = true;
-        newton_norm_ = Residual(t, h);
-        ratio = ResidualRatio(tol);
         measured = -1;
         delta_.noalias() = lu_.solve(rhs_);
         increment = Increment();
