@@ -10,6 +10,17 @@
 // the table's figures; CPU over all threads), steps, residuals, jacobians (the integrator's
 // statistics), newton_failures (steps retried with a halved step), us_per_step, threads (the
 // scene's solver.threads, else OMP_NUM_THREADS, else 1: the contacts of an evaluation in parallel).
+// ListedNodeFloor: the least the tracked-gap scheme can do for one listed node of the rigid
+// scene (docs/performance.md, "the floor"): transform the node into the face body's frame, one
+// triangle distance on the face it is listed on, its gap (NodeGapFromClosest), its world point,
+// normal and velocity, the contact law and the wrench summed: no sleep test, no walk, no search,
+// no broad phase. Its nodes are the penetrating nodes of the six contact elements at the
+// benchmark's start state (t = 5 ms). Counters: ns_per_node (CPU; printed with an "s"),
+// listed_nodes (the six meshes together at that state), and floor_cpu_per_sim_s_r2 / _r389:
+// ns_per_node times the steady listed nodes per evaluation (kListedPerEvaluation, counted over
+// 5-15 ms) times the evaluations per simulated second at 10 us with 2 and with 3.89 residuals
+// per step (the row's 5-15 ms), plus the recorder's 1e4 rows.
+//   contact_scenes_benchmark --benchmark_filter=ListedNodeFloor
 //   contact_scenes_benchmark --benchmark_filter=ContactScene/0
 //   OMP_NUM_THREADS=2 contact_scenes_benchmark
 #include <benchmark/benchmark.h>
@@ -19,8 +30,11 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <vector>
 
+#include "contact/contact_element.h"
 #include "import/scene.h"
+#include "mbd/evaluate.h"
 #include "mbd/integrator.h"
 #include "mbd/result_file.h"
 #include "mbd/simulation.h"
@@ -81,6 +95,95 @@ void BM_ContactScene(benchmark::State& state) {
 }
 
 BENCHMARK(BM_ContactScene)->DenseRange(0, 1)->Unit(benchmark::kMillisecond)->Iterations(3);
+
+// Listed nodes per evaluation of the rigid scene, its six meshes together, and its residuals per
+// step, counted over 5-15 ms in an instrumented build (docs/performance.md): 3 x (58.5 sun mesh
+// + 78.2 ring mesh); 5743 - 1855 residuals over 1000 steps.
+constexpr double kListedPerEvaluation = 3 * (58.5 + 78.2);
+constexpr double kResidualsPerStep = 3.89;
+
+void BM_ListedNodeFloor(benchmark::State& state) {
+  const Row& row = LoadRow(0);
+  const Model& model = *row.scene.model;
+  Data data(model);
+  const Eigen::VectorXd vdot = Eigen::VectorXd::Zero(model.nv);
+  EvaluateDynamics(model, row.start.t, row.start.q, row.start.v, vdot, data);
+  // The listed gaps of each contact element at the start state, with what a node needs.
+  struct Pass {
+    const contact::ContactSurface* nodes;
+    const contact::ContactSurface* faces;
+    const contact::ContactLaw* law;
+    Transform X_FN, X_WF;
+    Vec6 V_N, V_F;
+    std::vector<contact::NodeGap> gaps;  // the penetrating ones (the steady state's listed)
+  };
+  std::vector<Pass> passes;
+  long listed = 0;
+  for (size_t i = 0; i < model.external_forces.size(); ++i) {
+    const auto* element =
+        dynamic_cast<const contact::ContactElement*>(model.external_forces[i].get());
+    if (!element) continue;
+    const auto& ws = static_cast<const contact::ContactWorkspace&>(*data.external[i]);
+    const auto& spec = element->spec();
+    const Transform& X_WA = data.X_WB[spec.body_a];
+    const Transform& X_WB = data.X_WB[spec.body_b];
+    const Vec6& V_A = data.V_WB[spec.body_a];
+    const Vec6& V_B = data.V_WB[spec.body_b];
+    passes.push_back({spec.surface_a.get(), spec.surface_b.get(), &spec.law,
+                      X_WB.Inverse() * X_WA, X_WB, V_A, V_B, ws.gaps_a});
+    passes.push_back({spec.surface_b.get(), spec.surface_a.get(), &spec.law,
+                      X_WA.Inverse() * X_WB, X_WA, V_B, V_A, ws.gaps_b});
+  }
+  // A cold evaluation also lists the nodes within d that do not touch (a stepping one leaves
+  // most of them asleep: 91 % of its listed nodes penetrate), so the floor is timed on the
+  // penetrating nodes.
+  for (Pass& pass : passes) {
+    std::erase_if(pass.gaps,
+                  [](const contact::NodeGap& g) { return !(g.gap < 0 && g.on_surface); });
+    listed += long(pass.gaps.size());
+  }
+  Vec6 f_sum = Vec6::Zero();
+  for (auto _ : state) {
+    for (const Pass& pass : passes) {
+      const auto& v = pass.faces->vertices();
+      for (const contact::NodeGap& listed_gap : pass.gaps) {
+        // The node in the face frame, one triangle distance on its face, its gap.
+        const Vec3 p = pass.X_FN * pass.nodes->vertices()[listed_gap.node];
+        const auto& t = pass.faces->triangles()[listed_gap.face];
+        const contact::ClosestPoint c =
+            contact::ClosestPointOnTriangle(p, v[t[0]], v[t[1]], v[t[2]]);
+        contact::NodeGap g =
+            contact::NodeGapFromClosest(*pass.faces, listed_gap.face, p, c.point, c.feature);
+        g.p_W = pass.X_WF * p;
+        g.q_W = pass.X_WF * c.point;
+        g.n_W = pass.X_WF.R * pass.faces->face_normals()[g.face];
+        if (!(g.gap < 0) || !g.on_surface) continue;
+        // The law and the wrench, as ContactElement::CalcForces.
+        const Vec3 v_rel = PointVelocity(pass.V_N, g.p_W) - PointVelocity(pass.V_F, g.p_W);
+        const double area = 0.5 * g.weight * pass.nodes->vertex_areas()[listed_gap.node] *
+                            pass.nodes->vertex_stiffness_scale()[listed_gap.node] *
+                            pass.faces->face_stiffness_scale()[g.face];
+        const contact::NodeForce f = contact::EvaluateContactLaw(
+            *pass.law, -g.gap, -v_rel.dot(g.n_W), g.n_W, v_rel, area);
+        f_sum += ForceAtPoint(g.p_W, f.f_W);
+      }
+    }
+    benchmark::DoNotOptimize(f_sum);
+  }
+  // Inverted rates: the loop's time per node (ns), and that times the listed nodes per
+  // simulated second (evaluations: 1e5 steps times the residuals, plus 1e4 recorder rows).
+  const double nodes = double(state.iterations()) * double(listed);
+  auto per = [&](double scale) {
+    return benchmark::Counter(nodes * scale,
+                              benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  };
+  state.counters["listed_nodes"] = double(listed);
+  state.counters["ns_per_node"] = per(1e-9);
+  state.counters["floor_cpu_per_sim_s_r2"] = per(1 / (kListedPerEvaluation * (2e5 + 1e4)));
+  state.counters["floor_cpu_per_sim_s_r389"] =
+      per(1 / (kListedPerEvaluation * (kResidualsPerStep * 1e5 + 1e4)));
+}
+BENCHMARK(BM_ListedNodeFloor)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 }  // namespace orrery
