@@ -93,6 +93,31 @@ bool Walk(const Geometry& g, const Vec3& p, ClosestFace* current, long* steps, d
   return false;
 }
 
+// The margin of a tied pair (header): the smallest distance of the faces a walk from f or from
+// h could try, other than f and h (their edge neighbours and the faces two edges away; a face
+// reached twice is measured twice), less the larger of d2_f and d2_h's distances.
+double PairMargin(const Geometry& g, const Vec3& p, int f, int h, double d2_f, double d2_h) {
+  const ContactSurface& s = g.s;
+  double tried_d2 = std::numeric_limits<double>::infinity();
+  auto consider = [&](int face) {
+    if (face < 0 || face == f || face == h) return;
+    tried_d2 = std::min(tried_d2, OnFace(g, face, p).d2);
+  };
+  for (const int start : {f, h})
+    for (const int neighbor : s.face_neighbors()[start]) {
+      consider(neighbor);
+      if (neighbor >= 0)
+        for (const int second : s.face_neighbors()[neighbor]) consider(second);
+    }
+  return std::sqrt(tried_d2) - std::sqrt(std::max(d2_f, d2_h));
+}
+
+// The edge (0, 1, 2) of an edge feature, -1 otherwise.
+int FeatureEdge(TriangleFeature f) {
+  return f == TriangleFeature::kEdge0 ? 0 : f == TriangleFeature::kEdge1 ? 1
+                                      : f == TriangleFeature::kEdge2 ? 2 : -1;
+}
+
 }  // namespace
 
 TrackedGaps::Pass::Pass(const ContactSurface& node_surface)
@@ -107,7 +132,8 @@ TrackedGaps::Pass::Pass(const ContactSurface& node_surface)
       walk_position(node_surface.num_vertices(), Vec3::Zero()),
       walk_face_deformation(node_surface.num_vertices(), 0.0),
       walk_feature(node_surface.num_vertices(), TriangleFeature::kFace),
-      walk_below(node_surface.num_vertices(), 0) {
+      walk_below(node_surface.num_vertices(), 0),
+      walk_pair(node_surface.num_vertices(), {-1, -1}) {
   const auto& start = node_surface.part_vertex_start();
   part_block_start.assign(start.size(), 0);
   for (size_t part = 0; part + 1 < start.size(); ++part)
@@ -185,6 +211,7 @@ void TrackedGaps::WarmStartFrom(const TrackedGaps& source) {
       range(from.walk_face_deformation, to.walk_face_deformation);
       range(from.walk_feature, to.walk_feature);
       range(from.walk_below, to.walk_below);
+      range(from.walk_pair, to.walk_pair);
       std::copy(from.block_wake.begin() + from.part_block_start[part],
                 from.block_wake.begin() + from.part_block_start[part + 1],
                 to.block_wake.begin() + to.part_block_start[part]);
@@ -437,12 +464,27 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
           // in the face frame plus the faces' deformation since, each (a face tried then is
           // tried now only if the closest point's vertex, if any, and its side, if below, are
           // those of then: the tried set is then no larger).
-          const bool stays =
+          const bool within_margin =
               !search && pass.walk_margin[v] > 0 &&
               2 * ((p - pass.walk_position[v]).norm() + face_deformation_odometer_m -
-                   pass.walk_face_deformation[v]) + kWalkRounding < pass.walk_margin[v] &&
+                   pass.walk_face_deformation[v]) + kWalkRounding < pass.walk_margin[v];
+          const std::array<int, 2> pair = pass.walk_pair[v];
+          bool stays = within_margin && pair[0] < 0 &&
               (!IsVertex(best.point.feature) || best.point.feature == pass.walk_feature[v]) &&
               ((p - best.point.point).dot(faces.Normal(best.face)) >= 0 || pass.walk_below[v]);
+          // A tied pair: the walk ends on the closer of its two faces (ties to the lower index).
+          if (within_margin && pair[0] >= 0 && pair_skip_ && !IsVertex(best.point.feature) &&
+              (best.face == pair[0] || best.face == pair[1])) {
+            const ClosestFace other = OnFace(faces, pair[0] == best.face ? pair[1] : pair[0], p);
+            if (!IsVertex(other.point.feature)) {
+              if (other.d2 < best.d2 || (other.d2 == best.d2 && other.face < best.face)) {
+                best = other;
+                ++stats_.walk_steps;
+              }
+              stays = true;
+              ++stats_.pair_walks_skipped;
+            }
+          }
           if (stays) {  // keeps the margin of the last walk
             walk_margin = -1;
             ++stats_.walks_skipped;
@@ -499,7 +541,18 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
         // none).
         if (search) {
           pass.walk_margin[v] = 0;
+          pass.walk_pair[v] = {-1, -1};
         } else if (walk_margin >= 0) {
+          // Settled on an edge shared with another face: that face is as close, so the margin
+          // is the pair's (header).
+          const int edge = FeatureEdge(best.point.feature);
+          const int partner = edge >= 0 ? face_surface.face_neighbors()[best.face][edge] : -1;
+          pass.walk_pair[v] = {-1, -1};
+          if (partner >= 0 && pair_skip_) {
+            walk_margin = PairMargin(faces, p, best.face, partner, best.d2,
+                                     OnFace(faces, partner, p).d2);
+            if (walk_margin > 0) pass.walk_pair[v] = {best.face, partner};
+          }
           pass.walk_margin[v] = walk_margin;
           pass.walk_position[v] = p;
           pass.walk_face_deformation[v] = face_deformation_odometer_m;

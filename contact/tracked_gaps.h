@@ -56,6 +56,13 @@
 // node's motion in the face frame plus the faces' deformation since stays below the margin
 // (and the closest point is on no other vertex, the node below the face only if it was then):
 // the walk would try no face it did not try then, each still farther, and stay.
+// A walk that settles on an edge its face f shares with a face g has no such margin (g is as
+// close: a spur flank's mid-face row of nodes lies on the other flank's mid-face edges). It
+// records the pair's margin instead: the smallest distance of the faces a walk from f or from g
+// could try (their edge neighbours and the faces two edges away) less the larger of f's and
+// g's. While twice the node's motion (+ deformation) since stays below it and neither closest
+// point is on a vertex, a walk from either face can only end on f or g: the two triangle
+// distances decide it as the walk would (the lower distance, then the lower index).
 // The sleep test is also taken for blocks of 16 consecutive nodes of a part at once (the
 // block's smallest wake-up reading), which passes a sleeping block in one comparison. A node
 // without a face (not seeded yet, or far) is searched only within the far distance
@@ -100,6 +107,7 @@ struct TrackedGapStats {
   long seeds = 0;               // since construction
   long walk_steps = 0;          // face changes by walking, since construction
   long walks_skipped = 0;       // walks a node's margin made unnecessary, since construction
+  long pair_walks_skipped = 0;  // of which by a tied pair's margin (header), since construction
   long pair_changes = 0;        // pairs that joined or left, since construction
   double odometer_m = 0;        // sum of the per-call largest part motion bounds
   double max_motion_between_calls_m = 0;  // largest per-call motion bound (tracked parts of B)
@@ -209,6 +217,9 @@ class TrackedGaps {
 
   double search_distance_m() const { return search_.search_distance_m(); }
   const TrackedGapStats& stats() const { return stats_; }
+  // Tests: whether walks of tied pairs may be skipped (default true; false walks them, which
+  // must give the same faces, gaps and forces to the bit).
+  void set_pair_skip(bool on) { pair_skip_ = on; }
 
  private:
   // Nodes of one surface against the faces of the other; arrays over the node surface's
@@ -230,6 +241,8 @@ class TrackedGaps {
     std::vector<double> walk_face_deformation;
     std::vector<TriangleFeature> walk_feature;
     std::vector<char> walk_below;
+    // A tied pair (header): the two faces, walk_margin then the pair's; {-1, -1}: none.
+    std::vector<std::array<int, 2>> walk_pair;
     // Blocks of kBlock consecutive nodes of one part (a part's first block starts at its first
     // node): the smallest stamp + odometer_reach of the block's nodes (-inf while one has no
     // face), so that a block whose nodes all sleep by the odometer is passed in one test.
@@ -271,6 +284,7 @@ class TrackedGaps {
   std::vector<double> odometer_a_, odometer_b_, motion_a_, motion_b_;
   std::vector<std::array<Vec3, 8>> part_box_corners_b_;  // #parts of B: PartBoxCorners
   TrackedGapStats stats_;
+  bool pair_skip_ = true;
 };
 
 }  // namespace orrery::contact
