@@ -182,10 +182,10 @@ class TrackedGaps {
   void Reset();
   // Takes over the tracking state of `source`, a TrackedGaps of the same two surfaces (another
   // workspace of the same element): its tracked pairs, the faces, reaches, stamps, walk margins
-  // (with the position, face deformation, feature and side they were measured at) and block
-  // wake-ups of the nodes of its tracked parts, its odometers and last relative pose, so that
-  // the next Update() continues from source's last one (a workspace a step behind instead of
-  // an output interval: ExternalForceElement::WarmStart). The gaps that Update() then lists
+  // (with the position, face deformation, feature, side and tied pair they were measured at)
+  // and block wake-ups of the nodes of its tracked parts, its odometers and last relative pose,
+  // so that the next Update() continues from source's last one (a workspace a step behind
+  // instead of an output interval: ExternalForceElement::WarmStart). The gaps that Update() then lists
   // are those the tracking finds from any start (the header: sleeping nodes cannot have reached
   // the other surface, the others are walked or searched exactly); only the work differs.
   // Nodes of parts source does not track are left: a pair that joins the tracked set resets
