@@ -34,10 +34,9 @@
 #include <sstream>
 #include <stdexcept>
 
-#include <Eigen/LU>
-
 #include "mbd/constraints.h"
 #include "mbd/dae.h"
+#include "mbd/dense_lu.h"
 #include "mbd/dynamics.h"
 #include "mbd/element_names.h"
 #include "mbd/evaluate.h"
@@ -91,10 +90,10 @@ class GeneralizedAlpha final : public Integrator {
     iteration_.setZero(n, n);
     rhs_.setZero(n);
     delta_.setZero(n);
-    lu_ = Eigen::PartialPivLU<Eigen::MatrixXd>(n);
+    lu_ = DenseLu(n);
     proj_.setZero(nv + nc, nv + nc);
     proj_rhs_.setZero(nv + nc);
-    proj_lu_ = Eigen::PartialPivLU<Eigen::MatrixXd>(nv + nc);
+    proj_lu_ = DenseLu(nv + nc);
     proj_residual_.setZero(nv + nc);
     proj_update_.setZero(nv + nc);
     q_start_.setZero(model.nq);
@@ -293,7 +292,7 @@ class GeneralizedAlpha final : public Integrator {
       iteration_.block(nv, 0, nh, nv) = d.G.topRows(nh);
       iteration_.block(nv, nv + nc, nh, nh).noalias() = d.G.topRows(nh) * G_h0_.transpose();
     }
-    lu_.compute(iteration_);
+    lu_.Compute(iteration_);
     matrix_h_ = h;
   }
 
@@ -413,7 +412,7 @@ class GeneralizedAlpha final : public Integrator {
         previous_ratio = measured = -1;
         continue;
       }
-      delta_.noalias() = lu_.solve(rhs_);
+      lu_.Solve(rhs_, delta_);
       double increment = Increment();
       if (!fresh && (increment > options_.matrix_refresh_rate * previous || !std::isfinite(increment))) {
         // Slow with an old matrix: refresh it at the current iterate and take this step again.
@@ -422,7 +421,7 @@ class GeneralizedAlpha final : public Integrator {
         RefreshIterationMatrix(t, h);
         fresh = true;
         measured = -1;
-        delta_.noalias() = lu_.solve(rhs_);
+        lu_.Solve(rhs_, delta_);
         increment = Increment();
       }
       start_norm = newton_norm_;
@@ -513,9 +512,9 @@ class GeneralizedAlpha final : public Integrator {
     proj_rhs_.tail(nc) += d.g_t;
     auto correction = delta_.head(nv + nc);
     if (!SolveProjection(correction)) {
-      proj_lu_.compute(proj_);
+      proj_lu_.Compute(proj_);
       ++projection_factorizations_;
-      correction.noalias() = proj_lu_.solve(proj_rhs_);
+      proj_lu_.Solve(proj_rhs_, correction);
     }
     state_.v -= correction.head(nv);
   }
@@ -527,13 +526,13 @@ class GeneralizedAlpha final : public Integrator {
   bool SolveProjection(Eigen::Ref<Eigen::VectorXd> x) {
     constexpr int kMaxRefinements = 3;
     if (projection_factorizations_ == 0) return false;
-    x.noalias() = proj_lu_.solve(proj_rhs_);
+    proj_lu_.Solve(proj_rhs_, x);
     for (int k = 0; k < kMaxRefinements; ++k) {
       auto& residual = proj_residual_;
       residual = proj_rhs_;
       residual.noalias() -= proj_ * x;
       auto& update = proj_update_;
-      update.noalias() = proj_lu_.solve(residual);
+      proj_lu_.Solve(residual, update);
       x += update;
       if (!(update.lpNorm<Eigen::Infinity>() <= 1e-14 * x.lpNorm<Eigen::Infinity>())) continue;
       return x.allFinite();
@@ -569,7 +568,7 @@ class GeneralizedAlpha final : public Integrator {
   Eigen::VectorXd v_alpha_;  // the recurrence's velocity at state_.t (before projection)
   Eigen::MatrixXd Kq_, Cv_, iteration_, proj_;
   Eigen::VectorXd rhs_, delta_, proj_rhs_;
-  Eigen::PartialPivLU<Eigen::MatrixXd> lu_, proj_lu_;
+  DenseLu lu_, proj_lu_;  // the iteration and projection matrices' factors (mbd/dense_lu.h)
   Eigen::VectorXd proj_residual_, proj_update_;  // SolveProjection's scratch (nv + nc)
   long projection_factorizations_ = 0;
   IntegratorStats stats_;
