@@ -66,6 +66,24 @@ void CalcMassMatrix(const Model& model, Data& data) {
   AddFlexibleMassMatrix(model, data);
 }
 
+void CalcMassMatrixDiagonal(const Model& model, Data& data, Eigen::Ref<Eigen::VectorXd> diagonal) {
+  // Composite inertias, leaves to root, as CalcMassMatrix
+  for (BodyIndex b = 0; b < model.nbodies; ++b) data.I_c[b] = data.I_W[b];
+  for (auto it = model.tree_order.rbegin(); it != model.tree_order.rend(); ++it) {
+    const Joint& jt = model.joints[*it];
+    if (jt.spec.parent != kWorldBody) data.I_c[jt.spec.parent] += data.I_c[jt.spec.child];
+  }
+  // M_kk = S_k . (I_c S_k), CalcMassMatrix's expression for its r = k entry
+  for (const JointIndex j : model.tree_order) {
+    const Joint& jt = model.joints[j];
+    const SpatialInertia& Ic = data.I_c[jt.spec.child];
+    for (int k = 0; k < jt.nv; ++k) {
+      const Vec6 F = Ic * data.S.col(jt.v_start + k).eval();
+      diagonal(jt.v_start + k) = data.S.col(jt.v_start + k).dot(F);
+    }
+  }
+}
+
 double CalcKineticEnergy(const Model& model, const Data& data) {
   double T = 0;
   for (BodyIndex b = 1; b < model.nbodies; ++b)

@@ -19,6 +19,12 @@ void CalcInverseDynamics(const Model& model, const Eigen::Ref<const Eigen::Vecto
 // CalcPositionKinematics.
 void CalcMassMatrix(const Model& model, Data& data);
 
+// The diagonal of the rigid tree's mass matrix (nv), equal to CalcMassMatrix's to the last bit
+// (the same composite inertias data.I_c, which it fills, and the same products S_k . (I_c S_k)),
+// without the off-diagonal entries. Needs CalcPositionKinematics. Flexible bodies' coordinates
+// are not filled (CalcMassMatrix adds them): for models without flexible bodies.
+void CalcMassMatrixDiagonal(const Model& model, Data& data, Eigen::Ref<Eigen::VectorXd> diagonal);
+
 // Kinetic energy 1/2 v^T M v (J) from body velocities; needs the kinematics stages.
 double CalcKineticEnergy(const Model& model, const Data& data);
 // Gravitational potential energy -m g.p_cm summed over bodies (J); needs position kinematics.

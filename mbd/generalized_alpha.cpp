@@ -34,6 +34,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "mbd/articulated_solve.h"
 #include "mbd/constraints.h"
 #include "mbd/dae.h"
 #include "mbd/dense_lu.h"
@@ -59,7 +60,7 @@ constexpr double kRateDecay = 0.9;
 class GeneralizedAlpha final : public Integrator {
  public:
   GeneralizedAlpha(const Model& model, const IntegratorOptions& options)
-      : model_(model), options_(options), dae_(model) {
+      : model_(model), options_(options), dae_(model), inverse_mass_(model) {
     dae_.data().threads = ResolveThreads(options.threads);
     if (!(options.step > 0)) throw std::invalid_argument("generalized-alpha: step must be > 0");
     const bool explicit_params = std::isfinite(options.alpha_m) && std::isfinite(options.alpha_f) &&
@@ -95,6 +96,12 @@ class GeneralizedAlpha final : public Integrator {
     proj_rhs_.setZero(nv + nc);
     proj_lu_ = DenseLu(nv + nc);
     proj_residual_.setZero(nv + nc);
+    proj_y_.setZero(nv, nc);
+    proj_schur_.setZero(nc, nc);
+    proj_schur_lu_ = DenseLu(nc);
+    proj_mu_.setZero(nc);
+    proj_tau_.setZero(nv);
+    mass_diagonal_.setZero(nv);
     proj_update_.setZero(nv + nc);
     q_start_.setZero(model.nq);
     v_start_.setZero(nv);
@@ -107,6 +114,7 @@ class GeneralizedAlpha final : public Integrator {
     state_ = initial;
     AssembleState(model_, state_, dae_.data());
     dae_.SolveAccelerations(state_.t, state_.q, state_.v, vdot_, lambda_);
+    mass_diagonal_ = dae_.data().M.diagonal();
     a_ = vdot_;
     q_new_ = state_.q;
     v_new_ = state_.v;
@@ -281,6 +289,7 @@ class GeneralizedAlpha final : public Integrator {
     dae_.Tangents(t, q_new_, v_new_, vdot_new_, lambda_new_, Kq_, Cv_);
     ++stats_.jacobian_evaluations;
     Data& d = dae_.data();
+    mass_diagonal_ = d.M.diagonal();
     iteration_.setZero();
     iteration_.topLeftCorner(nv, nv) = d.M + (h * gamma_ * ca) * Cv_ + b * Kq_.topRows(nv);
     if (nc > 0) {
@@ -313,11 +322,13 @@ class GeneralizedAlpha final : public Integrator {
 
   // Force scale for the convergence test: the largest force in the balance (inertia, applied,
   // element and constraint forces, as the last evaluation left them in Data), so the tolerance is
-  // relative to what the rows add up.
+  // relative to what the rows add up. The inertia forces take the mass matrix's diagonal where
+  // it was last computed (mass_diagonal_: the step's start after a projection, else the last
+  // refresh or Initialize).
   double ForceScale() {
     const Data& d = dae_.data();
     double scale = 1.0;
-    for (int k = 0; k < model_.nv; ++k) scale = std::max(scale, std::abs(d.M(k, k) * vdot_new_(k)));
+    for (int k = 0; k < model_.nv; ++k) scale = std::max(scale, std::abs(mass_diagonal_(k) * vdot_new_(k)));
     scale = std::max(scale, d.tau_applied.lpNorm<Eigen::Infinity>());
     for (const Vec6& f : d.f_ext) scale = std::max(scale, f.tail<3>().lpNorm<Eigen::Infinity>());
     if (model_.n_constraints > 0) scale = std::max(scale, lambda_new_.lpNorm<Eigen::Infinity>());
@@ -495,6 +506,11 @@ class GeneralizedAlpha final : public Integrator {
 
   // The kinematics and constraints at state_.q are those of the step's last residual (at q_new_)
   // unless quaternions were normalized since or the accepted iterate was not evaluated.
+  // The projection v <- v - M^-1 G^T (G M^-1 G^T)^-1 (G v + g_t) (the KKT system
+  // [M G^T; G 0] [dv; l] = [0; G v + g_t] with the constraint rows eliminated) needs M only
+  // through M^-1 G^T, one articulated solve per constraint row (mbd/articulated_solve.h), and the
+  // nc x nc matrix G M^-1 G^T; the mass matrix is formed, and the KKT system factored, only where
+  // that does not apply (flexible bodies, a singular M: a driven massless coordinate) or fails.
   void ProjectVelocities() {
     const int nv = model_.nv, nc = model_.n_constraints;
     Data& d = dae_.data();
@@ -502,14 +518,16 @@ class GeneralizedAlpha final : public Integrator {
       CalcPositionKinematics(model_, state_.q, d);
       CalcConstraints(model_, state_.t, d);
     }
+    proj_rhs_.tail(nc).noalias() = d.G * state_.v;
+    proj_rhs_.tail(nc) += d.g_t;
+    if (ProjectByArticulatedSolves()) return;
     CalcMassMatrix(model_, d);
+    mass_diagonal_ = d.M.diagonal();
     proj_.topLeftCorner(nv, nv) = d.M;
     proj_.topRightCorner(nv, nc) = d.G.transpose();
     proj_.bottomLeftCorner(nc, nv) = d.G;
     proj_.bottomRightCorner(nc, nc).setZero();
     proj_rhs_.head(nv).setZero();
-    proj_rhs_.tail(nc).noalias() = d.G * state_.v;
-    proj_rhs_.tail(nc) += d.g_t;
     auto correction = delta_.head(nv + nc);
     if (!SolveProjection(correction)) {
       proj_lu_.Compute(proj_);
@@ -517,6 +535,27 @@ class GeneralizedAlpha final : public Integrator {
       proj_lu_.Solve(proj_rhs_, correction);
     }
     state_.v -= correction.head(nv);
+  }
+
+  // ProjectVelocities without the mass matrix: Y = M^-1 G^T by articulated solves, then
+  // v -= Y (G Y)^-1 r with r = G v + g_t (in proj_rhs_'s tail). Also the mass matrix's diagonal
+  // for ForceScale (CalcMassMatrixDiagonal, CalcMassMatrix's to the last bit). false (v
+  // untouched) where the recursion does not apply or gives no finite correction.
+  bool ProjectByArticulatedSolves() {
+    const int nc = model_.n_constraints;
+    Data& d = dae_.data();
+    if (!inverse_mass_.Factorize(model_, d, d.G)) return false;
+    for (int c = 0; c < nc; ++c) {
+      proj_tau_ = d.G.row(c).transpose();
+      inverse_mass_.Solve(model_, d, proj_tau_, proj_y_.col(c));
+    }
+    proj_schur_.noalias() = d.G * proj_y_;
+    proj_schur_lu_.Compute(proj_schur_);
+    proj_schur_lu_.Solve(proj_rhs_.tail(nc), proj_mu_);
+    if (!proj_mu_.allFinite() || !proj_y_.allFinite()) return false;
+    CalcMassMatrixDiagonal(model_, d, mass_diagonal_);
+    state_.v.noalias() -= proj_y_ * proj_mu_;
+    return true;
   }
 
   // x = proj_^-1 proj_rhs_ with the factors of an earlier projection matrix (the mass matrix and
@@ -570,6 +609,13 @@ class GeneralizedAlpha final : public Integrator {
   Eigen::VectorXd rhs_, delta_, proj_rhs_;
   DenseLu lu_, proj_lu_;  // the iteration and projection matrices' factors (mbd/dense_lu.h)
   Eigen::VectorXd proj_residual_, proj_update_;  // SolveProjection's scratch (nv + nc)
+  ArticulatedSolve inverse_mass_;  // ProjectByArticulatedSolves: M^-1 without M
+  Eigen::MatrixXd proj_y_;         // nv x nc: M^-1 G^T (ProjectByArticulatedSolves)
+  Eigen::MatrixXd proj_schur_;     // nc x nc: G M^-1 G^T
+  DenseLu proj_schur_lu_;          // its factors
+  Eigen::VectorXd proj_mu_;        // nc: (G M^-1 G^T)^-1 (G v + g_t)
+  Eigen::VectorXd proj_tau_;       // nv: a row of G as a generalized force
+  Eigen::VectorXd mass_diagonal_;  // nv: the mass matrix's diagonal where last computed (ForceScale)
   long projection_factorizations_ = 0;
   IntegratorStats stats_;
   long pipeline_evaluations_ = 0;
