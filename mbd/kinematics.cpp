@@ -47,6 +47,27 @@ void RevoluteAboutZ(int sigma, double angle, const Transform& X_WF, Transform& X
   S.tail<3>() = X_WF.p.cross(S.head<3>());
 }
 
+// A free joint: X_FM = (R(quaternion), p), the child's pose X_WF X_FM and the motion subspace
+// Ad(X_WF) of the table entry's S_F = ((0, e_k), (e_k, p x e_k)), k = x, y, z, without the
+// table's function and the six general MotionToWorld products. The same roundings as the general
+// path: R_WF e_k and R_WF 0 are R_WF's column k and zeros exactly (a product with 1 or 0 and the
+// sum with zeros round nothing), and the rotation columns' moments keep the general path's
+// expressions R_WF (p x e_k) + p_WF x (R_WF e_k), so the poses are its own to the last bit.
+void FreeJoint(const double* q, const Transform& X_WF, Transform& X_FM, Transform& X_WB,
+               Eigen::Ref<Eigen::Matrix<double, 6, 6>> S) {
+  const Vec3 p(q[0], q[1], q[2]);
+  X_FM.R = Quat(q[3], q[4], q[5], q[6]).toRotationMatrix();
+  X_FM.p = p;
+  const Mat3& R = X_WF.R;
+  for (int k = 0; k < 3; ++k) {
+    S.col(k).head<3>().setZero();
+    S.col(k).tail<3>() = R.col(k);
+    S.col(3 + k).head<3>() = R.col(k);
+    S.col(3 + k).tail<3>() = R * p.cross(Vec3::Unit(k)) + X_WF.p.cross(R.col(k));
+  }
+  X_WB = X_WF * X_FM;
+}
+
 }  // namespace
 
 void CalcFramePoses(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& q_in, Data& data) {
@@ -66,6 +87,8 @@ void CalcFramePoses(const Model& model, const Eigen::Ref<const Eigen::VectorXd>&
     const BodyIndex b = jt.spec.child;
     if (jt.revolute_z != 0) {
       RevoluteAboutZ(jt.revolute_z, q(qs), X_WF, X_FM, data.X_WB[b], data.S.col(vs));
+    } else if (jt.spec.type == JointType::kFree) {
+      FreeJoint(q.data() + qs, X_WF, X_FM, data.X_WB[b], data.S.middleCols<6>(vs));
     } else {
       // Joint transform and motion subspace S_F (about F's origin, F axes), mapped to world.
       const JointTypeInfo& info = JointInfo(jt.spec.type);

@@ -8,8 +8,8 @@
 // - the velocity-product term is the time derivative of S_F along the same motion,
 //   dS_F/dt v = (S_F(q(h)) - S_F(q(-h))) v / 2h;
 // - a loop closure of a type removes exactly the motions the joint allows: 6 - nv rows;
-// - CalcFramePoses' own path for revolute joints about +-z (RevoluteAboutZ) gives the table
-//   entry's poses and motion subspace to the last bit.
+// - CalcFramePoses' own paths for revolute joints about +-z (RevoluteAboutZ) and for free joints
+//   (FreeJoint) give the table entry's poses and motion subspace to the last bit.
 #include <cmath>
 #include <string>
 
@@ -188,6 +188,52 @@ TEST(JointTypes, RevoluteAboutZPosesAsTheTableEntry) {
         }
       }
       for (int r = 0; r < 6; ++r) EXPECT_EQ(d.S(r, jt.v_start), S(r)) << j << " " << sample;
+    }
+  }
+}
+
+// Free joints (CalcFramePoses' FreeJoint): on the world with a turned X_PF and under a free body
+// with turned X_PF and X_CM (a planet on a carrier), at positions of metres and turned
+// quaternions: X_FM, the child's pose and the six motion-subspace columns equal to the table
+// entry's, composed by hand, bit for bit.
+TEST(JointTypes, FreePosesAsTheTableEntry) {
+  ModelBuilder mb;
+  const Mat3 I = Vec3(1e-3, 2e-3, 3e-3).asDiagonal();
+  const BodyIndex a = mb.AddBody("a", 1.0, Vec3::Zero(), I);
+  const BodyIndex b = mb.AddBody("b", 1.0, Vec3::Zero(), I);
+  const Transform X_PF(AxisAngle(Vec3(0.2, 0.9, -0.4).normalized(), 0.8), Vec3(0.1, -0.2, 0.3));
+  const Transform X_CM(AxisAngle(Vec3(-0.5, 0.1, 0.7).normalized(), -1.3), Vec3(0.05, 0.02, -0.01));
+  const JointIndex ja = mb.AddJoint({.name = "ja", .type = JointType::kFree, .child = a, .X_PF = X_CM});
+  const JointIndex jb = mb.AddJoint({.name = "jb", .type = JointType::kFree, .parent = a, .child = b,
+                                     .X_PF = X_PF, .X_CM = X_CM});
+  const std::shared_ptr<const Model> model = std::move(mb).Finalize();
+  const Model& m = *model;
+  Data d(m);
+  for (int sample = 0; sample < 6; ++sample) {
+    Eigen::VectorXd q = m.q_initial;
+    for (int k = 0; k < m.nq; ++k) q(k) += 2.9 * std::sin(1.3 * k + 0.7 * sample) + sample;
+    NormalizeQuaternions(m, q);
+    CalcFramePoses(m, q, d);
+    for (JointIndex j : {ja, jb}) {
+      const Joint& jt = m.joints[j];
+      const Transform X_WF = jt.spec.parent == kWorldBody ? jt.spec.X_PF : d.X_WB[jt.spec.parent] * jt.spec.X_PF;
+      Transform X_FM;
+      Vec6 S_F[6];
+      // (the quaternions as the kinematics read them, normalized once more)
+      JointInfo(JointType::kFree).position(jt, d.q_normalized.data() + jt.q_start, X_FM, S_F);
+      const Transform X_WB = jt.X_MC_is_identity ? X_WF * X_FM : (X_WF * X_FM) * jt.X_MC;
+      for (int r = 0; r < 3; ++r) {
+        EXPECT_EQ(d.X_WB[jt.spec.child].p(r), X_WB.p(r)) << j << " " << sample;
+        EXPECT_EQ(d.X_FM[j].p(r), X_FM.p(r)) << j << " " << sample;
+        for (int k = 0; k < 3; ++k) {
+          EXPECT_EQ(d.X_WB[jt.spec.child].R(r, k), X_WB.R(r, k)) << j << " " << sample;
+          EXPECT_EQ(d.X_FM[j].R(r, k), X_FM.R(r, k)) << j << " " << sample;
+        }
+      }
+      for (int k = 0; k < 6; ++k) {
+        const Vec6 S = MotionToWorld(X_WF, S_F[k]);
+        for (int r = 0; r < 6; ++r) EXPECT_EQ(d.S(r, jt.v_start + k), S(r)) << j << " column " << k << " " << sample;
+      }
     }
   }
 }
