@@ -7,10 +7,11 @@
 // contiguous column-major n x n array (L below the diagonal); the pivot of column k is the row of
 // largest magnitude at or below the diagonal (the first such row on ties, as LAPACK's dgetf2 and
 // Eigen's PartialPivLU). Solve: b permuted, forward substitution with L, back substitution with
-// U, both column-oriented so that the inner loops run down contiguous columns.
+// U, both row-oriented on copies of the triangles packed by rows (each row's sum runs over
+// contiguous memory, Eigen's vectorized dot product).
 // Why not Eigen's PartialPivLU: for these sizes its blocked factorization and general-size
 // triangular solves spend about three times the solve's flops in set-up and dispatch (seed 002:
-// 8.5k instructions per 37-unknown solve against 2.7k flops; docs/performance.md).
+// 8.5k instructions per 37-unknown solve against 2.7k flops; this one 6.0k; docs/performance.md).
 // Rounding: the same pivots as Eigen's PartialPivLU in exact arithmetic, the sums in another
 // order, so the two agree to the backward-error bound of Gaussian elimination with partial
 // pivoting, |dA| <= gamma_n |L| |U| (Higham, Accuracy and Stability of Numerical Algorithms, 2nd
@@ -46,6 +47,9 @@ class DenseLu {
   int n_ = 0;
   std::vector<double> lu_;   // n x n column-major: L (unit, strictly below), U (on and above)
   std::vector<int> perm_;    // row k of P A is row perm_[k] of A
+  std::vector<double> lower_;  // L's strict lower triangle by rows, packed (n (n - 1) / 2)
+  std::vector<double> upper_;  // U by rows from the diagonal, packed (n (n + 1) / 2)
+  std::vector<int> upper_start_;  // n: where U's row i starts in upper_
   mutable std::vector<double> work_;  // Solve's scratch (n): the permuted right-hand side
 };
 
