@@ -120,8 +120,13 @@ void CalcVelocityKinematics(const Model& model, const Eigen::Ref<const Eigen::Ve
     data.V_WB[jt.spec.child] = V_WP + V_joint;
     // S-dot v: frame F moves with the parent, plus the joint's own dS_F/dt v (in F).
     Vec6 c = CrossMotion(V_WP, V_joint);
-    if (const JointVelocityProductFn dS_F = JointInfo(jt.spec.type).velocity_product)
+    if (jt.spec.type == JointType::kFree) {
+      // The table's (0, p-dot x w) in F, mapped: R_WF 0 and p_WF x 0 add zeros only (FreeJoint)
+      const Vec3 pdot(v(vs), v(vs + 1), v(vs + 2)), w(v(vs + 3), v(vs + 4), v(vs + 5));
+      c.tail<3>() += data.X_WF[j].R * pdot.cross(w);
+    } else if (const JointVelocityProductFn dS_F = JointInfo(jt.spec.type).velocity_product) {
       c += MotionToWorld(data.X_WF[j], dS_F(jt, q.data() + qs, v.data() + vs));
+    }
     data.c_J[j] = c;
   }
   CalcFrameVelocities(model, v, data);

@@ -192,10 +192,10 @@ TEST(JointTypes, RevoluteAboutZPosesAsTheTableEntry) {
   }
 }
 
-// Free joints (CalcFramePoses' FreeJoint): on the world with a turned X_PF and under a free body
+// Free joints (CalcFramePoses' FreeJoint, CalcVelocityKinematics' free path): on the world with a turned X_PF and under a free body
 // with turned X_PF and X_CM (a planet on a carrier), at positions of metres and turned
 // quaternions: X_FM, the child's pose and the six motion-subspace columns equal to the table
-// entry's, composed by hand, bit for bit.
+// entry's, composed by hand, bit for bit; so is the velocity-product term S-dot v.
 TEST(JointTypes, FreePosesAsTheTableEntry) {
   ModelBuilder mb;
   const Mat3 I = Vec3(1e-3, 2e-3, 3e-3).asDiagonal();
@@ -234,6 +234,18 @@ TEST(JointTypes, FreePosesAsTheTableEntry) {
         const Vec6 S = MotionToWorld(X_WF, S_F[k]);
         for (int r = 0; r < 6; ++r) EXPECT_EQ(d.S(r, jt.v_start + k), S(r)) << j << " column " << k << " " << sample;
       }
+    }
+    // The velocity-product term S-dot v (CalcVelocityKinematics' free-joint path) as the table's
+    Eigen::VectorXd v(m.nv);
+    for (int k = 0; k < m.nv; ++k) v(k) = 3.1 * std::cos(0.9 * k + sample) - 0.4 * k;
+    CalcVelocityKinematics(m, v, d);
+    for (JointIndex j : {ja, jb}) {
+      const Joint& jt = m.joints[j];
+      const Vec6 V_joint = JointMotion(d, jt.v_start, jt.nv, v);
+      const Vec6 product = JointInfo(JointType::kFree).velocity_product(jt, d.q_normalized.data() + jt.q_start,
+                                                                         v.data() + jt.v_start);
+      const Vec6 c = CrossMotion(d.V_WB[jt.spec.parent], V_joint) + MotionToWorld(d.X_WF[j], product);
+      for (int r = 0; r < 6; ++r) EXPECT_EQ(d.c_J[j](r), c(r)) << j << " row " << r << " " << sample;
     }
   }
 }
