@@ -14,7 +14,8 @@
 // A 6-DOF joint (S square and invertible) hands its parent no inertia: I^A - U D^-1 U^T =
 // I^A - I^A S S^-1 (I^A)^-1 S^-T S^T I^A = 0 exactly, so that term is not formed (its rounding
 // would be all it adds).
-// Cost: Factorize about 1k flops per 6-DOF joint (U, D, D^-1, U D^-1), Solve about 200 flops
+// D_j is kept as its Cholesky factor (D_j^-1 applied by two triangular solves in Solve).
+// Cost: Factorize about 500 flops per 6-DOF joint (U, D, the factor), Solve about 250 flops
 // per 6-DOF joint, against forming M (composite inertias and nv^2 / 2 entries)
 // and a dense LU of n^3 / 3. Used by generalized-alpha's velocity projection, which needs
 // M^-1 G^T for the few constraint rows only.
@@ -56,8 +57,7 @@ class ArticulatedSolve {
   bool applies_ = false;
   std::vector<Block> inertia_;      // nbodies: articulated inertia I^A of each body's subtree
   std::vector<Block> u_block_;      // njoints: U_j (6 x nv_j in the left columns)
-  std::vector<Block> u_dinv_;       // njoints: U_j D_j^-1 (6 x nv_j)
-  std::vector<Block> d_inverse_;    // njoints: D_j^-1 (nv_j x nv_j, top left)
+  std::vector<Block> cholesky_;     // njoints: L_j, D_j = L_j L_j^T (nv_j x nv_j lower, top left)
   std::vector<Eigen::Matrix<double, 6, 1>> bias_;   // nbodies: p^A (Solve)
   std::vector<Eigen::Matrix<double, 6, 1>> accel_;  // nbodies: a (Solve)
   std::vector<Eigen::Matrix<double, 6, 1>> u_;      // njoints: u_j (Solve)
