@@ -1,5 +1,6 @@
 #include "mbd/dae.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -51,6 +52,63 @@ DaeSystem::DaeSystem(const Model& model)
   for (const auto& element : model.external_forces) any_element_tangents_ |= element->HasTangents();
   mesh_row_.setZero(nv_);
   mesh_phase_row_.setZero(nv_);
+  rvz_.setZero(nv_);
+  rlz_.setZero(nc_);
+  tau_base_.setZero(nv_);
+  GroupDifferences();
+}
+
+void DaeSystem::GroupDifferences() {
+  const Model& m = model_;
+  if (!m.loop_closures.empty() || !m.gear_constraints.empty() || !m.external_forces.empty() ||
+      !m.flexible_bodies.empty() || m.gear_meshes.empty())
+    return;
+  // Subtrees on the world by their root joint, joined by the differenced elements (union-find)
+  const int nj = static_cast<int>(m.joints.size());
+  std::vector<int> root(nj, -1), parent(nj);
+  for (const JointIndex j : m.tree_order) {
+    const BodyIndex p = m.joints[j].spec.parent;
+    root[j] = p == kWorldBody ? j : root[m.bodies[p].parent_joint];
+  }
+  for (int j = 0; j < nj; ++j) parent[j] = j;
+  auto find = [&](int j) {
+    while (parent[j] != j) j = parent[j] = parent[parent[j]];
+    return j;
+  };
+  auto body_class = [&](FrameIndex f) {
+    const BodyIndex b = m.frames[f].body;
+    return b == kWorldBody ? -1 : root[m.bodies[b].parent_joint];
+  };
+  auto join = [&](FrameIndex a, FrameIndex b) {
+    const int ca = body_class(a), cb = body_class(b);
+    if (ca >= 0 && cb >= 0) parent[find(ca)] = find(cb);
+  };
+  for (const auto& s : m.translational_springs) join(s.frame_a, s.frame_b);
+  for (const auto& s : m.rotational_springs) join(s.frame_a, s.frame_b);
+  for (const auto& s : m.bushings) join(s.frame_a, s.frame_b);
+  for (const auto& s : m.bearings) join(s.frame_a, s.frame_b);
+  // Classes numbered in order of their first coordinate; rows: coordinates, then drivers
+  std::vector<int> class_index(nj, -1), columns_in(0);
+  std::vector<std::vector<int>> columns;
+  std::vector<int> row_class(nv_ + nc_, -1);
+  for (int k = 0; k < nv_; ++k) {
+    const int c = find(root[m.joint_of_v[k]]);
+    if (class_index[c] < 0) {
+      class_index[c] = static_cast<int>(columns.size());
+      columns.emplace_back();
+    }
+    columns[class_index[c]].push_back(k);
+    row_class[k] = class_index[c];
+  }
+  for (size_t d = 0; d < m.drivers.size(); ++d)
+    row_class[nv_ + m.driver_row[d]] = class_index[find(root[m.drivers[d].spec.joint])];
+  if (columns.size() < 2) return;
+  size_t groups = 0;
+  for (const auto& c : columns) groups = std::max(groups, c.size());
+  group_columns_.assign(groups, {});
+  for (const auto& c : columns)
+    for (size_t g = 0; g < c.size(); ++g) group_columns_[g].push_back(c[g]);
+  class_of_row_ = std::move(row_class);
 }
 
 void DaeSystem::DynamicRows(double t, const Eigen::Ref<const Eigen::VectorXd>& q,
@@ -151,33 +209,43 @@ void DaeSystem::Tangents(double t, const Eigen::Ref<const Eigen::VectorXd>& q,
                          Eigen::Ref<Eigen::MatrixXd> Kq, Eigen::Ref<Eigen::MatrixXd> Cv) {
   // Elements with analytic tangents are left out of the differences below.
   data_.skip_elements_with_tangents = use_element_tangents_ && any_element_tangents_;
-  // Positions: q <- q (+) h e_k, the whole pipeline per column.
+  // Positions: q <- q (+) h e_k, the whole pipeline per column (per group of uncoupled columns).
+  const bool grouped = use_groups_ && data_.skip_elements_with_tangents && !class_of_row_.empty();
   DynamicRows(t, q, v, vdot, lambda, rv0_, rl0_);
-  for (int k = 0; k < nv_; ++k) {
-    q_pert_ = q;
-    dv_.setZero();
-    dv_(k) = kFdStep;
-    IntegratePositions(model_, dv_, q_pert_);
-    DynamicRows(t, q_pert_, v, vdot, lambda, rv1_, rl1_);
-    Kq.col(k).head(nv_) = (rv1_ - rv0_) / kFdStep;
-    Kq.col(k).tail(nc_) = (rl1_ - rl0_) / kFdStep;
+  if (grouped) {
+    GroupedPositionColumns(t, q, v, vdot, lambda, Kq);
+  } else {
+    for (int k = 0; k < nv_; ++k) {
+      q_pert_ = q;
+      dv_.setZero();
+      dv_(k) = kFdStep;
+      IntegratePositions(model_, dv_, q_pert_);
+      DynamicRows(t, q_pert_, v, vdot, lambda, rv1_, rl1_);
+      Kq.col(k).head(nv_) = (rv1_ - rv0_) / kFdStep;
+      Kq.col(k).tail(nc_) = (rl1_ - rl0_) / kFdStep;
+    }
   }
   // Back to the base point; velocities: only the velocity stages rerun (positions unchanged).
   DynamicRows(t, q, v, vdot, lambda, rv0_, rl0_);
   CalcMassMatrix(model_, data_);
   G_ref_ = data_.G;
+  tau_base_ = data_.tau_id;
   if (nc_ > 0) {
     w_.noalias() = G_ref_.transpose() * lambda;
     rv0_ -= w_;  // rv0_ = tau_id at the base point
   }
-  for (int k = 0; k < nv_; ++k) {
-    v_pert_ = v;
-    const double h = kFdStep * std::max(1.0, std::abs(v(k)));
-    v_pert_(k) += h;
-    CalcVelocityKinematics(model_, v_pert_, data_);
-    CalcForceElements(model_, t, v_pert_, data_);
-    CalcInverseDynamics(model_, vdot, data_);
-    Cv.col(k) = (data_.tau_id - rv0_) / h;
+  if (grouped) {
+    GroupedVelocityColumns(t, v, vdot, Cv);
+  } else {
+    for (int k = 0; k < nv_; ++k) {
+      v_pert_ = v;
+      const double h = kFdStep * std::max(1.0, std::abs(v(k)));
+      v_pert_(k) += h;
+      CalcVelocityKinematics(model_, v_pert_, data_);
+      CalcForceElements(model_, t, v_pert_, data_);
+      CalcInverseDynamics(model_, vdot, data_);
+      Cv.col(k) = (data_.tau_id - rv0_) / h;
+    }
   }
   // Leave data at the base point, every element applied; those with analytic tangents add them
   // there.
@@ -193,6 +261,50 @@ void DaeSystem::Tangents(double t, const Eigen::Ref<const Eigen::VectorXd>& q,
       const ExternalForceElement& element = *model_.external_forces[i];
       if (element.HasTangents())
         element.AddTangents(model_, data_, *data_.external[i], Kq.topRows(nv_), Cv);
+    }
+  }
+}
+
+void DaeSystem::GroupedPositionColumns(double t, const Eigen::Ref<const Eigen::VectorXd>& q,
+                                       const Eigen::Ref<const Eigen::VectorXd>& v,
+                                       const Eigen::Ref<const Eigen::VectorXd>& vdot,
+                                       const Eigen::Ref<const Eigen::VectorXd>& lambda,
+                                       Eigen::Ref<Eigen::MatrixXd> Kq) {
+  // The rows a column of another class sees: q (+) 0 (quaternions renormalized) against rv0_
+  q_pert_ = q;
+  dv_.setZero();
+  IntegratePositions(model_, dv_, q_pert_);
+  DynamicRows(t, q_pert_, v, vdot, lambda, rvz_, rlz_);
+  for (const std::vector<int>& group : group_columns_) {
+    q_pert_ = q;
+    dv_.setZero();
+    for (const int k : group) dv_(k) = kFdStep;
+    IntegratePositions(model_, dv_, q_pert_);
+    DynamicRows(t, q_pert_, v, vdot, lambda, rv1_, rl1_);
+    for (const int k : group) {
+      const int c = class_of_row_[k];
+      for (int r = 0; r < nv_; ++r)
+        Kq(r, k) = ((class_of_row_[r] == c ? rv1_(r) : rvz_(r)) - rv0_(r)) / kFdStep;
+      for (int r = 0; r < nc_; ++r)
+        Kq(nv_ + r, k) = ((class_of_row_[nv_ + r] == c ? rl1_(r) : rlz_(r)) - rl0_(r)) / kFdStep;
+    }
+  }
+}
+
+void DaeSystem::GroupedVelocityColumns(double t, const Eigen::Ref<const Eigen::VectorXd>& v,
+                                       const Eigen::Ref<const Eigen::VectorXd>& vdot,
+                                       Eigen::Ref<Eigen::MatrixXd> Cv) {
+  for (const std::vector<int>& group : group_columns_) {
+    v_pert_ = v;
+    for (const int k : group) v_pert_(k) += kFdStep * std::max(1.0, std::abs(v(k)));
+    CalcVelocityKinematics(model_, v_pert_, data_);
+    CalcForceElements(model_, t, v_pert_, data_);
+    CalcInverseDynamics(model_, vdot, data_);
+    for (const int k : group) {
+      const int c = class_of_row_[k];
+      const double h = kFdStep * std::max(1.0, std::abs(v(k)));
+      for (int r = 0; r < nv_; ++r)
+        Cv(r, k) = ((class_of_row_[r] == c ? data_.tau_id(r) : tau_base_(r)) - rv0_(r)) / h;
     }
   }
 }
