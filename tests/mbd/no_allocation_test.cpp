@@ -3,7 +3,8 @@
 //
 // Model: a slider-crank closed by a spherical loop (speed driver on the crank), a pendulum with
 // a position driver, and a floating body on a free joint (quaternions), with one force element of
-// every kind.
+// every kind; and a spatial stage of free bodies (tests/common/spatial_stage.h) for the paths
+// that model does not take.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -30,6 +31,7 @@
 #include "mbd/state.h"
 
 #include "tests/common/counting_allocator.h"
+#include "tests/common/spatial_stage.h"
 
 
 namespace orrery {
@@ -205,6 +207,28 @@ TEST(NoAllocation, GeneralizedAlphaStep) {
   integ->AdvanceTo(1e-3);
   int k = 1;
   EXPECT_EQ(AllocationsIn([&] { integ->AdvanceTo(++k * 1e-3); }), 0);
+}
+
+// The paths the model above does not take (it has a flexible body and a loop closure): the
+// velocity projection by articulated solves and the grouped differences of the tangents, on a
+// spatial stage of free bodies with a speed driver (tests/common/spatial_stage.h). The first
+// step builds the iteration matrix; the Jacobian is measured on its own.
+TEST(NoAllocation, FreeBodyStageProjectionAndGroupedTangents) {
+  const std::shared_ptr<const Model> model = test_support::SpatialStage(false);
+  IntegratorOptions o;
+  o.kind = IntegratorKind::kGeneralizedAlpha;
+  o.step = 1e-4;
+  std::unique_ptr<Integrator> integ = MakeIntegrator(*model, o);
+  integ->Initialize(State::Initial(*model));
+  integ->AdvanceTo(1e-4);
+  int k = 1;
+  EXPECT_EQ(AllocationsIn([&] { integ->AdvanceTo(++k * 1e-4); }), 0);
+  DaeSystem dae(*model);
+  ASSERT_GT(dae.difference_groups(), 0);
+  Eigen::VectorXd y(dae.size()), yp(dae.size());
+  Eigen::MatrixXd J(dae.size(), dae.size());
+  dae.ConsistentInitial(State::Initial(*model), y, yp);
+  EXPECT_EQ(AllocationsIn([&] { dae.Jacobian(0.0, 1e3, y, yp, J); }), 0);
 }
 
 TEST(NoAllocation, ResultRecorderBetweenBlocks) {
