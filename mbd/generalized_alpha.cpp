@@ -34,10 +34,11 @@
 #include <sstream>
 #include <stdexcept>
 
+#include <Eigen/LU>
+
 #include "mbd/articulated_solve.h"
 #include "mbd/constraints.h"
 #include "mbd/dae.h"
-#include "mbd/dense_lu.h"
 #include "mbd/dynamics.h"
 #include "mbd/element_names.h"
 #include "mbd/evaluate.h"
@@ -91,14 +92,14 @@ class GeneralizedAlpha final : public Integrator {
     iteration_.setZero(n, n);
     rhs_.setZero(n);
     delta_.setZero(n);
-    lu_ = DenseLu(n);
+    lu_ = Eigen::PartialPivLU<Eigen::MatrixXd>(n);
     proj_.setZero(nv + nc, nv + nc);
     proj_rhs_.setZero(nv + nc);
-    proj_lu_ = DenseLu(nv + nc);
+    proj_lu_ = Eigen::PartialPivLU<Eigen::MatrixXd>(nv + nc);
     proj_residual_.setZero(nv + nc);
     proj_y_.setZero(nv, nc);
     proj_schur_.setZero(nc, nc);
-    proj_schur_lu_ = DenseLu(nc);
+    proj_schur_lu_ = Eigen::PartialPivLU<Eigen::MatrixXd>(nc);
     proj_mu_.setZero(nc);
     proj_tau_.setZero(nv);
     mass_diagonal_.setZero(nv);
@@ -301,7 +302,7 @@ class GeneralizedAlpha final : public Integrator {
       iteration_.block(nv, 0, nh, nv) = d.G.topRows(nh);
       iteration_.block(nv, nv + nc, nh, nh).noalias() = d.G.topRows(nh) * G_h0_.transpose();
     }
-    lu_.Compute(iteration_);
+    lu_.compute(iteration_);
     matrix_h_ = h;
   }
 
@@ -423,7 +424,7 @@ class GeneralizedAlpha final : public Integrator {
         previous_ratio = measured = -1;
         continue;
       }
-      lu_.Solve(rhs_, delta_);
+      delta_.noalias() = lu_.solve(rhs_);
       double increment = Increment();
       if (!fresh && (increment > options_.matrix_refresh_rate * previous || !std::isfinite(increment))) {
         // Slow with an old matrix: refresh it at the current iterate and take this step again.
@@ -432,7 +433,7 @@ class GeneralizedAlpha final : public Integrator {
         RefreshIterationMatrix(t, h);
         fresh = true;
         measured = -1;
-        lu_.Solve(rhs_, delta_);
+        delta_.noalias() = lu_.solve(rhs_);
         increment = Increment();
       }
       start_norm = newton_norm_;
@@ -530,9 +531,9 @@ class GeneralizedAlpha final : public Integrator {
     proj_rhs_.head(nv).setZero();
     auto correction = delta_.head(nv + nc);
     if (!SolveProjection(correction)) {
-      proj_lu_.Compute(proj_);
+      proj_lu_.compute(proj_);
       ++projection_factorizations_;
-      proj_lu_.Solve(proj_rhs_, correction);
+      correction.noalias() = proj_lu_.solve(proj_rhs_);
     }
     state_.v -= correction.head(nv);
   }
@@ -550,8 +551,8 @@ class GeneralizedAlpha final : public Integrator {
       inverse_mass_.Solve(model_, d, proj_tau_, proj_y_.col(c));
     }
     proj_schur_.noalias() = d.G * proj_y_;
-    proj_schur_lu_.Compute(proj_schur_);
-    proj_schur_lu_.Solve(proj_rhs_.tail(nc), proj_mu_);
+    proj_schur_lu_.compute(proj_schur_);
+    proj_mu_.noalias() = proj_schur_lu_.solve(proj_rhs_.tail(nc));
     if (!proj_mu_.allFinite() || !proj_y_.allFinite()) return false;
     CalcMassMatrixDiagonal(model_, d, mass_diagonal_);
     state_.v.noalias() -= proj_y_ * proj_mu_;
@@ -565,13 +566,13 @@ class GeneralizedAlpha final : public Integrator {
   bool SolveProjection(Eigen::Ref<Eigen::VectorXd> x) {
     constexpr int kMaxRefinements = 3;
     if (projection_factorizations_ == 0) return false;
-    proj_lu_.Solve(proj_rhs_, x);
+    x.noalias() = proj_lu_.solve(proj_rhs_);
     for (int k = 0; k < kMaxRefinements; ++k) {
       auto& residual = proj_residual_;
       residual = proj_rhs_;
       residual.noalias() -= proj_ * x;
       auto& update = proj_update_;
-      proj_lu_.Solve(residual, update);
+      update.noalias() = proj_lu_.solve(residual);
       x += update;
       if (!(update.lpNorm<Eigen::Infinity>() <= 1e-14 * x.lpNorm<Eigen::Infinity>())) continue;
       return x.allFinite();
@@ -607,12 +608,12 @@ class GeneralizedAlpha final : public Integrator {
   Eigen::VectorXd v_alpha_;  // the recurrence's velocity at state_.t (before projection)
   Eigen::MatrixXd Kq_, Cv_, iteration_, proj_;
   Eigen::VectorXd rhs_, delta_, proj_rhs_;
-  DenseLu lu_, proj_lu_;  // the iteration and projection matrices' factors (mbd/dense_lu.h)
+  Eigen::PartialPivLU<Eigen::MatrixXd> lu_, proj_lu_;
   Eigen::VectorXd proj_residual_, proj_update_;  // SolveProjection's scratch (nv + nc)
   ArticulatedSolve inverse_mass_;  // ProjectByArticulatedSolves: M^-1 without M
   Eigen::MatrixXd proj_y_;         // nv x nc: M^-1 G^T (ProjectByArticulatedSolves)
   Eigen::MatrixXd proj_schur_;     // nc x nc: G M^-1 G^T
-  DenseLu proj_schur_lu_;          // its factors
+  Eigen::PartialPivLU<Eigen::MatrixXd> proj_schur_lu_;  // its factors
   Eigen::VectorXd proj_mu_;        // nc: (G M^-1 G^T)^-1 (G v + g_t)
   Eigen::VectorXd proj_tau_;       // nv: a row of G as a generalized force
   Eigen::VectorXd mass_diagonal_;  // nv: the mass matrix's diagonal where last computed (ForceScale)
