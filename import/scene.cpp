@@ -611,7 +611,8 @@ void Loader::ReadSolver(const MapReader& root, Scene& scene) {
                     {"integrator", "end_time", "rtol", "atol", "atol_multiplier", "max_step",
                      "initial_step", "max_order", "max_steps_per_output", "step", "rho_inf",
                      "alpha_m", "alpha_f", "beta", "gamma", "max_newton_iterations",
-                     "newton_tolerance", "max_step_halvings", "matrix_refresh_rate", "threads"});
+                     "newton_tolerance", "max_step_halvings", "matrix_refresh_rate", "newton_estimate",
+                     "threads"});
   SimulationOptions& sim = scene.simulation;
   IntegratorOptions& o = sim.integrator;
   // A number with a condition, reported at its key.
@@ -657,6 +658,7 @@ void Loader::ReadSolver(const MapReader& root, Scene& scene) {
   o.newton_tolerance = checked("newton_tolerance", o.newton_tolerance, positive, "> 0");
   o.matrix_refresh_rate = checked("matrix_refresh_rate", o.matrix_refresh_rate,
                                   [](double x) { return x > 0 && x < 1; }, "in (0, 1)");
+  o.newton_estimate = m.Bool("newton_estimate", o.newton_estimate);
   o.max_step_halvings = m.Int("max_step_halvings", o.max_step_halvings);
   if (o.max_step_halvings < 0 || o.max_step_halvings > 20)
     ctx_.Fail(*m.Find("max_step_halvings"), "must be in [0, 20]");

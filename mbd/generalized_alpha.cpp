@@ -57,6 +57,9 @@ constexpr double kEstimateMargin = 0.5;
 // measured residual again (Converge).
 constexpr long kRateCheckSteps = 8;
 constexpr double kRateDecay = 0.9;
+// Broyden updates of the iteration matrix's inverse a step may make (SolveIteration); a step's
+// iteration rarely takes more increments than this, and one that does starts the updates anew.
+constexpr int kMaxBroydenUpdates = 16;
 
 class GeneralizedAlpha final : public Integrator {
  public:
@@ -93,6 +96,9 @@ class GeneralizedAlpha final : public Integrator {
     rhs_.setZero(n);
     delta_.setZero(n);
     lu_ = Eigen::PartialPivLU<Eigen::MatrixXd>(n);
+    broyden_s_.setZero(n, kMaxBroydenUpdates);
+    broyden_p_.setZero(n, kMaxBroydenUpdates);
+    last_delta_.setZero(n);
     proj_.setZero(nv + nc, nv + nc);
     proj_rhs_.setZero(nv + nc);
     proj_lu_ = Eigen::PartialPivLU<Eigen::MatrixXd>(nv + nc);
@@ -304,6 +310,37 @@ class GeneralizedAlpha final : public Integrator {
     }
     lu_.compute(iteration_);
     matrix_h_ = h;
+    broyden_count_ = 0;
+  }
+
+  // delta_ = B^-1 rhs_, B the iteration matrix with this step's Broyden updates: the LU's solve,
+  // then each update's Sherman-Morrison correction in the order they were made,
+  // z <- z + p_j (s_j . z) (BroydenUpdate). O(n) per update.
+  void SolveIteration() {
+    delta_.noalias() = lu_.solve(rhs_);
+    for (int j = 0; j < broyden_count_; ++j) delta_ += broyden_p_.col(j) * broyden_s_.col(j).dot(delta_);
+  }
+
+  // Broyden's update after a full increment s = -last_delta_ from an iterate with residual F_k,
+  // delta_ = B^-1 F_{k+1} just solved with the matrix that took it: B+ = B + (F_{k+1} - F_k -
+  // B s) s^T / (s^T s) (Dennis & Schnabel, Numerical Methods for Unconstrained Optimization and
+  // Nonlinear Equations, 1983, Sec. 8.1, eq. 8.1.5), whose inverse follows by Sherman-Morrison
+  // (ibid., Sec. 8.3, eq. 8.3.1). With B s = -F_k the update's vector is F_{k+1}; with z =
+  // B^-1 F_{k+1}, B+^-1 v = B^-1 v + p (s . B^-1 v), p = -z / (s.s + s.z), and the next
+  // increment B+^-1 F_{k+1} = z (s.s) / (s.s + s.z): delta_ is rescaled in place. No update
+  // when s.s + s.z is near 0 against s.s (B+ near singular).
+  void BroydenUpdate() {
+    if (broyden_count_ == kMaxBroydenUpdates) {
+      broyden_count_ = 0;
+      delta_.noalias() = lu_.solve(rhs_);
+    }
+    const double ss = last_delta_.squaredNorm();
+    const double denom = ss - last_delta_.dot(delta_);
+    if (!(std::abs(denom) > 1e-3 * ss)) return;
+    broyden_s_.col(broyden_count_) = -last_delta_;
+    broyden_p_.col(broyden_count_) = (-1.0 / denom) * delta_;
+    ++broyden_count_;
+    delta_ *= ss / denom;
   }
 
   // Step() leaves the state alone when Newton fails: retry as two halves (options' halvings).
@@ -397,7 +434,12 @@ class GeneralizedAlpha final : public Integrator {
     int previous_it = 0;         // the iteration of previous_ratio
     double measured = -1;        // this step's last contraction rate (-1: none yet)
     double later = -1;           // this step's last rate measured after its first increment
-    const bool estimates = rate_ > 0 && steps_since_rate_ < kRateCheckSteps;
+    const bool estimates = options_.newton_estimate && rate_ > 0 && steps_since_rate_ < kRateCheckSteps;
+    // Broyden updates (without the estimate only: their contraction is not the steady rate the
+    // estimate assumes): this step's, from its second increment on, after full increments only.
+    const bool broyden = !options_.newton_estimate;
+    bool full_increment = false;  // last_delta_ is a full increment from the last residual
+    broyden_count_ = 0;
     // Damping (below): the residual where the last increment started, the fraction of it taken.
     double start_norm = std::numeric_limits<double>::infinity(), fraction = 1;
     int backtracks = 0;
@@ -421,10 +463,12 @@ class GeneralizedAlpha final : public Integrator {
         UpdateKinematics(h);
         ++backtracks;
         ++stats_.newton_backtracks;
+        full_increment = false;
         previous_ratio = measured = -1;
         continue;
       }
-      delta_.noalias() = lu_.solve(rhs_);
+      SolveIteration();
+      if (broyden && full_increment) BroydenUpdate();
       double increment = Increment();
       if (!fresh && (increment > options_.matrix_refresh_rate * previous || !std::isfinite(increment))) {
         // Slow with an old matrix: refresh it at the current iterate and take this step again.
@@ -433,11 +477,13 @@ class GeneralizedAlpha final : public Integrator {
         RefreshIterationMatrix(t, h);
         fresh = true;
         measured = -1;
-        delta_.noalias() = lu_.solve(rhs_);
+        SolveIteration();
         increment = Increment();
       }
       start_norm = newton_norm_;
       fraction = 1;
+      last_delta_ = delta_;
+      full_increment = true;
       TakeIncrement(1);
       UpdateKinematics(h);
       evaluated_at_iterate_ = false;
@@ -609,6 +655,10 @@ class GeneralizedAlpha final : public Integrator {
   Eigen::MatrixXd Kq_, Cv_, iteration_, proj_;
   Eigen::VectorXd rhs_, delta_, proj_rhs_;
   Eigen::PartialPivLU<Eigen::MatrixXd> lu_, proj_lu_;
+  // Converge without the estimate: this step's Broyden updates of lu_'s inverse (BroydenUpdate).
+  Eigen::MatrixXd broyden_s_, broyden_p_;  // n x kMaxBroydenUpdates: the updates' s_j and p_j
+  Eigen::VectorXd last_delta_;             // n: the last full increment's delta_
+  int broyden_count_ = 0;                  // updates held (since the step's start or a refresh)
   Eigen::VectorXd proj_residual_, proj_update_;  // SolveProjection's scratch (nv + nc)
   ArticulatedSolve inverse_mass_;  // ProjectByArticulatedSolves: M^-1 without M
   Eigen::MatrixXd proj_y_;         // nv x nc: M^-1 G^T (ProjectByArticulatedSolves)

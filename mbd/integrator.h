@@ -68,8 +68,18 @@ struct IntegratorOptions {
   // increment by less than this factor. A refresh takes finite differences of the pipeline
   // (about 2 nv evaluations) except for elements with analytic tangents (tooth contact,
   // external_force.h), which are evaluated once: with contact on every mesh of a planetary
-  // stage 0.1 is best, rigid or with a 24-mode flexible planet (measured in the seed 003 scenes).
+  // stage 0.1 is best with the contraction estimate (newton_estimate), rigid or with a 24-mode
+  // flexible planet; the rigid stage with measured ends and Broyden updates 0.01 (measured in
+  // the seed 003 scenes; docs/performance.md).
   double matrix_refresh_rate = 0.1;
+  // Whether an increment may end a step's Newton iteration on the contraction estimate (Hairer &
+  // Wanner IV.8; GeneralizedAlpha::IncrementEnds) instead of a measured residual. The estimate
+  // assumes a steady contraction rate; tooth contact's residual jumps where a contact point
+  // changes faces or comes on (faceted flanks), so there it accepts iterates above the
+  // tolerance (docs/performance.md, perf-newton2 section). false: every step ends on a measured
+  // residual (or an increment at the tolerance), and the kept matrix's inverse takes Broyden
+  // rank-1 updates within the step (Dennis & Schnabel 1983, Sec. 8.1/8.3) to need fewer.
+  bool newton_estimate = true;
   // Both: threads for the external force elements of one evaluation (tooth contacts; Data::
   // threads, force_elements.h). 0: OMP_NUM_THREADS if set, else 1 (ResolveThreads).
   int threads = 0;

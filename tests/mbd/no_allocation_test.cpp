@@ -202,11 +202,15 @@ TEST(NoAllocation, GeneralizedAlphaStep) {
   IntegratorOptions o;
   o.kind = IntegratorKind::kGeneralizedAlpha;
   o.step = 1e-3;
-  std::unique_ptr<Integrator> integ = MakeIntegrator(*model, o);
-  integ->Initialize(State::Initial(*model));
-  integ->AdvanceTo(1e-3);
-  int k = 1;
-  EXPECT_EQ(AllocationsIn([&] { integ->AdvanceTo(++k * 1e-3); }), 0);
+  for (const bool estimate : {true, false}) {  // newton_estimate false: the Broyden updates
+    o.newton_estimate = estimate;
+    std::unique_ptr<Integrator> integ = MakeIntegrator(*model, o);
+    integ->Initialize(State::Initial(*model));
+    integ->AdvanceTo(1e-3);
+    int k = 1;
+    EXPECT_EQ(AllocationsIn([&] { integ->AdvanceTo(++k * 1e-3); }), 0) << "newton_estimate " << estimate;
+    EXPECT_EQ(AllocationsIn([&] { integ->AdvanceTo(++k * 1e-3); }), 0) << "newton_estimate " << estimate;
+  }
 }
 
 // The paths the model above does not take (it has a flexible body and a loop closure): the

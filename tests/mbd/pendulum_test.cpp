@@ -160,29 +160,35 @@ TEST_P(PendulumAmplitude, IdaPeriodMatchesEllipticIntegral) {
 // predicted as (r1 - 4) / 2; we allow 1.5 times that (the O(h^2) remainder) plus 1e-3
 // (interpolation and rounding noise in the measured periods, ~1e-9 relative against errors
 // ~1e-6). The finest error must then sit below the bound this predicts, e(h/2) / (4 - allowance).
+// Both ends of Newton's iteration: the contraction estimate, and measured residuals with the
+// Broyden updates (newton_estimate false), whose iterates must converge to the same solutions.
 TEST_P(PendulumAmplitude, GeneralizedAlphaPeriodErrorIsSecondOrder) {
   const double theta0 = GetParam();
   const std::shared_ptr<const Model> model = BuildPendulum(theta0);
   const double T = ExactPeriod(theta0);
   const int periods = 5;
   const double h = 0.08 / NaturalFrequency();
-  double err[3];
-  for (int level = 0; level < 3; ++level) {
-    IntegratorOptions opt;
-    opt.kind = IntegratorKind::kGeneralizedAlpha;
-    opt.rho_inf = 0.9;
-    opt.step = h / (1 << level);
-    const std::vector<Sample> s = Simulate(*model, opt, opt.step, (periods + 0.2) * T);
-    err[level] = (MeasuredPeriod(s, periods) - T) / T;
+  for (const bool estimate : {true, false}) {
+    SCOPED_TRACE(estimate ? "newton_estimate true" : "newton_estimate false");
+    double err[3];
+    for (int level = 0; level < 3; ++level) {
+      IntegratorOptions opt;
+      opt.kind = IntegratorKind::kGeneralizedAlpha;
+      opt.rho_inf = 0.9;
+      opt.step = h / (1 << level);
+      opt.newton_estimate = estimate;
+      const std::vector<Sample> s = Simulate(*model, opt, opt.step, (periods + 0.2) * T);
+      err[level] = (MeasuredPeriod(s, periods) - T) / T;
+    }
+    const double r1 = err[0] / err[1], r2 = err[1] / err[2];
+    const double allowance = 1.5 * std::abs(r1 - 4) / 2 + 1e-3;
+    std::printf("[pendulum] theta0 %.2f, newton_estimate %d: gen-alpha period error %.3e, %.3e, "
+                "%.3e; ratios %.4f, %.4f (allowed |r2 - 4| <= %.4f)\n", theta0, int(estimate), err[0],
+                err[1], err[2], r1, r2, allowance);
+    EXPECT_NEAR(r1, 4.0, 0.5);  // the coarse pair is in the asymptotic range at all
+    EXPECT_NEAR(r2, 4.0, allowance);
+    EXPECT_LE(std::abs(err[2]), std::abs(err[1]) / (4 - allowance));
   }
-  const double r1 = err[0] / err[1], r2 = err[1] / err[2];
-  const double allowance = 1.5 * std::abs(r1 - 4) / 2 + 1e-3;
-  std::printf("[pendulum] theta0 %.2f: gen-alpha period error %.3e, %.3e, %.3e; ratios %.4f, "
-              "%.4f (allowed |r2 - 4| <= %.4f)\n", theta0, err[0], err[1], err[2], r1, r2,
-              allowance);
-  EXPECT_NEAR(r1, 4.0, 0.5);  // the coarse pair is in the asymptotic range at all
-  EXPECT_NEAR(r2, 4.0, allowance);
-  EXPECT_LE(std::abs(err[2]), std::abs(err[1]) / (4 - allowance));
 }
 
 // Energy over 100 periods with IDA at rtol 1e-9: every step's local error, in the weighted norm,
