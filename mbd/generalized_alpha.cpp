@@ -328,11 +328,14 @@ class GeneralizedAlpha final : public Integrator {
   // (ibid., Sec. 8.3, eq. 8.3.1). With B s = -F_k the update's vector is F_{k+1}; with z =
   // B^-1 F_{k+1}, B+^-1 v = B^-1 v + p (s . B^-1 v), p = -z / (s.s + s.z), and the next
   // increment B+^-1 F_{k+1} = z (s.s) / (s.s + s.z): delta_ is rescaled in place. No update
-  // when s.s + s.z is near 0 against s.s (B+ near singular).
+  // when s.s + s.z is near 0 against s.s (B+ near singular). With kMaxBroydenUpdates held, the
+  // updates start anew from the LU alone, without this one (B s = -F_k held for the matrix with
+  // the updates, not for the LU).
   void BroydenUpdate() {
     if (broyden_count_ == kMaxBroydenUpdates) {
       broyden_count_ = 0;
       delta_.noalias() = lu_.solve(rhs_);
+      return;
     }
     const double ss = last_delta_.squaredNorm();
     const double denom = ss - last_delta_.dot(delta_);
