@@ -119,6 +119,7 @@ class GeneralizedAlpha final : public Integrator {
 
   void Initialize(const State& initial) override {
     state_ = initial;
+    evaluated_at_iterate_ = false;
     AssembleState(model_, state_, dae_.data());
     dae_.SolveAccelerations(state_.t, state_.q, state_.v, vdot_, lambda_);
     mass_diagonal_ = dae_.data().M.diagonal();
@@ -160,6 +161,12 @@ class GeneralizedAlpha final : public Integrator {
   const State& state() const override { return state_; }
   const Eigen::VectorXd& vdot() const override { return vdot_; }
   const Data& data() const override { return dae_.data(); }
+  // The last Newton iterate was evaluated and accepted unchanged (no projection without
+  // constraints, no quaternion normalization without quaternions).
+  const Data* DataAtState() const override {
+    const bool at_state = evaluated_at_iterate_ && model_.n_constraints == 0 && !model_.has_quaternions;
+    return at_state ? &dae_.data() : nullptr;
+  }
   const Eigen::VectorXd& lambda() const override { return lambda_; }
   std::string name() const override { return "generalized-alpha"; }
 
@@ -517,6 +524,7 @@ class GeneralizedAlpha final : public Integrator {
     mu_new_.setZero();
     UpdateKinematics(h);
     if (!Converge(t, h)) {
+      evaluated_at_iterate_ = false;  // DataAtState: the state did not move to this iterate
       ++stats_.newton_failures;
       matrix_h_ = 0;  // never reuse a matrix that failed
       std::ostringstream s;

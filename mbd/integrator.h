@@ -144,6 +144,12 @@ class Integrator {
   // accepted iterate). Read-only: the recorder warms its own element workspaces from it
   // (WarmStartExternalWorkspaces); nothing may rely on its values being those at state().
   virtual const Data& data() const = 0;
+  // data() when its last evaluation (EvaluateDynamics) was at exactly (state().t, state().q,
+  // state().v, vdot()) and nothing has written to it since, so that it holds every field of the
+  // pipeline at the state (the recorder's row and the health read it instead of evaluating
+  // again; the same arguments give the same numbers to the last bit). nullptr otherwise, and
+  // always with constraints (the velocity projection moves v after the last evaluation).
+  virtual const Data* DataAtState() const { return nullptr; }
 
   // The solution at t inside the last accepted step [t_begin, t_end] (of the last OnStep):
   // q (nq), v (nv), vdot (nv). IDA: its interpolating polynomial (IDAGetDky, orders 0 and 1).

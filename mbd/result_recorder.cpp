@@ -134,10 +134,20 @@ ResultRecorder::ResultRecorder(const Model& model, ResultFile& out)
 }
 
 void ResultRecorder::Record(const State& s, const Eigen::VectorXd& vdot,
-                            const Eigen::VectorXd& lambda, const Data* warm) {
-  Data& d = data_;
-  if (warm) WarmStartExternalWorkspaces(model_, *warm, d);
-  EvaluateDynamics(model_, s.t, s.q, s.v, vdot, d);
+                            const Eigen::VectorXd& lambda, const Data* warm, const Data* at_state) {
+  if (model_.n_constraints > 0) at_state = nullptr;
+  if (!at_state) {
+    if (warm) WarmStartExternalWorkspaces(model_, *warm, data_);
+    EvaluateDynamics(model_, s.t, s.q, s.v, vdot, data_);
+    // Reactions: inverse dynamics again with the constraints' forces on the bodies (without
+    // constraints the evaluation's own f_joint are the reactions).
+    if (model_.n_constraints > 0) {
+      AddConstraintBodyForces(model_, data_, lambda, data_.f_ext);
+      CalcInverseDynamics(model_, vdot, data_);
+    }
+  }
+  const Data& d = at_state ? *at_state : data_;
+  row_data_ = &d;
   out_.Append(time_, &s.t);
   // Energy and drift.
   row_(0) = CalcKineticEnergy(model_, d);
@@ -157,9 +167,6 @@ void ResultRecorder::Record(const State& s, const Eigen::VectorXd& vdot,
       row_(1) = std::max(row_(1), std::abs(d.G.row(r).dot(s.v) + d.g_t(r)));
   }
   out_.Append(drift_, row_.data());
-  // Reactions: rerun inverse dynamics with the loop closures' forces on the bodies.
-  AddConstraintBodyForces(model_, d, lambda, d.f_ext);
-  CalcInverseDynamics(model_, vdot, d);
   // Bodies: the world-frame spatial acceleration without the base offset -g.
   Vec6 A0;
   A0 << Vec3::Zero(), -model_.gravity;

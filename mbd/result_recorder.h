@@ -56,15 +56,20 @@ class ResultRecorder {
   // Integrator::data()), whose external elements' tracking state is copied into the recorder's
   // before its evaluation (WarmStartExternalWorkspaces): the contacts then track from a step
   // back instead of from the last row; the row is the same.
+  // at_state: a Data of the same model whose last evaluation was at exactly (state, vdot)
+  // (Integrator::DataAtState) on a model without constraints: the row is read from it and the
+  // recorder evaluates nothing (the same numbers to the last bit); ignored with constraints.
   void Record(const State& state, const Eigen::VectorXd& vdot, const Eigen::VectorXd& lambda,
-              const Data* warm = nullptr);
-  // The pipeline as the last Record() evaluated it (energies, powers, constraints at the row).
-  const Data& data() const { return data_; }
+              const Data* warm = nullptr, const Data* at_state = nullptr);
+  // The pipeline at the last Record()'s row (energies, powers, constraints): the recorder's own
+  // evaluation or the at_state Data it read.
+  const Data& data() const { return *row_data_; }
 
  private:
   const Model& model_;
   ResultFile& out_;
   Data data_;
+  const Data* row_data_ = &data_;  // what the last row was read from
   ResultFile::SeriesId time_, energy_, power_, drift_;
   struct BodySeries { ResultFile::SeriesId p, quat, v, w, a, alpha; };
   std::vector<BodySeries> bodies_;          // per body (index 0 unused)

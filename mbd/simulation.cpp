@@ -58,14 +58,20 @@ void FinishSensors(SensorSampler* sensors, double last_row_t) {
 // One output row: room in the file, the recorder's row, then the row's health from the
 // recorder's evaluation (or from an evaluation of its own without a file). Both evaluations
 // start their contacts' tracking from the integrator's last evaluation (a step back), not
-// from the last row (ExternalForceElement::WarmStart).
+// from the last row (ExternalForceElement::WarmStart). When the integrator's last evaluation
+// was at the row's state (Integrator::DataAtState: a generalized-alpha step that evaluated its
+// accepted iterate, no constraints) both read it instead of evaluating.
 void RecordRow(const Model& model, const Integrator& integrator, ResultFile* out, ResultRecorder* recorder,
                RunHealth& health, Data* own) {
   const State& s = integrator.state();
   if (recorder) {
     out->CheckRoom();
-    recorder->Record(s, integrator.vdot(), integrator.lambda(), &integrator.data());
+    recorder->Record(s, integrator.vdot(), integrator.lambda(), &integrator.data(), integrator.DataAtState());
     health.OnOutput(s, integrator.lambda(), recorder->data(), integrator.stats().last_step);
+    return;
+  }
+  if (const Data* at_state = integrator.DataAtState()) {
+    health.OnOutput(s, integrator.lambda(), *at_state, integrator.stats().last_step);
     return;
   }
   WarmStartExternalWorkspaces(model, integrator.data(), *own);
