@@ -1,0 +1,113 @@
+// The shortcuts CalcPositionKinematics takes for bodies that turn about z (Body::
+// inertia_cm_turns_about_z) against the general path on the same trees.
+//
+// Oracle: the general expression written out here, R I Rᵀ of the body's pose (the path every
+// other body takes). Mathematically the two are equal when R maps z to +-z and I is
+// axisymmetric about z; in floating point R I Rᵀ carries the roundings of R (a product of the
+// chain's rotations, each orthonormal to a few ulp) and of the two products, so the bound is a
+// few ε of the largest central inertia (16 ε: 3-term dot products twice, a rotation built from
+// three factors) plus the rounding of the parallel-axis sum (2 ε of the entry). Bodies the flag
+// must not cover (a tilted axis, an inertia that is not axisymmetric, a body below a tilted
+// joint, a free joint) keep the general path to the last bit.
+#include <cmath>
+#include <limits>
+
+#include <gtest/gtest.h>
+
+#include "mbd/data.h"
+#include "mbd/kinematics.h"
+#include "mbd/model.h"
+
+namespace orrery {
+namespace {
+
+constexpr double kEps = std::numeric_limits<double>::epsilon();
+
+// The central inertia in world axes as the general path forms it.
+Mat3 GeneralInertia(const Model& m, const Data& d, BodyIndex b) {
+  const Mat3& R = d.X_WB[b].R;
+  return R * m.bodies[b].inertia_cm_B * R.transpose();
+}
+
+// A planetary-like tree turning about z (sun, carrier turned by a fixed rotation about z and by
+// a flip of z, a planet on the carrier, a fixed disc on the planet) beside bodies that must keep
+// the general path.
+struct Tree {
+  std::shared_ptr<const Model> model;
+  BodyIndex sun, carrier, planet, disc;           // flagged
+  BodyIndex lopsided, tilted, under_tilt, floating;  // not flagged
+};
+
+Tree MakeTree() {
+  ModelBuilder mb;
+  Tree t;
+  const Mat3 axisymmetric = Vec3(2e-3, 2e-3, 3.5e-3).asDiagonal();
+  Mat3 flip_z;  // a half turn about x, written exactly: z -> -z
+  flip_z << 1, 0, 0, 0, -1, 0, 0, 0, -1;
+  const Mat3 turn_z = AxisAngle(Vec3::UnitZ(), 0.7);  // exact zeros off the z block
+  t.sun = mb.AddBody("sun", 1.2, Vec3(0, 0, 0.01), axisymmetric);
+  t.carrier = mb.AddBody("carrier", 3.0, Vec3(1e-4, -2e-4, 0.02), 4 * axisymmetric);
+  t.planet = mb.AddBody("planet", 0.4, Vec3(0, 0, -0.003), 0.3 * axisymmetric);
+  t.disc = mb.AddBody("disc", 0.1, Vec3(0.002, 0, 0), 0.1 * axisymmetric);
+  t.lopsided = mb.AddBody("lopsided", 0.5, Vec3::Zero(), Vec3(1e-3, 2e-3, 3e-3).asDiagonal());
+  t.tilted = mb.AddBody("tilted", 0.5, Vec3::Zero(), axisymmetric);
+  t.under_tilt = mb.AddBody("under_tilt", 0.5, Vec3::Zero(), axisymmetric);
+  t.floating = mb.AddBody("floating", 0.5, Vec3::Zero(), axisymmetric);
+  mb.AddJoint({.name = "sun", .type = JointType::kRevolute, .child = t.sun, .axis = Vec3::UnitZ()});
+  mb.AddJoint({.name = "carrier", .type = JointType::kRevolute, .child = t.carrier,
+               .X_PF = Transform(turn_z, Vec3(0, 0, 0.05)), .X_CM = Transform(flip_z, Vec3(0, 0, 0.01)),
+               .axis = -Vec3::UnitZ()});
+  mb.AddJoint({.name = "planet", .type = JointType::kRevolute, .parent = t.carrier, .child = t.planet,
+               .X_PF = Transform(flip_z * turn_z, Vec3(0.039, 0.002, 0)), .axis = Vec3::UnitZ()});
+  mb.AddJoint({.name = "disc", .type = JointType::kFixed, .parent = t.planet, .child = t.disc,
+               .X_PF = Transform(turn_z, Vec3(0, 0.01, 0.003))});
+  mb.AddJoint({.name = "lopsided", .type = JointType::kRevolute, .parent = t.sun, .child = t.lopsided,
+               .axis = Vec3::UnitZ()});
+  mb.AddJoint({.name = "tilted", .type = JointType::kRevolute, .parent = t.carrier, .child = t.tilted,
+               .axis = Vec3(0.1, 0, 1).normalized()});
+  mb.AddJoint({.name = "under_tilt", .type = JointType::kRevolute, .parent = t.tilted,
+               .child = t.under_tilt, .axis = Vec3::UnitZ()});
+  mb.AddJoint({.name = "floating", .type = JointType::kFree, .child = t.floating});
+  t.model = std::move(mb).Finalize();
+  return t;
+}
+
+TEST(TurningAboutZ, FlagsOnlyBodiesWhoseInertiaCannotTurn) {
+  const Tree t = MakeTree();
+  const Model& m = *t.model;
+  for (BodyIndex b : {t.sun, t.carrier, t.planet, t.disc})
+    EXPECT_TRUE(m.bodies[b].inertia_cm_turns_about_z) << m.bodies[b].name;
+  for (BodyIndex b : {t.lopsided, t.tilted, t.under_tilt, t.floating})
+    EXPECT_FALSE(m.bodies[b].inertia_cm_turns_about_z) << m.bodies[b].name;
+}
+
+TEST(TurningAboutZ, WorldInertiasAsTheGeneralPath) {
+  const Tree t = MakeTree();
+  const Model& m = *t.model;
+  Data d(m);
+  for (int sample = 0; sample < 8; ++sample) {
+    Eigen::VectorXd q = m.q_initial;
+    for (int k = 0; k < m.nq; ++k) q(k) += 3.1 * std::sin(1.7 * k + 0.9 * sample) + 2 * sample;
+    NormalizeQuaternions(m, q);
+    CalcPositionKinematics(m, q, d);
+    for (BodyIndex b = 1; b < m.nbodies; ++b) {
+      const Body& body = m.bodies[b];
+      const Transform& X = d.X_WB[b];
+      const SpatialInertia general = SpatialInertia::FromCentral(body.mass, X * body.com_B, GeneralInertia(m, d, b));
+      const SpatialInertia& I = d.I_W[b];
+      // Mass and first moment take the same path.
+      EXPECT_EQ(I.m, general.m) << body.name;
+      for (int r = 0; r < 3; ++r) EXPECT_EQ(I.h(r), general.h(r)) << body.name;
+      // Flagged: the central inertias' difference, plus the rounding of the parallel-axis sum.
+      const double central = 16 * kEps * body.inertia_cm_B.cwiseAbs().maxCoeff();
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) {
+          const double bound = body.inertia_cm_turns_about_z ? central + 2 * kEps * std::abs(general.I(r, c)) : 0.0;
+          EXPECT_LE(std::abs(I.I(r, c) - general.I(r, c)), bound) << body.name << " " << sample << " " << r << c;
+        }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace orrery
