@@ -287,11 +287,15 @@ struct Body {
   Mat3 inertia_cm_B = Mat3::Zero();  // inertia about the centre of mass in B axes, kg m^2
   JointIndex parent_joint = -1;      // tree joint whose child this body is (-1 for the world)
   int flexible = -1;                 // index into Model::flexible_bodies, -1 for a rigid body
-  // Set by Finalize: R_WB inertia_cm_B R_WBᵀ = inertia_cm_B for every q, because every joint
-  // from the world to the body turns about z only (revolute about exactly +-z, or fixed) with
-  // fixed rotations that map z to exactly +-z, and inertia_cm_B is axisymmetric about z
-  // (I_xx == I_yy, no products of inertia, exactly as given). CalcPositionKinematics then
-  // takes inertia_cm_B as the world-axes central inertia instead of forming R I Rᵀ.
+  // Set by Finalize: the body and every body above it are rigid, and every joint from the world
+  // to it turns about z only (revolute about exactly +-z, or fixed) with fixed rotations (X_PF,
+  // X_CM) whose z row and column are exactly (0, 0, +-1). Then B's z axis is world +-z for
+  // every q, and the kinematics hold exact zeros: V_WB = (0, 0, w, vx, vy, 0) and A_WB =
+  // (0, 0, alpha, ax, ay, az). CalcInverseDynamics skips the products with them.
+  bool turns_about_z = false;
+  // turns_about_z and inertia_cm_B axisymmetric about z (I_xx == I_yy, no products of inertia,
+  // exactly as given): R_WB inertia_cm_B R_WBᵀ = inertia_cm_B for every q, and
+  // CalcPositionKinematics takes inertia_cm_B as the world-axes central inertia.
   bool inertia_cm_turns_about_z = false;
 };
 

@@ -20,20 +20,19 @@ bool KeepsZExactly(const Mat3& R) {
   return R(0, 2) == 0 && R(1, 2) == 0 && R(2, 0) == 0 && R(2, 1) == 0 && std::abs(R(2, 2)) == 1;
 }
 
-// Body::inertia_cm_turns_about_z for every rigid body, parents before children (tree order).
-void MarkInertiasTurningAboutZ(Model& m) {
-  std::vector<char> z_kept(m.nbodies, 0);  // the body's z axis is world +-z for every q
-  z_kept[kWorldBody] = 1;
+// Body::turns_about_z and inertia_cm_turns_about_z, parents before children (tree order).
+void MarkBodiesTurningAboutZ(Model& m) {
   for (const JointIndex j : m.tree_order) {
     const Joint& jt = m.joints[j];
-    const bool turns_about_z = jt.revolute_z != 0 || jt.spec.type == JointType::kFixed;
-    z_kept[jt.spec.child] = z_kept[jt.spec.parent] && turns_about_z && KeepsZExactly(jt.spec.X_PF.R) &&
-                            KeepsZExactly(jt.X_MC.R);
+    const bool parent_turns = jt.spec.parent == kWorldBody || m.bodies[jt.spec.parent].turns_about_z;
+    const bool joint_turns = jt.revolute_z != 0 || jt.spec.type == JointType::kFixed;
     Body& body = m.bodies[jt.spec.child];
+    body.turns_about_z = parent_turns && joint_turns && body.flexible < 0 && KeepsZExactly(jt.spec.X_PF.R) &&
+                         KeepsZExactly(jt.X_MC.R);
     const Mat3& I = body.inertia_cm_B;
     const bool axisymmetric = I(0, 0) == I(1, 1) && I(0, 1) == 0 && I(1, 0) == 0 && I(0, 2) == 0 &&
                               I(2, 0) == 0 && I(1, 2) == 0 && I(2, 1) == 0;
-    body.inertia_cm_turns_about_z = z_kept[jt.spec.child] && axisymmetric && body.flexible < 0;
+    body.inertia_cm_turns_about_z = body.turns_about_z && axisymmetric;
   }
 }
 
@@ -410,7 +409,7 @@ std::shared_ptr<const Model> ModelBuilder::Finalize() && {
     if (JointInfo(jt.spec.type).quaternion >= 0) m.has_quaternions = true;
   }
   FinalizeFlexibleBodies();
-  MarkInertiasTurningAboutZ(m);
+  MarkBodiesTurningAboutZ(m);
   m.joint_of_v.assign(m.nv, -1);
   for (JointIndex j = 0; j < static_cast<int>(m.joints.size()); ++j)
     for (int k = 0; k < m.joints[j].nv; ++k) m.joint_of_v[m.joints[j].v_start + k] = j;

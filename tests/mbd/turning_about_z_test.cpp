@@ -1,7 +1,12 @@
-// The shortcuts CalcPositionKinematics takes for bodies that turn about z (Body::
-// inertia_cm_turns_about_z) against the general path on the same trees.
+// The shortcuts CalcPositionKinematics and CalcInverseDynamics take for bodies that turn about
+// z (Body::turns_about_z, inertia_cm_turns_about_z) against the general path on the same trees.
 //
-// Oracle: the general expression written out here, R I Rᵀ of the body's pose (the path every
+// Inverse dynamics: the general recursion written out here (I A + V x* (I V) - f_ext per body,
+// subtree sums, S^T f); the shortcut leaves out only products with exact zeros, so every joint
+// force and generalized force must be the same to the last bit, and the zeros it relies on must
+// be exact in V_WB and A_WB.
+//
+// Inertias: the general expression written out here, R I Rᵀ of the body's pose (the path every
 // other body takes). Mathematically the two are equal when R maps z to +-z and I is
 // axisymmetric about z; in floating point R I Rᵀ carries the roundings of R (a product of the
 // chain's rotations, each orthonormal to a few ulp) and of the two products, so the bound is a
@@ -15,6 +20,7 @@
 #include <gtest/gtest.h>
 
 #include "mbd/data.h"
+#include "mbd/dynamics.h"
 #include "mbd/kinematics.h"
 #include "mbd/model.h"
 
@@ -38,8 +44,9 @@ struct Tree {
   BodyIndex lopsided, tilted, under_tilt, floating;  // not flagged
 };
 
-Tree MakeTree() {
+Tree MakeTree(const Vec3& gravity = Vec3::Zero()) {
   ModelBuilder mb;
+  mb.SetGravity(gravity);
   Tree t;
   const Mat3 axisymmetric = Vec3(2e-3, 2e-3, 3.5e-3).asDiagonal();
   Mat3 flip_z;  // a half turn about x, written exactly: z -> -z
@@ -79,6 +86,53 @@ TEST(TurningAboutZ, FlagsOnlyBodiesWhoseInertiaCannotTurn) {
     EXPECT_TRUE(m.bodies[b].inertia_cm_turns_about_z) << m.bodies[b].name;
   for (BodyIndex b : {t.lopsided, t.tilted, t.under_tilt, t.floating})
     EXPECT_FALSE(m.bodies[b].inertia_cm_turns_about_z) << m.bodies[b].name;
+  for (BodyIndex b : {t.sun, t.carrier, t.planet, t.disc, t.lopsided})
+    EXPECT_TRUE(m.bodies[b].turns_about_z) << m.bodies[b].name;
+  for (BodyIndex b : {t.tilted, t.under_tilt, t.floating})
+    EXPECT_FALSE(m.bodies[b].turns_about_z) << m.bodies[b].name;
+}
+
+TEST(TurningAboutZ, InverseDynamicsAsTheGeneralPath) {
+  // Gravity in and out of the plane: A_WB's linear z is not zero.
+  const Tree t = MakeTree(Vec3(0.3, -9.81, -2.0));
+  const Model& m = *t.model;
+  Data d(m);
+  for (int sample = 0; sample < 8; ++sample) {
+    Eigen::VectorXd q = m.q_initial, v(m.nv), vdot(m.nv);
+    for (int k = 0; k < m.nq; ++k) q(k) += 3.1 * std::sin(1.7 * k + 0.9 * sample) + 2 * sample;
+    for (int k = 0; k < m.nv; ++k) {
+      v(k) = 40 * std::cos(2.3 * k + 0.4 * sample);
+      vdot(k) = 3e3 * std::sin(0.7 * k - 1.1 * sample);
+    }
+    NormalizeQuaternions(m, q);
+    CalcPositionKinematics(m, q, d);
+    CalcVelocityKinematics(m, v, d);
+    for (BodyIndex b = 0; b < m.nbodies; ++b)
+      for (int r = 0; r < 6; ++r) d.f_ext[b](r) = b == 0 ? 0.0 : 50 * std::sin(1.9 * b + 0.6 * r + sample);
+    d.tau_applied.setZero();
+    CalcInverseDynamics(m, vdot, d);
+    // The general recursion by hand, with the accelerations just computed.
+    std::vector<Vec6> f(m.nbodies, Vec6::Zero());
+    for (BodyIndex b = 1; b < m.nbodies; ++b) {
+      const SpatialInertia& I = d.I_W[b];
+      const Vec6& V = d.V_WB[b];
+      f[b] = I * d.A_WB[b] + CrossForce(V, I * V) - d.f_ext[b];
+      if (!m.bodies[b].turns_about_z) continue;
+      // The zeros the shortcut relies on.
+      for (int r : {0, 1, 5}) EXPECT_EQ(V(r), 0.0) << m.bodies[b].name << " V " << r;
+      for (int r : {0, 1}) EXPECT_EQ(d.A_WB[b](r), 0.0) << m.bodies[b].name << " A " << r;
+    }
+    Eigen::VectorXd tau(m.nv);
+    for (auto it = m.tree_order.rbegin(); it != m.tree_order.rend(); ++it) {
+      const Joint& jt = m.joints[*it];
+      const BodyIndex b = jt.spec.child;
+      for (int k = 0; k < jt.nv; ++k) tau(jt.v_start + k) = d.S.col(jt.v_start + k).dot(f[b]);
+      if (jt.spec.parent != kWorldBody) f[jt.spec.parent] += f[b];
+    }
+    for (BodyIndex b = 1; b < m.nbodies; ++b)
+      for (int r = 0; r < 6; ++r) EXPECT_EQ(d.f_joint[b](r), f[b](r)) << m.bodies[b].name << " " << sample << " " << r;
+    for (int k = 0; k < m.nv; ++k) EXPECT_EQ(d.tau_id(k), tau(k)) << k << " " << sample;
+  }
 }
 
 TEST(TurningAboutZ, WorldInertiasAsTheGeneralPath) {
