@@ -11,7 +11,8 @@ namespace {
 // with an exact zero is a zero and adding it changes nothing, and the remaining terms are
 // grouped as the general expression groups them, so the force is the general path's to the last
 // bit (a zero component may differ in sign). 28 multiplications against the general 66.
-Vec6 BodyForceTurningAboutZ(const SpatialInertia& I, const Vec6& V, const Vec6& A, const Vec6& f_ext) {
+Vec6 BodyForceTurningAboutZ(const SpatialInertia& I, const Vec6& V, const Vec6& A,
+                            const Vec6& f_ext) {
   const Mat3& J = I.I;
   const Vec3& h = I.h;
   const double w = V(2), vx = V(3), vy = V(4);

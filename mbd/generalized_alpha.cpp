@@ -164,7 +164,8 @@ class GeneralizedAlpha final : public Integrator {
   // The last Newton iterate was evaluated and accepted unchanged (no projection without
   // constraints, no quaternion normalization without quaternions).
   const Data* DataAtState() const override {
-    const bool at_state = evaluated_at_iterate_ && model_.n_constraints == 0 && !model_.has_quaternions;
+    const bool at_state =
+        evaluated_at_iterate_ && model_.n_constraints == 0 && !model_.has_quaternions;
     return at_state ? &dae_.data() : nullptr;
   }
   const Eigen::VectorXd& lambda() const override { return lambda_; }

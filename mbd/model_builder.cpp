@@ -24,11 +24,12 @@ bool KeepsZExactly(const Mat3& R) {
 void MarkBodiesTurningAboutZ(Model& m) {
   for (const JointIndex j : m.tree_order) {
     const Joint& jt = m.joints[j];
-    const bool parent_turns = jt.spec.parent == kWorldBody || m.bodies[jt.spec.parent].turns_about_z;
+    const bool parent_turns =
+        jt.spec.parent == kWorldBody || m.bodies[jt.spec.parent].turns_about_z;
     const bool joint_turns = jt.revolute_z != 0 || jt.spec.type == JointType::kFixed;
     Body& body = m.bodies[jt.spec.child];
-    body.turns_about_z = parent_turns && joint_turns && body.flexible < 0 && KeepsZExactly(jt.spec.X_PF.R) &&
-                         KeepsZExactly(jt.X_MC.R);
+    body.turns_about_z = parent_turns && joint_turns && body.flexible < 0 &&
+                         KeepsZExactly(jt.spec.X_PF.R) && KeepsZExactly(jt.X_MC.R);
     const Mat3& I = body.inertia_cm_B;
     const bool axisymmetric = I(0, 0) == I(1, 1) && I(0, 1) == 0 && I(1, 0) == 0 && I(0, 2) == 0 &&
                               I(2, 0) == 0 && I(1, 2) == 0 && I(2, 1) == 0;

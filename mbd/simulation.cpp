@@ -66,7 +66,8 @@ void RecordRow(const Model& model, const Integrator& integrator, ResultFile* out
   const State& s = integrator.state();
   if (recorder) {
     out->CheckRoom();
-    recorder->Record(s, integrator.vdot(), integrator.lambda(), &integrator.data(), integrator.DataAtState());
+    recorder->Record(s, integrator.vdot(), integrator.lambda(), &integrator.data(),
+                     integrator.DataAtState());
     health.OnOutput(s, integrator.lambda(), recorder->data(), integrator.stats().last_step);
     return;
   }

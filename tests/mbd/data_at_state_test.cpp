@@ -26,17 +26,28 @@ std::shared_ptr<const Model> Pendulum(bool driven) {
   const Mat3 I = Vec3(1e-3, 1e-3, 2e-3).asDiagonal();
   const BodyIndex upper = b.AddBody("upper", 1.0, Vec3(0.25, 0, 0), I);
   const BodyIndex lower = b.AddBody("lower", 0.5, Vec3(0.2, 0.01, 0), I);
-  const JointIndex shoulder = b.AddJoint({.name = "shoulder", .type = JointType::kRevolute, .child = upper});
-  const JointIndex elbow = b.AddJoint({.name = "elbow", .type = JointType::kRevolute, .parent = upper,
-                                       .child = lower, .X_PF = Transform(Mat3::Identity(), Vec3(0.5, 0, 0))});
+  const JointIndex shoulder =
+      b.AddJoint({.name = "shoulder", .type = JointType::kRevolute, .child = upper});
+  const JointIndex elbow = b.AddJoint({.name = "elbow",
+                                       .type = JointType::kRevolute,
+                                       .parent = upper,
+                                       .child = lower,
+                                       .X_PF = Transform(Mat3::Identity(), Vec3(0.5, 0, 0))});
   b.SetGravity(Vec3(0, -9.81, 0));
   const FrameIndex tip = b.AddFrame("tip", lower, Transform(Mat3::Identity(), Vec3(0.4, 0, 0)));
-  const FrameIndex anchor = b.AddFrame("anchor", kWorldBody, Transform(Mat3::Identity(), Vec3(0.6, -0.5, 0)));
-  b.AddTranslationalSpring({.name = "spring", .frame_a = anchor, .frame_b = tip, .stiffness = 400,
-                            .damping = 2, .free_length = 0.3});
+  const FrameIndex anchor =
+      b.AddFrame("anchor", kWorldBody, Transform(Mat3::Identity(), Vec3(0.6, -0.5, 0)));
+  b.AddTranslationalSpring({.name = "spring",
+                            .frame_a = anchor,
+                            .frame_b = tip,
+                            .stiffness = 400,
+                            .damping = 2,
+                            .free_length = 0.3});
   b.AddJointLoad({.name = "torque", .joint = shoulder, .function = TimeFunction::Sine(3, 2, 0, 1)});
   if (driven)
-    b.AddDriver({.name = "drive", .joint = elbow, .mode = DriverSpec::Mode::kSpeed,
+    b.AddDriver({.name = "drive",
+                 .joint = elbow,
+                 .mode = DriverSpec::Mode::kSpeed,
                  .function = TimeFunction::Constant(1.5)});
   b.SetJointPosition(shoulder, Eigen::VectorXd::Constant(1, 0.4));
   return std::move(b).Finalize();

@@ -40,7 +40,7 @@ Mat3 GeneralInertia(const Model& m, const Data& d, BodyIndex b) {
 // the general path.
 struct Tree {
   std::shared_ptr<const Model> model;
-  BodyIndex sun, carrier, planet, disc;           // flagged
+  BodyIndex sun, carrier, planet, disc;              // flagged
   BodyIndex lopsided, tilted, under_tilt, floating;  // not flagged
 };
 
@@ -61,19 +61,38 @@ Tree MakeTree(const Vec3& gravity = Vec3::Zero()) {
   t.under_tilt = mb.AddBody("under_tilt", 0.5, Vec3::Zero(), axisymmetric);
   t.floating = mb.AddBody("floating", 0.5, Vec3::Zero(), axisymmetric);
   mb.AddJoint({.name = "sun", .type = JointType::kRevolute, .child = t.sun, .axis = Vec3::UnitZ()});
-  mb.AddJoint({.name = "carrier", .type = JointType::kRevolute, .child = t.carrier,
-               .X_PF = Transform(turn_z, Vec3(0, 0, 0.05)), .X_CM = Transform(flip_z, Vec3(0, 0, 0.01)),
+  mb.AddJoint({.name = "carrier",
+               .type = JointType::kRevolute,
+               .child = t.carrier,
+               .X_PF = Transform(turn_z, Vec3(0, 0, 0.05)),
+               .X_CM = Transform(flip_z, Vec3(0, 0, 0.01)),
                .axis = -Vec3::UnitZ()});
-  mb.AddJoint({.name = "planet", .type = JointType::kRevolute, .parent = t.carrier, .child = t.planet,
-               .X_PF = Transform(flip_z * turn_z, Vec3(0.039, 0.002, 0)), .axis = Vec3::UnitZ()});
-  mb.AddJoint({.name = "disc", .type = JointType::kFixed, .parent = t.planet, .child = t.disc,
-               .X_PF = Transform(turn_z, Vec3(0, 0.01, 0.003))});
-  mb.AddJoint({.name = "lopsided", .type = JointType::kRevolute, .parent = t.sun, .child = t.lopsided,
+  mb.AddJoint({.name = "planet",
+               .type = JointType::kRevolute,
+               .parent = t.carrier,
+               .child = t.planet,
+               .X_PF = Transform(flip_z * turn_z, Vec3(0.039, 0.002, 0)),
                .axis = Vec3::UnitZ()});
-  mb.AddJoint({.name = "tilted", .type = JointType::kRevolute, .parent = t.carrier, .child = t.tilted,
+  mb.AddJoint({.name = "disc",
+               .type = JointType::kFixed,
+               .parent = t.planet,
+               .child = t.disc,
+               .X_PF = Transform(turn_z, Vec3(0, 0.01, 0.003))});
+  mb.AddJoint({.name = "lopsided",
+               .type = JointType::kRevolute,
+               .parent = t.sun,
+               .child = t.lopsided,
+               .axis = Vec3::UnitZ()});
+  mb.AddJoint({.name = "tilted",
+               .type = JointType::kRevolute,
+               .parent = t.carrier,
+               .child = t.tilted,
                .axis = Vec3(0.1, 0, 1).normalized()});
-  mb.AddJoint({.name = "under_tilt", .type = JointType::kRevolute, .parent = t.tilted,
-               .child = t.under_tilt, .axis = Vec3::UnitZ()});
+  mb.AddJoint({.name = "under_tilt",
+               .type = JointType::kRevolute,
+               .parent = t.tilted,
+               .child = t.under_tilt,
+               .axis = Vec3::UnitZ()});
   mb.AddJoint({.name = "floating", .type = JointType::kFree, .child = t.floating});
   t.model = std::move(mb).Finalize();
   return t;
@@ -108,7 +127,8 @@ TEST(TurningAboutZ, InverseDynamicsAsTheGeneralPath) {
     CalcPositionKinematics(m, q, d);
     CalcVelocityKinematics(m, v, d);
     for (BodyIndex b = 0; b < m.nbodies; ++b)
-      for (int r = 0; r < 6; ++r) d.f_ext[b](r) = b == 0 ? 0.0 : 50 * std::sin(1.9 * b + 0.6 * r + sample);
+      for (int r = 0; r < 6; ++r)
+        d.f_ext[b](r) = b == 0 ? 0.0 : 50 * std::sin(1.9 * b + 0.6 * r + sample);
     d.tau_applied.setZero();
     CalcInverseDynamics(m, vdot, d);
     // The general recursion by hand, with the accelerations just computed.
@@ -130,7 +150,8 @@ TEST(TurningAboutZ, InverseDynamicsAsTheGeneralPath) {
       if (jt.spec.parent != kWorldBody) f[jt.spec.parent] += f[b];
     }
     for (BodyIndex b = 1; b < m.nbodies; ++b)
-      for (int r = 0; r < 6; ++r) EXPECT_EQ(d.f_joint[b](r), f[b](r)) << m.bodies[b].name << " " << sample << " " << r;
+      for (int r = 0; r < 6; ++r)
+        EXPECT_EQ(d.f_joint[b](r), f[b](r)) << m.bodies[b].name << " " << sample << " " << r;
     for (int k = 0; k < m.nv; ++k) EXPECT_EQ(d.tau_id(k), tau(k)) << k << " " << sample;
   }
 }
@@ -147,7 +168,8 @@ TEST(TurningAboutZ, WorldInertiasAsTheGeneralPath) {
     for (BodyIndex b = 1; b < m.nbodies; ++b) {
       const Body& body = m.bodies[b];
       const Transform& X = d.X_WB[b];
-      const SpatialInertia general = SpatialInertia::FromCentral(body.mass, X * body.com_B, GeneralInertia(m, d, b));
+      const SpatialInertia general =
+          SpatialInertia::FromCentral(body.mass, X * body.com_B, GeneralInertia(m, d, b));
       const SpatialInertia& I = d.I_W[b];
       // Mass and first moment take the same path.
       EXPECT_EQ(I.m, general.m) << body.name;
@@ -156,8 +178,10 @@ TEST(TurningAboutZ, WorldInertiasAsTheGeneralPath) {
       const double central = 16 * kEps * body.inertia_cm_B.cwiseAbs().maxCoeff();
       for (int r = 0; r < 3; ++r)
         for (int c = 0; c < 3; ++c) {
-          const double bound = body.inertia_cm_turns_about_z ? central + 2 * kEps * std::abs(general.I(r, c)) : 0.0;
-          EXPECT_LE(std::abs(I.I(r, c) - general.I(r, c)), bound) << body.name << " " << sample << " " << r << c;
+          const double bound =
+              body.inertia_cm_turns_about_z ? central + 2 * kEps * std::abs(general.I(r, c)) : 0.0;
+          EXPECT_LE(std::abs(I.I(r, c) - general.I(r, c)), bound)
+              << body.name << " " << sample << " " << r << c;
         }
     }
   }
