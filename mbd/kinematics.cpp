@@ -20,11 +20,6 @@ void CalcPositionKinematics(const Model& model, const Eigen::Ref<const Eigen::Ve
   for (BodyIndex b = 1; b < model.nbodies; ++b) {
     const Body& body = model.bodies[b];
     const Transform& X = data.X_WB[b];
-    // A body turning about z with an inertia axisymmetric about z: R I Rᵀ = I (Body).
-    if (body.inertia_cm_turns_about_z) {
-      data.I_W[b] = SpatialInertia::FromCentral(body.mass, X * body.com_B, body.inertia_cm_B);
-      continue;
-    }
     data.I_W[b] = SpatialInertia::FromCentral(body.mass, X * body.com_B,
                                               X.R * body.inertia_cm_B * X.R.transpose());
   }

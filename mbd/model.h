@@ -293,10 +293,6 @@ struct Body {
   // every q, and the kinematics hold exact zeros: V_WB = (0, 0, w, vx, vy, 0) and A_WB =
   // (0, 0, alpha, ax, ay, az). CalcInverseDynamics skips the products with them.
   bool turns_about_z = false;
-  // turns_about_z and inertia_cm_B axisymmetric about z (I_xx == I_yy, no products of inertia,
-  // exactly as given): R_WB inertia_cm_B R_WBᵀ = inertia_cm_B for every q, and
-  // CalcPositionKinematics takes inertia_cm_B as the world-axes central inertia.
-  bool inertia_cm_turns_about_z = false;
 };
 
 struct Frame {

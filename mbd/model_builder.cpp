@@ -20,7 +20,7 @@ bool KeepsZExactly(const Mat3& R) {
   return R(0, 2) == 0 && R(1, 2) == 0 && R(2, 0) == 0 && R(2, 1) == 0 && std::abs(R(2, 2)) == 1;
 }
 
-// Body::turns_about_z and inertia_cm_turns_about_z, parents before children (tree order).
+// Body::turns_about_z, parents before children (tree order).
 void MarkBodiesTurningAboutZ(Model& m) {
   for (const JointIndex j : m.tree_order) {
     const Joint& jt = m.joints[j];
@@ -30,10 +30,6 @@ void MarkBodiesTurningAboutZ(Model& m) {
     Body& body = m.bodies[jt.spec.child];
     body.turns_about_z = parent_turns && joint_turns && body.flexible < 0 &&
                          KeepsZExactly(jt.spec.X_PF.R) && KeepsZExactly(jt.X_MC.R);
-    const Mat3& I = body.inertia_cm_B;
-    const bool axisymmetric = I(0, 0) == I(1, 1) && I(0, 1) == 0 && I(1, 0) == 0 && I(0, 2) == 0 &&
-                              I(2, 0) == 0 && I(1, 2) == 0 && I(2, 1) == 0;
-    body.inertia_cm_turns_about_z = body.turns_about_z && axisymmetric;
   }
 }
 
