@@ -33,6 +33,7 @@
 #include "mbd/kinematics.h"
 #include "mbd/model.h"
 #include "mbd/state.h"
+#include "tests/common/random_spatial.h"
 
 namespace orrery {
 namespace {
@@ -57,25 +58,9 @@ CentralDifference Differentiate(const std::function<Eigen::VectorXd(double)>& f,
   return r;
 }
 
-Mat3 RandomRotation(std::mt19937& rng, double max_angle) {
-  std::uniform_real_distribution<double> u(-1, 1);
-  Vec3 axis(u(rng), u(rng), u(rng));
-  return AxisAngle(axis.normalized(), max_angle * u(rng));
-}
-
-Mat3 RandomInertia(std::mt19937& rng) {
-  std::uniform_real_distribution<double> u(0.05, 0.15);
-  const double a = u(rng), b = u(rng), c = u(rng);
-  // Principal moments from positive "second moments" always satisfy the triangle inequality.
-  const Vec3 d(b + c, a + c, a + b);
-  const Mat3 R = RandomRotation(rng, 3.0);
-  return R * d.asDiagonal() * R.transpose();
-}
-
-Transform RandomFrame(std::mt19937& rng, double reach) {
-  std::uniform_real_distribution<double> u(-reach, reach);
-  return Transform(RandomRotation(rng, 1.0), Vec3(u(rng), u(rng), u(rng)));
-}
+using test_support::RandomFrame;
+using test_support::RandomInertia;
+using test_support::RandomRotation;
 
 struct Fixture {
   std::shared_ptr<const Model> model;
