@@ -611,8 +611,8 @@ void Loader::ReadSolver(const MapReader& root, Scene& scene) {
                     {"integrator", "end_time", "rtol", "atol", "atol_multiplier", "max_step",
                      "initial_step", "max_order", "max_steps_per_output", "step", "rho_inf",
                      "alpha_m", "alpha_f", "beta", "gamma", "max_newton_iterations",
-                     "newton_tolerance", "max_step_halvings", "matrix_refresh_rate", "newton_estimate",
-                     "threads"});
+                     "newton_tolerance", "max_step_halvings", "matrix_refresh_rate",
+                     "newton_estimate", "threads"});
   SimulationOptions& sim = scene.simulation;
   IntegratorOptions& o = sim.integrator;
   // A number with a condition, reported at its key.

@@ -68,10 +68,12 @@ bool FactorJoint(const Eigen::Matrix<double, 6, 6>& inertia, const Eigen::Matrix
 // Solve's leaves-to-root step of joint j for N coordinates: u_j = tau_j - S^T p^A_b and the
 // parent's share p^A_b + U D^-1 u_j (added to `parent_bias`; nullptr: the world).
 template <int N>
-void BiasJoint(const Eigen::Matrix<double, 6, 6>& u_block, const Eigen::Matrix<double, 6, 6>& cholesky,
-               const double* tau, const Eigen::Matrix<double, 6, N>& S, const Eigen::Matrix<double, 6, 1>& bias,
+void BiasJoint(const Eigen::Matrix<double, 6, 6>& u_block,
+               const Eigen::Matrix<double, 6, 6>& cholesky, const double* tau,
+               const Eigen::Matrix<double, 6, N>& S, const Eigen::Matrix<double, 6, 1>& bias,
                Eigen::Matrix<double, 6, 1>& u, Eigen::Matrix<double, 6, 1>* parent_bias) {
-  Eigen::Matrix<double, N, 1> uj = Eigen::Map<const Eigen::Matrix<double, N, 1>>(tau) - S.transpose() * bias;
+  Eigen::Matrix<double, N, 1> uj =
+      Eigen::Map<const Eigen::Matrix<double, N, 1>>(tau) - S.transpose() * bias;
   u.head<N>() = uj;
   if (!parent_bias) return;
   CholeskySolve<N>(cholesky, uj);
@@ -80,9 +82,10 @@ void BiasJoint(const Eigen::Matrix<double, 6, 6>& u_block, const Eigen::Matrix<d
 
 // Solve's root-to-leaves step of joint j for N coordinates: x_j and the child's acceleration.
 template <int N>
-void SolveJoint(const Eigen::Matrix<double, 6, 6>& u_block, const Eigen::Matrix<double, 6, 6>& cholesky,
-                const Eigen::Matrix<double, 6, 1>& u, const Eigen::Matrix<double, 6, N>& S,
-                const Eigen::Matrix<double, 6, 1>& a_parent, double* x, Eigen::Matrix<double, 6, 1>& a_child) {
+void SolveJoint(const Eigen::Matrix<double, 6, 6>& u_block,
+                const Eigen::Matrix<double, 6, 6>& cholesky, const Eigen::Matrix<double, 6, 1>& u,
+                const Eigen::Matrix<double, 6, N>& S, const Eigen::Matrix<double, 6, 1>& a_parent,
+                double* x, Eigen::Matrix<double, 6, 1>& a_child) {
   Eigen::Matrix<double, N, 1> xj = u.head<N>() - u_block.leftCols<N>().transpose() * a_parent;
   CholeskySolve<N>(cholesky, xj);
   Eigen::Map<Eigen::Matrix<double, N, 1>> x_j(x);
@@ -131,10 +134,22 @@ bool ArticulatedSolve::Factorize(const Model& model, const Data& data,
     Block* to_parent = parent == kWorldBody || nv == 6 ? nullptr : &inertia_[parent];
     bool factored = false;
     switch (nv) {
-      case 1: factored = FactorJoint<1>(inertia_[b], data.S.middleCols<1>(jt.v_start), u_block_[j], cholesky_[j], to_parent); break;
-      case 2: factored = FactorJoint<2>(inertia_[b], data.S.middleCols<2>(jt.v_start), u_block_[j], cholesky_[j], to_parent); break;
-      case 3: factored = FactorJoint<3>(inertia_[b], data.S.middleCols<3>(jt.v_start), u_block_[j], cholesky_[j], to_parent); break;
-      case 6: factored = FactorJoint<6>(inertia_[b], data.S.middleCols<6>(jt.v_start), u_block_[j], cholesky_[j], to_parent); break;
+      case 1:
+        factored = FactorJoint<1>(inertia_[b], data.S.middleCols<1>(jt.v_start), u_block_[j],
+                                  cholesky_[j], to_parent);
+        break;
+      case 2:
+        factored = FactorJoint<2>(inertia_[b], data.S.middleCols<2>(jt.v_start), u_block_[j],
+                                  cholesky_[j], to_parent);
+        break;
+      case 3:
+        factored = FactorJoint<3>(inertia_[b], data.S.middleCols<3>(jt.v_start), u_block_[j],
+                                  cholesky_[j], to_parent);
+        break;
+      case 6:
+        factored = FactorJoint<6>(inertia_[b], data.S.middleCols<6>(jt.v_start), u_block_[j],
+                                  cholesky_[j], to_parent);
+        break;
       default: factored = false;  // no joint type has 4 or 5 coordinates
     }
     if (!factored) return false;
@@ -143,7 +158,8 @@ bool ArticulatedSolve::Factorize(const Model& model, const Data& data,
 }
 
 void ArticulatedSolve::Solve(const Model& model, const Data& data,
-                             const Eigen::Ref<const Eigen::VectorXd>& tau, Eigen::Ref<Eigen::VectorXd> x) {
+                             const Eigen::Ref<const Eigen::VectorXd>& tau,
+                             Eigen::Ref<Eigen::VectorXd> x) {
   for (Vec6& p : bias_) p.setZero();
   // Leaves to root: the bias forces the subtrees hand their parents
   for (auto it = model.tree_order.rbegin(); it != model.tree_order.rend(); ++it) {
@@ -155,11 +171,25 @@ void ArticulatedSolve::Solve(const Model& model, const Data& data,
     Vec6* to_parent = parent == kWorldBody ? nullptr : &bias_[parent];
     const double* tau_j = tau.data() + jt.v_start;
     switch (nv) {
-      case 0: if (to_parent) *to_parent += bias_[b]; break;
-      case 1: BiasJoint<1>(u_block_[j], cholesky_[j], tau_j, data.S.middleCols<1>(jt.v_start), bias_[b], u_[j], to_parent); break;
-      case 2: BiasJoint<2>(u_block_[j], cholesky_[j], tau_j, data.S.middleCols<2>(jt.v_start), bias_[b], u_[j], to_parent); break;
-      case 3: BiasJoint<3>(u_block_[j], cholesky_[j], tau_j, data.S.middleCols<3>(jt.v_start), bias_[b], u_[j], to_parent); break;
-      default: BiasJoint<6>(u_block_[j], cholesky_[j], tau_j, data.S.middleCols<6>(jt.v_start), bias_[b], u_[j], to_parent); break;
+      case 0:
+        if (to_parent) *to_parent += bias_[b];
+        break;
+      case 1:
+        BiasJoint<1>(u_block_[j], cholesky_[j], tau_j, data.S.middleCols<1>(jt.v_start), bias_[b],
+                     u_[j], to_parent);
+        break;
+      case 2:
+        BiasJoint<2>(u_block_[j], cholesky_[j], tau_j, data.S.middleCols<2>(jt.v_start), bias_[b],
+                     u_[j], to_parent);
+        break;
+      case 3:
+        BiasJoint<3>(u_block_[j], cholesky_[j], tau_j, data.S.middleCols<3>(jt.v_start), bias_[b],
+                     u_[j], to_parent);
+        break;
+      default:
+        BiasJoint<6>(u_block_[j], cholesky_[j], tau_j, data.S.middleCols<6>(jt.v_start), bias_[b],
+                     u_[j], to_parent);
+        break;
     }
   }
   // Root to leaves: the accelerations, which with zero velocities and no gravity are M^-1 tau
@@ -176,10 +206,22 @@ void ArticulatedSolve::Solve(const Model& model, const Data& data,
     double* x_j = x.data() + jt.v_start;
     switch (nv) {
       case 0: accel_[b] = a_parent; break;
-      case 1: SolveJoint<1>(u_block_[j], cholesky_[j], u_[j], data.S.middleCols<1>(jt.v_start), a_parent, x_j, accel_[b]); break;
-      case 2: SolveJoint<2>(u_block_[j], cholesky_[j], u_[j], data.S.middleCols<2>(jt.v_start), a_parent, x_j, accel_[b]); break;
-      case 3: SolveJoint<3>(u_block_[j], cholesky_[j], u_[j], data.S.middleCols<3>(jt.v_start), a_parent, x_j, accel_[b]); break;
-      default: SolveJoint<6>(u_block_[j], cholesky_[j], u_[j], data.S.middleCols<6>(jt.v_start), a_parent, x_j, accel_[b]); break;
+      case 1:
+        SolveJoint<1>(u_block_[j], cholesky_[j], u_[j], data.S.middleCols<1>(jt.v_start), a_parent,
+                      x_j, accel_[b]);
+        break;
+      case 2:
+        SolveJoint<2>(u_block_[j], cholesky_[j], u_[j], data.S.middleCols<2>(jt.v_start), a_parent,
+                      x_j, accel_[b]);
+        break;
+      case 3:
+        SolveJoint<3>(u_block_[j], cholesky_[j], u_[j], data.S.middleCols<3>(jt.v_start), a_parent,
+                      x_j, accel_[b]);
+        break;
+      default:
+        SolveJoint<6>(u_block_[j], cholesky_[j], u_[j], data.S.middleCols<6>(jt.v_start), a_parent,
+                      x_j, accel_[b]);
+        break;
     }
   }
 }

@@ -46,7 +46,8 @@ class ArticulatedSolve {
   // false (Solve unusable) when a D_j is not numerically positive definite (its Cholesky pivots
   // not above 1e-13 of its largest diagonal entry): a subtree without mass or inertia along a
   // joint's motion, where M is singular.
-  bool Factorize(const Model& model, const Data& data, const Eigen::Ref<const Eigen::MatrixXd>& rows);
+  bool Factorize(const Model& model, const Data& data,
+                 const Eigen::Ref<const Eigen::MatrixXd>& rows);
 
   // x = M^-1 tau (nv; x must not alias tau; tau zero outside the subtrees Factorize took).
   void Solve(const Model& model, const Data& data, const Eigen::Ref<const Eigen::VectorXd>& tau,
@@ -55,9 +56,9 @@ class ArticulatedSolve {
  private:
   using Block = Eigen::Matrix<double, 6, 6>;
   bool applies_ = false;
-  std::vector<Block> inertia_;      // nbodies: articulated inertia I^A of each body's subtree
-  std::vector<Block> u_block_;      // njoints: U_j (6 x nv_j in the left columns)
-  std::vector<Block> cholesky_;     // njoints: L_j, D_j = L_j L_j^T (nv_j x nv_j lower, top left)
+  std::vector<Block> inertia_;   // nbodies: articulated inertia I^A of each body's subtree
+  std::vector<Block> u_block_;   // njoints: U_j (6 x nv_j in the left columns)
+  std::vector<Block> cholesky_;  // njoints: L_j, D_j = L_j L_j^T (nv_j x nv_j lower, top left)
   std::vector<Eigen::Matrix<double, 6, 1>> bias_;   // nbodies: p^A (Solve)
   std::vector<Eigen::Matrix<double, 6, 1>> accel_;  // nbodies: a (Solve)
   std::vector<Eigen::Matrix<double, 6, 1>> u_;      // njoints: u_j (Solve)

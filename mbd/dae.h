@@ -125,9 +125,11 @@ class DaeSystem {
   void GroupedPositionColumns(double t, const Eigen::Ref<const Eigen::VectorXd>& q,
                               const Eigen::Ref<const Eigen::VectorXd>& v,
                               const Eigen::Ref<const Eigen::VectorXd>& vdot,
-                              const Eigen::Ref<const Eigen::VectorXd>& lambda, Eigen::Ref<Eigen::MatrixXd> Kq);
+                              const Eigen::Ref<const Eigen::VectorXd>& lambda,
+                              Eigen::Ref<Eigen::MatrixXd> Kq);
   void GroupedVelocityColumns(double t, const Eigen::Ref<const Eigen::VectorXd>& v,
-                              const Eigen::Ref<const Eigen::VectorXd>& vdot, Eigen::Ref<Eigen::MatrixXd> Cv);
+                              const Eigen::Ref<const Eigen::VectorXd>& vdot,
+                              Eigen::Ref<Eigen::MatrixXd> Cv);
 
   const Model& model_;
   Data data_;
@@ -136,9 +138,9 @@ class DaeSystem {
   bool any_element_tangents_ = false;  // lumped meshes or an external element with analytic tangents
   bool use_element_tangents_ = true;
   bool use_groups_ = true;
-  std::vector<int> class_of_row_;                 // nv + nc (empty: no grouping)
-  std::vector<std::vector<int>> group_columns_;   // per group: the coordinates perturbed together
-  Eigen::VectorXd rvz_, rlz_, tau_base_;          // grouped differences' scratch (nv, nc, nv)
+  std::vector<int> class_of_row_;                // nv + nc (empty: no grouping)
+  std::vector<std::vector<int>> group_columns_;  // per group: the coordinates perturbed together
+  Eigen::VectorXd rvz_, rlz_, tau_base_;         // grouped differences' scratch (nv, nc, nv)
   // Scratch, sized once.
   Eigen::VectorXd mesh_row_, mesh_phase_row_;  // AddGearMeshTangents' scratch rows (nv)
   Eigen::VectorXd qdot_, w_, q_pert_, v_pert_, dv_, rv0_, rl0_, rv1_, rl1_;

@@ -326,7 +326,8 @@ class GeneralizedAlpha final : public Integrator {
   // z <- z + p_j (s_j . z) (BroydenUpdate). O(n) per update.
   void SolveIteration() {
     delta_.noalias() = lu_.solve(rhs_);
-    for (int j = 0; j < broyden_count_; ++j) delta_ += broyden_p_.col(j) * broyden_s_.col(j).dot(delta_);
+    for (int j = 0; j < broyden_count_; ++j)
+      delta_ += broyden_p_.col(j) * broyden_s_.col(j).dot(delta_);
   }
 
   // Broyden's update after a full increment s = -last_delta_ from an iterate with residual F_k,
@@ -377,7 +378,8 @@ class GeneralizedAlpha final : public Integrator {
   double ForceScale() {
     const Data& d = dae_.data();
     double scale = 1.0;
-    for (int k = 0; k < model_.nv; ++k) scale = std::max(scale, std::abs(mass_diagonal_(k) * vdot_new_(k)));
+    for (int k = 0; k < model_.nv; ++k)
+      scale = std::max(scale, std::abs(mass_diagonal_(k) * vdot_new_(k)));
     scale = std::max(scale, d.tau_applied.lpNorm<Eigen::Infinity>());
     for (const Vec6& f : d.f_ext) scale = std::max(scale, f.tail<3>().lpNorm<Eigen::Infinity>());
     if (model_.n_constraints > 0) scale = std::max(scale, lambda_new_.lpNorm<Eigen::Infinity>());
@@ -445,7 +447,8 @@ class GeneralizedAlpha final : public Integrator {
     int previous_it = 0;         // the iteration of previous_ratio
     double measured = -1;        // this step's last contraction rate (-1: none yet)
     double later = -1;           // this step's last rate measured after its first increment
-    const bool estimates = options_.newton_estimate && rate_ > 0 && steps_since_rate_ < kRateCheckSteps;
+    const bool estimates =
+        options_.newton_estimate && rate_ > 0 && steps_since_rate_ < kRateCheckSteps;
     // Broyden updates (without the estimate only: their contraction is not the steady rate the
     // estimate assumes): this step's, from its second increment on, after full increments only.
     const bool broyden = !options_.newton_estimate;
@@ -672,13 +675,14 @@ class GeneralizedAlpha final : public Integrator {
   Eigen::VectorXd last_delta_;             // n: the last full increment's delta_
   int broyden_count_ = 0;                  // updates held (since the step's start or a refresh)
   Eigen::VectorXd proj_residual_, proj_update_;  // SolveProjection's scratch (nv + nc)
-  ArticulatedSolve inverse_mass_;  // ProjectByArticulatedSolves: M^-1 without M
-  Eigen::MatrixXd proj_y_;         // nv x nc: M^-1 G^T (ProjectByArticulatedSolves)
-  Eigen::MatrixXd proj_schur_;     // nc x nc: G M^-1 G^T
+  ArticulatedSolve inverse_mass_;                // ProjectByArticulatedSolves: M^-1 without M
+  Eigen::MatrixXd proj_y_;                       // nv x nc: M^-1 G^T (ProjectByArticulatedSolves)
+  Eigen::MatrixXd proj_schur_;                   // nc x nc: G M^-1 G^T
   Eigen::PartialPivLU<Eigen::MatrixXd> proj_schur_lu_;  // its factors
-  Eigen::VectorXd proj_mu_;        // nc: (G M^-1 G^T)^-1 (G v + g_t)
-  Eigen::VectorXd proj_tau_;       // nv: a row of G as a generalized force
-  Eigen::VectorXd mass_diagonal_;  // nv: the mass matrix's diagonal where last computed (ForceScale)
+  Eigen::VectorXd proj_mu_;                             // nc: (G M^-1 G^T)^-1 (G v + g_t)
+  Eigen::VectorXd proj_tau_;                            // nv: a row of G as a generalized force
+  Eigen::VectorXd
+      mass_diagonal_;  // nv: the mass matrix's diagonal where last computed (ForceScale)
   long projection_factorizations_ = 0;
   IntegratorStats stats_;
   long pipeline_evaluations_ = 0;

@@ -26,23 +26,44 @@ inline std::shared_ptr<const Model> SpatialStage(bool spring_between_sun_and_rin
   const BodyIndex ring = mb.AddBody("ring", 3.0, Vec3::Zero(), 3 * I);
   const BodyIndex carrier = mb.AddBody("carrier", 2.0, Vec3::Zero(), 2 * I);
   mb.AddJoint({.name = "j_sun", .type = JointType::kFree, .child = sun});
-  mb.AddJoint({.name = "j_ring", .type = JointType::kFree, .child = ring, .X_PF = Transform(rz(0.4), Vec3::Zero())});
-  const JointIndex j_carrier = mb.AddJoint({.name = "j_carrier", .type = JointType::kFree, .child = carrier,
+  mb.AddJoint({.name = "j_ring",
+               .type = JointType::kFree,
+               .child = ring,
+               .X_PF = Transform(rz(0.4), Vec3::Zero())});
+  const JointIndex j_carrier = mb.AddJoint({.name = "j_carrier",
+                                            .type = JointType::kFree,
+                                            .child = carrier,
                                             .X_PF = Transform(rz(0.3), Vec3(0, 0, 0.02))});
   for (const BodyIndex b : {sun, ring, carrier})
-    mb.AddBearing({.name = "bearing_" + std::to_string(b), .frame_a = kWorldFrame, .frame_b = mb.body_frame(b),
-                   .radial_stiffness = 2e8, .axial_stiffness = 1e8, .tilt_stiffness = 1e5,
-                   .radial_damping = 50, .axial_damping = 20, .tilt_damping = 1});
+    mb.AddBearing({.name = "bearing_" + std::to_string(b),
+                   .frame_a = kWorldFrame,
+                   .frame_b = mb.body_frame(b),
+                   .radial_stiffness = 2e8,
+                   .axial_stiffness = 1e8,
+                   .tilt_stiffness = 1e5,
+                   .radial_damping = 50,
+                   .axial_damping = 20,
+                   .tilt_damping = 1});
   const FrameIndex reference = mb.body_frame(carrier);
   for (int i = 0; i < 2; ++i) {
     const std::string name = "planet" + std::to_string(i);
     const BodyIndex planet = mb.AddBody(name, 0.5, Vec3::Zero(), I);
     const double psi = 0.5 + 2.5 * i;
     const Transform X_CP(rz(psi), d_sp * Vec3(std::cos(psi), std::sin(psi), 0));
-    mb.AddJoint({.name = "j_" + name, .type = JointType::kFree, .parent = carrier, .child = planet, .X_PF = X_CP});
-    mb.AddBearing({.name = "pin_" + name, .frame_a = mb.AddFrame(name + "_pin", carrier, X_CP),
-                   .frame_b = mb.body_frame(planet), .radial_stiffness = 1e8, .axial_stiffness = 5e7,
-                   .tilt_stiffness = 1e5, .radial_damping = 30, .axial_damping = 10, .tilt_damping = 1});
+    mb.AddJoint({.name = "j_" + name,
+                 .type = JointType::kFree,
+                 .parent = carrier,
+                 .child = planet,
+                 .X_PF = X_CP});
+    mb.AddBearing({.name = "pin_" + name,
+                   .frame_a = mb.AddFrame(name + "_pin", carrier, X_CP),
+                   .frame_b = mb.body_frame(planet),
+                   .radial_stiffness = 1e8,
+                   .axial_stiffness = 5e7,
+                   .tilt_stiffness = 1e5,
+                   .radial_damping = 30,
+                   .axial_damping = 10,
+                   .tilt_damping = 1});
     for (int k = 0; k < 2; ++k) {
       GearMeshSpec s;
       s.name = (k ? "ring-" : "sun-") + name;
@@ -62,8 +83,12 @@ inline std::shared_ptr<const Model> SpatialStage(bool spring_between_sun_and_rin
     }
   }
   if (spring_between_sun_and_ring)
-    mb.AddTranslationalSpring({.name = "tie", .frame_a = mb.body_frame(sun), .frame_b = mb.body_frame(ring),
-                               .stiffness = 1e4, .damping = 1, .free_length = 0});
+    mb.AddTranslationalSpring({.name = "tie",
+                               .frame_a = mb.body_frame(sun),
+                               .frame_b = mb.body_frame(ring),
+                               .stiffness = 1e4,
+                               .damping = 1,
+                               .free_length = 0});
   DriverSpec d;
   d.name = "drive", d.joint = j_carrier, d.coordinate = 5, d.mode = DriverSpec::Mode::kSpeed;
   d.function = TimeFunction::Sine(0.5, 3.0, 0.0, 2.0);

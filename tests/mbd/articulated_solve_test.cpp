@@ -10,8 +10,8 @@
 #include <memory>
 #include <random>
 
-#include <Eigen/Dense>
 #include <gtest/gtest.h>
+#include <Eigen/Dense>
 
 #include "mbd/articulated_solve.h"
 #include "mbd/data.h"
@@ -40,11 +40,18 @@ std::shared_ptr<const Model> EveryJointTree(std::mt19937& rng) {
   };
   auto joint = [&](const std::string& name, JointType type, BodyIndex parent, BodyIndex child,
                    const Vec3& axis, const Vec3& axis2) {
-    b.AddJoint({.name = name, .type = type, .parent = parent, .child = child,
-                .X_PF = RandomFrame(rng, 0.3), .X_CM = RandomFrame(rng, 0.2), .axis = axis, .axis2 = axis2});
+    b.AddJoint({.name = name,
+                .type = type,
+                .parent = parent,
+                .child = child,
+                .X_PF = RandomFrame(rng, 0.3),
+                .X_CM = RandomFrame(rng, 0.2),
+                .axis = axis,
+                .axis2 = axis2});
   };
-  const BodyIndex b1 = body("b1"), b2 = body("b2"), b3 = body("b3"), b4 = body("b4"), b5 = body("b5"),
-                  b6 = body("b6"), b7 = body("b7"), b8 = body("b8"), b9 = body("b9"), b10 = body("b10");
+  const BodyIndex b1 = body("b1"), b2 = body("b2"), b3 = body("b3"), b4 = body("b4"),
+                  b5 = body("b5"), b6 = body("b6"), b7 = body("b7"), b8 = body("b8"),
+                  b9 = body("b9"), b10 = body("b10");
   const Vec3 x = Vec3::UnitX(), y = Vec3::UnitY(), z = Vec3::UnitZ();
   joint("rev", JointType::kRevolute, kWorldBody, b1, Vec3(1, 2, 3), x);
   joint("pri", JointType::kPrismatic, b1, b2, Vec3(0, 1, 1), x);
@@ -127,7 +134,8 @@ TEST(ArticulatedSolve, OnlyTheSubtreesTheRowsTouch) {
   }
   for (const char* name : {"free", "rev2", "free2"}) {
     const Joint& jt = m.joints[m.joint(name)];
-    for (int k = 0; k < jt.nv; ++k) EXPECT_NEAR(x(jt.v_start + k), x_dense(jt.v_start + k), bound) << name;
+    for (int k = 0; k < jt.nv; ++k)
+      EXPECT_NEAR(x(jt.v_start + k), x_dense(jt.v_start + k), bound) << name;
   }
 }
 

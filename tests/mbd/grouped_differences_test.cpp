@@ -2,15 +2,15 @@
 // one-column-per-evaluation differences on a spatial planetary stage as seed 002 builds it
 // (tests/common/spatial_stage.h: sun, ring and carrier on free joints on the world with
 // bearings, two planets on free joints on the carrier with pin bearings, lumped meshes with
-// analytic tangents, a speed driver on the carrier). The meshes are the only elements between the three subtrees and are
-// not differenced, so a column's differenced rows lie in its own subtree: Kq and Cv must be the
-// one-column differences' to the last bit (a wrong class, a missed coupling or a row taken from
-// the wrong evaluation shows as a difference of the size of the entries).
+// analytic tangents, a speed driver on the carrier). The meshes are the only elements between the
+// three subtrees and are not differenced, so a column's differenced rows lie in its own subtree: Kq
+// and Cv must be the one-column differences' to the last bit (a wrong class, a missed coupling or a
+// row taken from the wrong evaluation shows as a difference of the size of the entries).
 #include <cmath>
 #include <memory>
 
-#include <Eigen/Core>
 #include <gtest/gtest.h>
+#include <Eigen/Core>
 
 #include "mbd/dae.h"
 #include "mbd/data.h"
@@ -29,7 +29,8 @@ State Moved(const Model& m) {
   s.t = 0.37;
   for (int k = 0; k < m.nv; ++k) {
     Eigen::VectorXd dv = Eigen::VectorXd::Zero(m.nv);
-    dv(k) = (k % 6 < 3 ? 1e-5 : 1e-3) * std::sin(1.3 * k + 0.4) + (k % 6 == 5 ? 2.0 + 0.1 * k : 0.0);
+    dv(k) =
+        (k % 6 < 3 ? 1e-5 : 1e-3) * std::sin(1.3 * k + 0.4) + (k % 6 == 5 ? 2.0 + 0.1 * k : 0.0);
     IntegratePositions(m, dv, s.q);
     s.v(k) = (k % 6 < 3 ? 1e-3 : 0.2) * std::cos(0.7 * k) + (k % 6 == 5 ? 5.0 : 0.0);
   }
@@ -49,7 +50,8 @@ void ExpectGroupedAsOneColumnEach(const Model& m, int groups) {
   single.Tangents(s.t, s.q, s.v, vdot, lambda, Kq_s, Cv_s);
   ASSERT_GT(Kq_s.cwiseAbs().maxCoeff(), 1e5);  // the bearings' and meshes' stiffness is in it
   for (int c = 0; c < m.nv; ++c) {
-    for (int r = 0; r < m.nv + m.n_constraints; ++r) EXPECT_EQ(Kq_g(r, c), Kq_s(r, c)) << "Kq " << r << ", " << c;
+    for (int r = 0; r < m.nv + m.n_constraints; ++r)
+      EXPECT_EQ(Kq_g(r, c), Kq_s(r, c)) << "Kq " << r << ", " << c;
     for (int r = 0; r < m.nv; ++r) EXPECT_EQ(Cv_g(r, c), Cv_s(r, c)) << "Cv " << r << ", " << c;
   }
   // Data is left at the base point alike

@@ -192,10 +192,11 @@ TEST(JointTypes, RevoluteAboutZPosesAsTheTableEntry) {
   }
 }
 
-// Free joints (CalcFramePoses' FreeJoint, CalcVelocityKinematics' free path): on the world with a turned X_PF and under a free body
-// with turned X_PF and X_CM (a planet on a carrier), at positions of metres and turned
-// quaternions: X_FM, the child's pose and the six motion-subspace columns equal to the table
-// entry's, composed by hand, bit for bit; so is the velocity-product term S-dot v.
+// Free joints (CalcFramePoses' FreeJoint, CalcVelocityKinematics' free path): on the world with a
+// turned X_PF and under a free body with turned X_PF and X_CM (a planet on a carrier), at positions
+// of metres and turned quaternions: X_FM, the child's pose and the six motion-subspace columns
+// equal to the table entry's, composed by hand, bit for bit; so is the velocity-product term S-dot
+// v.
 TEST(JointTypes, FreePosesAsTheTableEntry) {
   ModelBuilder mb;
   const Mat3 I = Vec3(1e-3, 2e-3, 3e-3).asDiagonal();
@@ -203,9 +204,14 @@ TEST(JointTypes, FreePosesAsTheTableEntry) {
   const BodyIndex b = mb.AddBody("b", 1.0, Vec3::Zero(), I);
   const Transform X_PF(AxisAngle(Vec3(0.2, 0.9, -0.4).normalized(), 0.8), Vec3(0.1, -0.2, 0.3));
   const Transform X_CM(AxisAngle(Vec3(-0.5, 0.1, 0.7).normalized(), -1.3), Vec3(0.05, 0.02, -0.01));
-  const JointIndex ja = mb.AddJoint({.name = "ja", .type = JointType::kFree, .child = a, .X_PF = X_CM});
-  const JointIndex jb = mb.AddJoint({.name = "jb", .type = JointType::kFree, .parent = a, .child = b,
-                                     .X_PF = X_PF, .X_CM = X_CM});
+  const JointIndex ja =
+      mb.AddJoint({.name = "ja", .type = JointType::kFree, .child = a, .X_PF = X_CM});
+  const JointIndex jb = mb.AddJoint({.name = "jb",
+                                     .type = JointType::kFree,
+                                     .parent = a,
+                                     .child = b,
+                                     .X_PF = X_PF,
+                                     .X_CM = X_CM});
   const std::shared_ptr<const Model> model = std::move(mb).Finalize();
   const Model& m = *model;
   Data d(m);
@@ -216,7 +222,8 @@ TEST(JointTypes, FreePosesAsTheTableEntry) {
     CalcFramePoses(m, q, d);
     for (JointIndex j : {ja, jb}) {
       const Joint& jt = m.joints[j];
-      const Transform X_WF = jt.spec.parent == kWorldBody ? jt.spec.X_PF : d.X_WB[jt.spec.parent] * jt.spec.X_PF;
+      const Transform X_WF =
+          jt.spec.parent == kWorldBody ? jt.spec.X_PF : d.X_WB[jt.spec.parent] * jt.spec.X_PF;
       Transform X_FM;
       Vec6 S_F[6];
       // (the quaternions as the kinematics read them, normalized once more)
@@ -232,7 +239,8 @@ TEST(JointTypes, FreePosesAsTheTableEntry) {
       }
       for (int k = 0; k < 6; ++k) {
         const Vec6 S = MotionToWorld(X_WF, S_F[k]);
-        for (int r = 0; r < 6; ++r) EXPECT_EQ(d.S(r, jt.v_start + k), S(r)) << j << " column " << k << " " << sample;
+        for (int r = 0; r < 6; ++r)
+          EXPECT_EQ(d.S(r, jt.v_start + k), S(r)) << j << " column " << k << " " << sample;
       }
     }
     // The velocity-product term S-dot v (CalcVelocityKinematics' free-joint path) as the table's
@@ -242,10 +250,13 @@ TEST(JointTypes, FreePosesAsTheTableEntry) {
     for (JointIndex j : {ja, jb}) {
       const Joint& jt = m.joints[j];
       const Vec6 V_joint = JointMotion(d, jt.v_start, jt.nv, v);
-      const Vec6 product = JointInfo(JointType::kFree).velocity_product(jt, d.q_normalized.data() + jt.q_start,
-                                                                         v.data() + jt.v_start);
-      const Vec6 c = CrossMotion(d.V_WB[jt.spec.parent], V_joint) + MotionToWorld(d.X_WF[j], product);
-      for (int r = 0; r < 6; ++r) EXPECT_EQ(d.c_J[j](r), c(r)) << j << " row " << r << " " << sample;
+      const Vec6 product =
+          JointInfo(JointType::kFree)
+              .velocity_product(jt, d.q_normalized.data() + jt.q_start, v.data() + jt.v_start);
+      const Vec6 c =
+          CrossMotion(d.V_WB[jt.spec.parent], V_joint) + MotionToWorld(d.X_WF[j], product);
+      for (int r = 0; r < 6; ++r)
+        EXPECT_EQ(d.c_J[j](r), c(r)) << j << " row " << r << " " << sample;
     }
   }
 }

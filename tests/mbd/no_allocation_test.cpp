@@ -33,7 +33,6 @@
 #include "tests/common/counting_allocator.h"
 #include "tests/common/spatial_stage.h"
 
-
 namespace orrery {
 namespace {
 
@@ -208,8 +207,10 @@ TEST(NoAllocation, GeneralizedAlphaStep) {
     integ->Initialize(State::Initial(*model));
     integ->AdvanceTo(1e-3);
     int k = 1;
-    EXPECT_EQ(AllocationsIn([&] { integ->AdvanceTo(++k * 1e-3); }), 0) << "newton_estimate " << estimate;
-    EXPECT_EQ(AllocationsIn([&] { integ->AdvanceTo(++k * 1e-3); }), 0) << "newton_estimate " << estimate;
+    EXPECT_EQ(AllocationsIn([&] { integ->AdvanceTo(++k * 1e-3); }), 0)
+        << "newton_estimate " << estimate;
+    EXPECT_EQ(AllocationsIn([&] { integ->AdvanceTo(++k * 1e-3); }), 0)
+        << "newton_estimate " << estimate;
   }
 }
 

@@ -182,9 +182,10 @@ TEST_P(PendulumAmplitude, GeneralizedAlphaPeriodErrorIsSecondOrder) {
     }
     const double r1 = err[0] / err[1], r2 = err[1] / err[2];
     const double allowance = 1.5 * std::abs(r1 - 4) / 2 + 1e-3;
-    std::printf("[pendulum] theta0 %.2f, newton_estimate %d: gen-alpha period error %.3e, %.3e, "
-                "%.3e; ratios %.4f, %.4f (allowed |r2 - 4| <= %.4f)\n", theta0, int(estimate), err[0],
-                err[1], err[2], r1, r2, allowance);
+    std::printf(
+        "[pendulum] theta0 %.2f, newton_estimate %d: gen-alpha period error %.3e, %.3e, "
+        "%.3e; ratios %.4f, %.4f (allowed |r2 - 4| <= %.4f)\n",
+        theta0, int(estimate), err[0], err[1], err[2], r1, r2, allowance);
     EXPECT_NEAR(r1, 4.0, 0.5);  // the coarse pair is in the asymptotic range at all
     EXPECT_NEAR(r2, 4.0, allowance);
     EXPECT_LE(std::abs(err[2]), std::abs(err[1]) / (4 - allowance));

@@ -201,9 +201,11 @@ TEST(Extremes, StepsFarTooLargeForTheGearsMeetWillisOrStop) {
     // Tooth contact at 20 ms with the scene's Newton (measured ends, Broyden updates, refreshes at
     // a contraction of 0.01): the steps go through in halvings (down to 78 us) and meet Willis
     const std::string out = Out("contact_20ms_scene_newton");
-    const auto [text, status] = RunCommand(kOrrery + " run " + Scene("seed003_contact_healthy.yaml") +
-                                           " --quiet --end-time 0.05 --set solver.step=2e-2"
-                                           " --set output.interval=1e-2 -o " + out);
+    const auto [text, status] =
+        RunCommand(kOrrery + " run " + Scene("seed003_contact_healthy.yaml") +
+                   " --quiet --end-time 0.05 --set solver.step=2e-2"
+                   " --set output.interval=1e-2 -o " +
+                   out);
     ASSERT_EQ(status, 0) << text;
     EXPECT_NEAR(MeanFrom(out, "/joints/S.carrier/v", 0.025), kWillis, 1e-2 * kWillis);
   }
@@ -211,10 +213,11 @@ TEST(Extremes, StepsFarTooLargeForTheGearsMeetWillisOrStop) {
     // Tooth contact at 20 ms with the contraction estimate and the matrix kept to a contraction
     // of 0.1: Newton fails through 8 halvings and stops naming time and joint
     const std::string out = Out("contact_20ms");
-    const auto [text, status] = RunCommand(kOrrery + " run " + Scene("seed003_contact_healthy.yaml") +
-                                           " --end-time 0.05 --set solver.step=2e-2 --set output.interval=2e-2"
-                                           " --set solver.newton_estimate=true --set solver.matrix_refresh_rate=0.1 -o " +
-                                           out);
+    const auto [text, status] =
+        RunCommand(kOrrery + " run " + Scene("seed003_contact_healthy.yaml") +
+                   " --end-time 0.05 --set solver.step=2e-2 --set output.interval=2e-2"
+                   " --set solver.newton_estimate=true --set solver.matrix_refresh_rate=0.1 -o " +
+                   out);
     EXPECT_EQ(status, 1) << text;
     EXPECT_NE(text.find("Newton did not converge at t = 0.00015625 s"), std::string::npos) << text;
     EXPECT_NE(text.find("joint 'S."), std::string::npos) << text;
