@@ -31,6 +31,16 @@ Vec6 BodyForceTurningAboutZ(const SpatialInertia& I, const Vec6& V, const Vec6& 
   return f;
 }
 
+// Composite inertias data.I_c (each body's subtree, world axes), leaves to root: the mass
+// matrix's and its diagonal's common first pass.
+void CalcCompositeInertias(const Model& model, Data& data) {
+  for (BodyIndex b = 0; b < model.nbodies; ++b) data.I_c[b] = data.I_W[b];
+  for (auto it = model.tree_order.rbegin(); it != model.tree_order.rend(); ++it) {
+    const Joint& jt = model.joints[*it];
+    if (jt.spec.parent != kWorldBody) data.I_c[jt.spec.parent] += data.I_c[jt.spec.child];
+  }
+}
+
 }  // namespace
 
 void CalcInverseDynamics(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& vdot,
@@ -66,12 +76,7 @@ void CalcInverseDynamics(const Model& model, const Eigen::Ref<const Eigen::Vecto
 }
 
 void CalcMassMatrix(const Model& model, Data& data) {
-  // Composite inertias, leaves to root.
-  for (BodyIndex b = 0; b < model.nbodies; ++b) data.I_c[b] = data.I_W[b];
-  for (auto it = model.tree_order.rbegin(); it != model.tree_order.rend(); ++it) {
-    const Joint& jt = model.joints[*it];
-    if (jt.spec.parent != kWorldBody) data.I_c[jt.spec.parent] += data.I_c[jt.spec.child];
-  }
+  CalcCompositeInertias(model, data);
   // For each joint, F = I_c S_j and its projection on every ancestor joint.
   data.M.setZero();
   for (const JointIndex j : model.tree_order) {
@@ -100,12 +105,7 @@ void CalcMassMatrix(const Model& model, Data& data) {
 }
 
 void CalcMassMatrixDiagonal(const Model& model, Data& data, Eigen::Ref<Eigen::VectorXd> diagonal) {
-  // Composite inertias, leaves to root, as CalcMassMatrix
-  for (BodyIndex b = 0; b < model.nbodies; ++b) data.I_c[b] = data.I_W[b];
-  for (auto it = model.tree_order.rbegin(); it != model.tree_order.rend(); ++it) {
-    const Joint& jt = model.joints[*it];
-    if (jt.spec.parent != kWorldBody) data.I_c[jt.spec.parent] += data.I_c[jt.spec.child];
-  }
+  CalcCompositeInertias(model, data);
   // M_kk = S_k . (I_c S_k), CalcMassMatrix's expression for its r = k entry
   for (const JointIndex j : model.tree_order) {
     const Joint& jt = model.joints[j];
