@@ -510,6 +510,35 @@ void ResultFile::Append(SeriesId id, const double* row) {
   }
 }
 
+void ResultFile::AppendRow(SeriesId first, int count, const double* row) {
+  Impl& impl = Live(impl_, "AppendRow");
+  if (first < 0 || count < 0 ||
+      static_cast<std::size_t>(first) + static_cast<std::size_t>(count) > impl.series.size())
+    throw std::invalid_argument("result file " + impl.path + ": no series " +
+                                std::to_string(first) + " to " + std::to_string(first + count - 1));
+  impl.CheckNotDetached("AppendRow");
+  // Series by series as Append: copy the row (a short loop, not memcpy: most rows are 1 to 6
+  // doubles); write the block when it fills
+  for (Series *s = impl.series.data() + first, *end = s + count; s != end; ++s) {
+    double* to = s->block.data() + s->block_rows * s->ncols;
+    for (hsize_t c = 0; c < s->ncols; ++c) to[c] = row[c];
+    row += s->ncols;
+    if (++s->block_rows == s->block_capacity) {
+      QuietHdf5 quiet;
+      impl.Guarded([&] { impl.WriteFullBlock(*s); });
+    }
+  }
+}
+
+int ResultFile::cols(SeriesId id) const {
+  if (!impl_) throw std::logic_error("result file: cols on a moved-from object");
+  const Impl& impl = *impl_;
+  if (id < 0 || static_cast<std::size_t>(id) >= impl.series.size())
+    throw std::invalid_argument("result file " + impl.path + ": no series with id " +
+                                std::to_string(id));
+  return static_cast<int>(impl.series[static_cast<std::size_t>(id)].ncols);
+}
+
 std::int64_t ResultFile::rows(SeriesId id) const {
   if (!impl_) throw std::logic_error("result file: rows on a moved-from object");
   const Impl& impl = *impl_;

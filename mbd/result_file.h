@@ -67,6 +67,15 @@ class ResultFile {
   // buffer has room; writes the block to the file when it fills.
   void Append(SeriesId id, const double* row);
 
+  // Appends one row to each of the `count` series first, first + 1, ..., first + count - 1 (ids
+  // as AddSeries gave them), their columns read one series after the other from `row` (the sum
+  // of their ncols doubles): the same as Append on each in turn, with the object's checks made
+  // once for the row (a recorder's row of a few hundred short series: ResultRecorder::Record).
+  void AppendRow(SeriesId first, int count, const double* row);
+
+  // Columns of a series (its ncols).
+  int cols(SeriesId id) const;
+
   // Number of rows appended so far to a series (written or buffered).
   std::int64_t rows(SeriesId id) const;
 

@@ -89,6 +89,21 @@ class ResultRecorder {
   std::vector<std::vector<int>> external_offsets_;  // first value of each output in a row
   Eigen::VectorXd stress_, surface_row_;  // scratch
   Eigen::VectorXd row_;                     // scratch
+  // The row of every series above, appended at once (ResultFile::AppendRow): the series' ids run
+  // from first_ (time_) to first_ + count_ - 1 in the order the constructor added them, and
+  // staged_ holds their columns one after the other (series id - first_ starts at offset_).
+  ResultFile::SeriesId first_ = 0;
+  int count_ = 0;
+  std::vector<int> offset_;
+  Eigen::VectorXd staged_;
+  // Series `id`'s columns in staged_.
+  double* Slot(ResultFile::SeriesId id) { return staged_.data() + offset_[id - first_]; }
+  // Copies n doubles from x to series `id`'s columns in staged_.
+  template <int N>
+  void Put(ResultFile::SeriesId id, const double* x) {
+    double* to = Slot(id);
+    for (int c = 0; c < N; ++c) to[c] = x[c];
+  }
 };
 
 }  // namespace orrery

@@ -107,6 +107,46 @@ TEST(ResultFileTest, SeriesRoundTripWithPartialBlocksAndFlushes) {
   }
 }
 
+// AppendRow over a range of series (not the file's first, nor its last) writes what Append on
+// each does: the same cells through full blocks, partial blocks and flushes, and the series
+// outside the range untouched.
+TEST(ResultFileTest, AppendRowOfConsecutiveSeriesIsAppendOnEach) {
+  TempFile file("append_row");
+  const std::vector<int> ncols = {2, 1, 3, 6, 7, 1500, 4};
+  const std::int64_t rows = 2100;
+  {
+    ResultFile out = ResultFile::Create(file.path());
+    std::vector<ResultFile::SeriesId> ids;
+    for (std::size_t s = 0; s < ncols.size(); ++s)
+      ids.push_back(out.AddSeries("/s" + std::to_string(s), ncols[s], "1"));
+    for (std::size_t s = 0; s < ncols.size(); ++s) EXPECT_EQ(out.cols(ids[s]), ncols[s]);
+    // Series 1 to 5 by rows; series 0 and 6 by Append, fewer rows.
+    std::vector<double> row;
+    for (std::int64_t r = 0; r < rows; ++r) {
+      row.clear();
+      for (std::size_t s = 1; s <= 5; ++s)
+        for (int c = 0; c < ncols[s]; ++c) row.push_back(Value(static_cast<int>(s), r, c));
+      out.AppendRow(ids[1], 5, row.data());
+      if (r == 700 || r == 1023 || r == 1500) out.Flush();
+    }
+    AppendRows(out, ids[0], 0, ncols[0], 0, 10);
+    AppendRows(out, ids[6], 6, ncols[6], 0, 3);
+    EXPECT_EQ(out.rows(ids[1]), rows);
+    EXPECT_EQ(out.rows(ids[0]), 10);
+    EXPECT_THROW(out.AppendRow(ids[5], 3, row.data()), std::invalid_argument);
+    out.Close();
+    EXPECT_THROW(out.AppendRow(ids[1], 1, row.data()), std::logic_error);
+  }
+  Hdf5Reader in(file.path());
+  for (std::size_t s = 0; s < ncols.size(); ++s) {
+    SCOPED_TRACE(s);
+    ExpectSeries(in.ReadMatrix("/s" + std::to_string(s)), static_cast<int>(s), ncols[s],
+                 s == 0   ? 10
+                 : s == 6 ? 3
+                          : rows);
+  }
+}
+
 TEST(ResultFileTest, DestructorWritesBufferedRows) {
   TempFile file("destructor");
   {
