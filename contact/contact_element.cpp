@@ -112,6 +112,13 @@ void ContactElement::ForEachContactPoint(const Vec6& V_WA, const Vec6& V_WB,
 void ContactElement::CalcForces(const Vec6& V_WA, const Vec6& V_WB, ContactWorkspace& ws,
                                 Vec6* f_A, Vec6* f_B, double* energy,
                                 double* power_dissipated) const {
+  CalcForces(V_WA, V_WB, ws, f_A, f_B, energy, power_dissipated, /*outputs=*/true);
+}
+
+void ContactElement::CalcForces(const Vec6& V_WA, const Vec6& V_WB, ContactWorkspace& ws, Vec6* f_A,
+                                Vec6* f_B, double* energy, double* power_dissipated,
+                                bool outputs) const {
+  ws.outputs_pending = false;
   f_A->setZero();
   f_B->setZero();
   *energy = 0;
@@ -119,9 +126,10 @@ void ContactElement::CalcForces(const Vec6& V_WA, const Vec6& V_WB, ContactWorks
   ws.normal_force = ws.friction_force = ws.max_penetration = 0;
   ws.contact_points = 0;
   // The monitor reads the points when the workspace has its state (MakeWorkspace() makes it).
-  const ContactMonitor* monitor = ws.monitor ? spec_.monitor.get() : nullptr;
+  const ContactMonitor* monitor = outputs && ws.monitor ? spec_.monitor.get() : nullptr;
+  const bool record = outputs && spec_.record_points > 0;
   if (monitor) monitor->Start(ws.X_WA, ws.X_WB, *ws.monitor);
-  ws.points.Clear();
+  if (outputs) ws.points.Clear();
   const Transform X_AW = ws.X_WA.Inverse();
   // The force of a node acts on the node's body N, its reaction on the face's body.
   ForEachContactPoint(V_WA, V_WB, ws, [&](const NodeGap& g, const Vec3& v_rel, double area,
@@ -138,9 +146,27 @@ void ContactElement::CalcForces(const Vec6& V_WA, const Vec6& V_WB, ContactWorks
     ws.max_penetration = std::max(ws.max_penetration, depth);
     ++ws.contact_points;
     if (monitor) monitor->Add(node_on_a ? g.p_W : g.q_W, g.n_W, f.stiffness, *ws.monitor);
-    if (spec_.record_points > 0) ws.points.Add(X_AW * (node_on_a ? g.p_W : g.q_W), f.normal);
+    if (record) ws.points.Add(X_AW * (node_on_a ? g.p_W : g.q_W), f.normal);
   });
   if (monitor) monitor->Finish(*f_A, *ws.monitor);
+}
+
+void ContactElement::MakePendingOutputs(const ContactWorkspace& ws) const {
+  ws.outputs_pending = false;
+  // The loop of CalcForces() over the same points with the same law calls: the stiffness and
+  // normal force of each point, and so the monitor's sums, are those of that evaluation.
+  const ContactMonitor* monitor = ws.monitor ? spec_.monitor.get() : nullptr;
+  if (monitor) monitor->Start(ws.X_WA, ws.X_WB, *ws.monitor);
+  ws.points.Clear();
+  const Transform X_AW = ws.X_WA.Inverse();
+  ForEachContactPoint(
+      ws.V_WA, ws.V_WB, ws, [&](const NodeGap& g, const Vec3& v_rel, double area, bool node_on_a) {
+        const NodeForce f =
+            EvaluateContactLaw(spec_.law, -g.gap, -v_rel.dot(g.n_W), g.n_W, v_rel, area);
+        if (monitor) monitor->Add(node_on_a ? g.p_W : g.q_W, g.n_W, f.stiffness, *ws.monitor);
+        if (spec_.record_points > 0) ws.points.Add(X_AW * (node_on_a ? g.p_W : g.q_W), f.normal);
+      });
+  if (monitor) monitor->Finish(ws.f_A, *ws.monitor);
 }
 
 void ContactElement::AddTangents(const Model& model, const Data& data,
@@ -165,8 +191,12 @@ void ContactElement::Compute(const Model& /*model*/, double /*t*/, const Data& d
   auto& ws = static_cast<ContactWorkspace&>(workspace);
   const BodyIndex a = spec_.body_a, b = spec_.body_b;
   UpdateGaps(data.X_WB[a], data.X_WB[b], ws);
-  CalcForces(data.V_WB[a], data.V_WB[b], ws, &ws.f_A, &ws.f_B, &ws.energy,
-             &ws.power_dissipated);
+  // The monitor and the recorded points wait for GetOutputs() (ContactWorkspace).
+  CalcForces(data.V_WB[a], data.V_WB[b], ws, &ws.f_A, &ws.f_B, &ws.energy, &ws.power_dissipated,
+             /*outputs=*/false);
+  ws.V_WA = data.V_WB[a];
+  ws.V_WB = data.V_WB[b];
+  ws.outputs_pending = ws.monitor || spec_.record_points > 0;
 }
 
 void ContactElement::WarmStart(const ExternalForceWorkspace& source,
@@ -194,6 +224,7 @@ void ContactElement::Apply(const Model& model, double t, Data& data,
 
 void ContactElement::GetOutputs(const ExternalForceWorkspace& workspace, double* values) const {
   const auto& ws = static_cast<const ContactWorkspace&>(workspace);
+  if (ws.outputs_pending) MakePendingOutputs(ws);
   values[0] = ws.normal_force;
   values[1] = ws.friction_force;
   values[2] = ws.contact_points;

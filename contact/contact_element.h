@@ -107,8 +107,14 @@ class ContactWorkspace final : public ExternalForceWorkspace {
   Transform X_WA, X_WB;                  // poses of the last gap computation
   bool have_gaps = false;
   ContactTangents tangents;              // AddTangents()
-  std::unique_ptr<ContactMonitorState> monitor;  // spec.monitor's state of the last Apply()
-  ContactPointRecord points;             // spec.record_points: the last Apply()'s points
+  // spec.monitor's state and spec.record_points' points of the last Apply(): CalcForces() fills
+  // them; Compute() (the integrator's evaluations, whose outputs are seldom read) leaves them to
+  // the first GetOutputs() after it, which makes them from the gaps, the poses, V_WA, V_WB and
+  // f_A of that Compute() (the same calls in the same order: the same values to the bit).
+  std::unique_ptr<ContactMonitorState> monitor;
+  mutable ContactPointRecord points;
+  mutable bool outputs_pending = false;           // Compute() left them; GetOutputs() clears it
+  Vec6 V_WA = Vec6::Zero(), V_WB = Vec6::Zero();  // Compute()'s body velocities (world origin)
   // Results of the last Compute(), added to Data by AddTo(): spatial forces on A and B (world
   // origin), elastic energy (J) and dissipated power (W).
   Vec6 f_A = Vec6::Zero(), f_B = Vec6::Zero();
@@ -167,6 +173,11 @@ class ContactElement final : public ExternalForceElement, public ElementHealthRe
   template <class Fn>
   void ForEachContactPoint(const Vec6& V_WA, const Vec6& V_WB, const ContactWorkspace& ws,
                            Fn&& fn) const;
+  // CalcForces() with (outputs true) or without the monitor's state and the recorded points.
+  void CalcForces(const Vec6& V_WA, const Vec6& V_WB, ContactWorkspace& ws, Vec6* f_A, Vec6* f_B,
+                  double* energy, double* power_dissipated, bool outputs) const;
+  // The monitor's state and the recorded points of the last Compute() (ContactWorkspace).
+  void MakePendingOutputs(const ContactWorkspace& ws) const;
 
   ContactElementSpec spec_;
   std::vector<OutputDescription> outputs_;

@@ -119,10 +119,13 @@ void CheckGearContactEvaluation(ContactGapMethod method, int threads = 1) {
   // The result recorder's row: its Data warmed from this one (ExternalForceElement::WarmStart),
   // then evaluated a little further on, without allocating once sized.
   Data row(m);
+  std::vector<double> outputs(OutputValueCount(m.external_forces[0]->outputs()));
   auto record = [&] {
     WarmStartExternalWorkspaces(m, data, row);
     s.q(iq1) += 1e-7;
     EvaluateDynamics(m, 0.0, s.q, s.v, vdot, row);
+    // The outputs (the monitor's made on this read: ContactWorkspace).
+    m.external_forces[0]->GetOutputs(*row.external[0], outputs.data());
   };
   record();
   pass();
