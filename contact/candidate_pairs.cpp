@@ -209,13 +209,20 @@ double CandidateSearch::MotionBound(const Transform& X_AB0, const Transform& X_A
 }
 
 void CandidateSearch::FlagZones(const Transform& X_WA, const Transform& X_WB, double reach,
-                                std::vector<char>* zone_a, std::vector<char>* zone_b) {
+                                std::vector<char>* zone_a, std::vector<char>* zone_b,
+                                double reach_grown, std::vector<char>* zone_a_grown,
+                                std::vector<char>* zone_b_grown) {
   Impl& m = *impl_;
   const int na = a_.num_parts(), nb = b_.num_parts();
+  const bool grown = zone_a_grown && zone_b_grown;
   // Ring zone of two part rings on (nearly) parallel axes: only parts whose angular span meets
   // the overlap of the two bands (at the rings' current angles) go on.
   std::fill(zone_a->begin(), zone_a->end(), 1);
   std::fill(zone_b->begin(), zone_b->end(), 1);
+  if (grown) {
+    std::fill(zone_a_grown->begin(), zone_a_grown->end(), 1);
+    std::fill(zone_b_grown->begin(), zone_b_grown->end(), 1);
+  }
   stats_.zone_parts_a = na;
   stats_.zone_parts_b = nb;
   if (!a_.part_ring() || !b_.part_ring()) return;
@@ -226,36 +233,46 @@ void CandidateSearch::FlagZones(const Transform& X_WA, const Transform& X_WB, do
   const Vec3 o_a = X_GaGb.Inverse().p;             // A's axis origin in Gb
   const double a = std::hypot(o_b.x(), o_b.y());
   const bool parallel = X_GaGb.R(2, 2) > 1 - 1e-6;  // both axes +z (tilt below ~1.4 mrad)
+  if (!parallel || !(a > 0)) return;
   // The windows depend on a and the reach only: kept (two reaches) while a stays within
   // kWindowTolerance of the a they were computed at, with the reach grown by as much (the
   // distances |P - O'| change by at most the change of a).
   constexpr double kWindowTolerance = 1e-6;
-  Impl::Window* w = nullptr;
-  for (Impl::Window& c : m.windows)
-    if (c.reach == reach && std::abs(c.a - a) <= kWindowTolerance) w = &c;
-  if (!w && parallel && a > 0) {
-    w = &m.windows[m.next_window];
+  auto window = [&](double r_zone) -> const Impl::Window& {
+    Impl::Window* found = nullptr;  // the last that fits
+    for (Impl::Window& c : m.windows)
+      if (c.reach == r_zone && std::abs(c.a - a) <= kWindowTolerance) found = &c;
+    if (found) return *found;
+    Impl::Window& w = m.windows[m.next_window];
     m.next_window = (m.next_window + 1) % 2;
-    w->a = a;
-    w->reach = reach;
-    const double r = reach + kWindowTolerance;
-    w->meet = ZoneWindow(a, ra.inner_radius_m, ra.outer_radius_m, rb.inner_radius_m,
-                         rb.outer_radius_m, r, &w->a_min, &w->a_max) &&
-              ZoneWindow(a, rb.inner_radius_m, rb.outer_radius_m, ra.inner_radius_m,
-                         ra.outer_radius_m, r, &w->b_min, &w->b_max);
-  }
-  const double a_min = w ? w->a_min : 0, a_max = w ? w->a_max : 0;
-  const double b_min = w ? w->b_min : 0, b_max = w ? w->b_max : 0;
-  if (parallel && a > 0 && w->meet) {
-    stats_.zone_parts_a = FlagZoneParts(ra, std::atan2(o_b.y(), o_b.x()), a_min, a_max,
-                                        reach / std::max(ra.inner_radius_m, 1e-12), zone_a);
-    stats_.zone_parts_b = FlagZoneParts(rb, std::atan2(o_a.y(), o_a.x()), b_min, b_max,
-                                        reach / std::max(rb.inner_radius_m, 1e-12), zone_b);
-  } else if (parallel && a > 0) {
-    // The bands cannot meet: no part pair.
-    std::fill(zone_a->begin(), zone_a->end(), 0);
-    stats_.zone_parts_a = 0;
-  }
+    w.a = a;
+    w.reach = r_zone;
+    const double r = r_zone + kWindowTolerance;
+    w.meet = ZoneWindow(a, ra.inner_radius_m, ra.outer_radius_m, rb.inner_radius_m,
+                        rb.outer_radius_m, r, &w.a_min, &w.a_max) &&
+             ZoneWindow(a, rb.inner_radius_m, rb.outer_radius_m, ra.inner_radius_m,
+                        ra.outer_radius_m, r, &w.b_min, &w.b_max);
+    return w;
+  };
+  // The grown reach's window first (the order in which the cache of two was filled when each
+  // reach had a call of its own).
+  const double beta_a = std::atan2(o_b.y(), o_b.x()), beta_b = std::atan2(o_a.y(), o_a.x());
+  auto flag = [&](const Impl::Window& w, double r_zone, std::vector<char>* za,
+                  std::vector<char>* zb) {
+    if (w.meet) {
+      stats_.zone_parts_a = FlagZoneParts(ra, beta_a, w.a_min, w.a_max,
+                                          r_zone / std::max(ra.inner_radius_m, 1e-12), za);
+      stats_.zone_parts_b = FlagZoneParts(rb, beta_b, w.b_min, w.b_max,
+                                          r_zone / std::max(rb.inner_radius_m, 1e-12), zb);
+    } else {
+      // The bands cannot meet: no part pair.
+      std::fill(za->begin(), za->end(), 0);
+      stats_.zone_parts_a = 0;
+      stats_.zone_parts_b = nb;
+    }
+  };
+  if (grown) flag(window(reach_grown), reach_grown, zone_a_grown, zone_b_grown);
+  flag(window(reach), reach, zone_a, zone_b);  // last: the stats are this reach's
 }
 
 void CandidateSearch::UpdateBroadPhase(const Transform& X_WA, const Transform& X_WB,
@@ -275,14 +292,19 @@ void CandidateSearch::UpdateBroadPhase(const Transform& X_WA, const Transform& X
   const double reach = search_distance_ + slack_ + extra_reach_m;
   const double reach_grown = search_distance_ + slack_ + (extra_reach_m + grow_m);
   const int na = a_.num_parts(), nb = b_.num_parts();
-  for (int j = 0; j < nb; ++j) m.centers_b_A[j] = X_AB * b_.part_centers()[j];
-  if (grown) FlagZones(X_WA, X_WB, reach_grown, &m.zone_a_grown, &m.zone_b_grown);
-  FlagZones(X_WA, X_WB, reach, &m.zone_a, &m.zone_b);
+  if (grown)
+    FlagZones(X_WA, X_WB, reach, &m.zone_a, &m.zone_b, reach_grown, &m.zone_a_grown,
+              &m.zone_b_grown);
+  else
+    FlagZones(X_WA, X_WB, reach, &m.zone_a, &m.zone_b);
   m.part_pairs.clear();
   if (grown) grown->clear();
   auto in = [&](const std::vector<char>& zone, const std::vector<char>& zone_grown, int k) {
     return zone[k] || (grown && zone_grown[k]);
   };
+  // The centres of B's parts in the zone only (a ring gear's 50 teeth: 3 or 4).
+  for (int j = 0; j < nb; ++j)
+    if (in(m.zone_b, m.zone_b_grown, j)) m.centers_b_A[j] = X_AB * b_.part_centers()[j];
   for (int i = 0; i < na; ++i) {
     if (!in(m.zone_a, m.zone_a_grown, i)) continue;
     const Vec3& c_a = a_.part_centers()[i];

@@ -159,9 +159,13 @@ class CandidateSearch {
 
  private:
   struct Impl;
-  // The ring-zone flags (stage 1a) of both surfaces' parts at this reach (all set without rings).
+  // The ring-zone flags (stage 1a) of both surfaces' parts at this reach (all set without
+  // rings) and, with zone_a_grown and zone_b_grown, at reach_grown: the rings' relative pose
+  // and angles once for both.
   void FlagZones(const Transform& X_WA, const Transform& X_WB, double reach,
-                 std::vector<char>* zone_a, std::vector<char>* zone_b);
+                 std::vector<char>* zone_a, std::vector<char>* zone_b, double reach_grown = 0,
+                 std::vector<char>* zone_a_grown = nullptr,
+                 std::vector<char>* zone_b_grown = nullptr);
   std::unique_ptr<Impl> impl_;
   const ContactSurface& a_;
   const ContactSurface& b_;
