@@ -18,6 +18,7 @@
 #include "mbd/state.h"
 #include "models/gear_contact.h"
 #include "models/gear_geometry.h"
+#include "tests/contact/two_mesh_model.h"
 
 namespace orrery::contact {
 namespace {
@@ -101,25 +102,10 @@ TEST(ContactPointRecord, GearElementRecordsItsLargestPointsOnGearOne) {
 // reads the velocities) and pressed 1 to 5 um ahead, rolled through a mesh period.
 TEST(ContactPointRecord, OutputsMadeOnReadEqualThoseOfTheEvaluation) {
   const double pi = 3.14159265358979323846;
-  gears::GearSpec s1{.teeth = 18,
-                     .normal_module_m = 1.5e-3,
-                     .normal_pressure_angle_rad = 21.3 * pi / 180,
-                     .face_width_m = 0.03};
-  gears::GearSpec s2 = s1;
-  s2.teeth = 34;
-  const gears::GearPair pair{gears::Gear(s1), gears::Gear(s2)};
   ModelBuilder b;
-  const Mat3 I = Mat3::Identity() * 1e-4;
-  const BodyIndex g1 = b.AddBody("pinion", 0.3, Vec3::Zero(), I);
-  const BodyIndex g2 = b.AddBody("gear", 1.0, Vec3::Zero(), I);
-  JointSpec j1;
-  j1.name = "j1", j1.type = JointType::kRevolute, j1.parent = kWorldBody, j1.child = g1;
-  JointSpec j2 = j1;
-  j2.name = "j2", j2.child = g2;
-  j2.X_PF = Transform(AxisAngle(Vec3::UnitZ(), pi * (1 + 1.0 / 34)),
-                      Vec3(pair.center_distance_m(), 0, 0));
-  b.AddJoint(j1);
-  b.AddJoint(j2);
+  const test_scenes::SpurPair sp = test_scenes::AddSpurPair(b);
+  const gears::GearPair& pair = sp.pair;
+  const BodyIndex g1 = sp.pinion, g2 = sp.gear;
   GearContactOptions o;
   o.involute_intervals = 16;
   o.face_intervals = 2;
