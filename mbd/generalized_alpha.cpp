@@ -120,6 +120,7 @@ class GeneralizedAlpha final : public Integrator {
   void Initialize(const State& initial) override {
     state_ = initial;
     evaluated_at_iterate_ = false;
+    kinematics_at_state_ = false;
     AssembleState(model_, state_, dae_.data());
     dae_.SolveAccelerations(state_.t, state_.q, state_.v, vdot_, lambda_);
     mass_diagonal_ = dae_.data().M.diagonal();
@@ -167,6 +168,10 @@ class GeneralizedAlpha final : public Integrator {
     const bool at_state =
         evaluated_at_iterate_ && model_.n_constraints == 0 && !model_.has_quaternions;
     return at_state ? &dae_.data() : nullptr;
+  }
+  // With constraints, the velocity projection left the kinematics at the state (Step).
+  const Data* PositionKinematicsAtState() const override {
+    return kinematics_at_state_ ? &dae_.data() : DataAtState();
   }
   const Eigen::VectorXd& lambda() const override { return lambda_; }
   std::string name() const override { return "generalized-alpha"; }
@@ -523,6 +528,7 @@ class GeneralizedAlpha final : public Integrator {
   void Step(double t) {
     const int nc = model_.n_constraints, nh = model_.n_holonomic;
     const double h = t - state_.t;
+    kinematics_at_state_ = false;  // the iterates' evaluations and the tangents write Data
     vdot_new_ = vdot_;
     lambda_new_ = lambda_;
     mu_new_.setZero();
@@ -550,6 +556,7 @@ class GeneralizedAlpha final : public Integrator {
     if (nc > 0) {
       ProjectVelocities();
       G_h0_ = dae_.data().G.topRows(nh);  // at state_.q, from the projection
+      kinematics_at_state_ = true;        // (ProjectVelocities) read by RecordDrift and the health
     }
     ++stats_.steps;
     stats_.last_step = h;
@@ -646,8 +653,11 @@ class GeneralizedAlpha final : public Integrator {
   void RecordDrift() {
     if (model_.n_constraints == 0) return;
     Data& d = dae_.data();
-    CalcPositionKinematics(model_, state_.q, d);
-    CalcConstraints(model_, state_.t, d);
+    if (!kinematics_at_state_) {
+      CalcPositionKinematics(model_, state_.q, d);
+      CalcConstraints(model_, state_.t, d);
+      kinematics_at_state_ = true;
+    }
     if (model_.n_holonomic > 0) stats_.max_abs_phi = std::max(stats_.max_abs_phi, d.phi.lpNorm<Eigen::Infinity>());
     if (model_.n_constraints > 0) {
       auto phidot = proj_rhs_.tail(model_.n_constraints);  // scratch: no allocation
@@ -689,6 +699,9 @@ class GeneralizedAlpha final : public Integrator {
   double position_floor_ = 0;  // set by Residual
   double newton_norm_ = 0;     // Converge: max norm of the last residual (for the failure message)
   bool evaluated_at_iterate_ = false;  // Converge: Data holds the evaluation at the accepted iterate
+  // Data holds CalcPositionKinematics and CalcConstraints at (state_.t, state_.q), nothing
+  // written since: set by Step's projection and RecordDrift, cleared where a step starts.
+  bool kinematics_at_state_ = false;
   long steps_since_rate_ = 0;  // Converge: steps since rate_ was measured
   double rate_ = -1;            // Converge: contraction rate carried from step to step
   double matrix_h_ = 0;         // step the iteration matrix was built for (0: none)

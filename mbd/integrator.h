@@ -150,6 +150,12 @@ class Integrator {
   // again; the same arguments give the same numbers to the last bit). nullptr otherwise, and
   // always with constraints (the velocity projection moves v after the last evaluation).
   virtual const Data* DataAtState() const { return nullptr; }
+  // Data whose position kinematics and constraints (CalcPositionKinematics and CalcConstraints:
+  // q_normalized, the poses, S, I_W, phi, G, g_t) were computed at exactly (state().t,
+  // state().q) and not written since, so that they are what those functions give there to the
+  // last bit (the per-step health reads the gear frames' poses from it instead of computing them
+  // again). nullptr otherwise. Valid until the next call that moves the integrator.
+  virtual const Data* PositionKinematicsAtState() const { return DataAtState(); }
 
   // The solution at t inside the last accepted step [t_begin, t_end] (of the last OnStep):
   // q (nq), v (nv), vdot (nv). IDA: its interpolating polynomial (IDAGetDky, orders 0 and 1).

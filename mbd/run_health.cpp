@@ -127,7 +127,7 @@ void RunHealth::Start(const State& initial) {
 }
 
 void RunHealth::OnStep(double t, const Eigen::Ref<const Eigen::VectorXd>& q,
-                       const Eigen::Ref<const Eigen::VectorXd>& v) {
+                       const Eigen::Ref<const Eigen::VectorXd>& v, const Data* at_q) {
   // Positions and velocities finite
   if (!q.allFinite() || !v.allFinite()) {
     int k = 0;
@@ -141,10 +141,15 @@ void RunHealth::OnStep(double t, const Eigen::Ref<const Eigen::VectorXd>& q,
   // deflections, so its rows suffice (a kinematics pass per step cost 14 % of seed003_lumped_healthy)
   if (model_.gear_meshes.empty() || integrator_.kind != IntegratorKind::kGeneralizedAlpha) return;
   // The gear angles (once per gear for all its meshes) are all the check reads: from the
-  // coordinates alone where the model allows, else from the frame poses.
+  // coordinates alone where the model allows, else from the frame poses (the integrator's at q
+  // where it has them: GearAngleAt reads the same poses and q_normalized CalcFramePoses would
+  // leave in data_, so the angles are the same to the last bit).
   if (model_.gear_angles_by_coordinates) {
     for (std::size_t i = 0; i < model_.gear_angles.size(); ++i)
       data_.gear_angle[i] = GearAngleFromCoordinates(model_.gear_angles[i], q.data());
+  } else if (at_q) {
+    for (std::size_t i = 0; i < model_.gear_angles.size(); ++i)
+      data_.gear_angle[i] = GearAngleAt(model_, *at_q, static_cast<int>(i));
   } else {
     CalcFramePoses(model_, q, data_);
     CalcGearAngles(model_, data_);

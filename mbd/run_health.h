@@ -105,8 +105,12 @@ class RunHealth {
   void Declare(ResultFile& out);
   // At the initial state: the step against the stiffest mode (generalized-alpha only).
   void Start(const State& initial);
-  // After every accepted step. Allocation-free; throws RunHealthError to stop.
-  void OnStep(double t, const Eigen::Ref<const Eigen::VectorXd>& q, const Eigen::Ref<const Eigen::VectorXd>& v);
+  // After every accepted step. Allocation-free; throws RunHealthError to stop. `at_q`: nullptr,
+  // or a Data holding the position kinematics at exactly q (Integrator::
+  // PositionKinematicsAtState), from which the gear angles are read instead of computing the
+  // frame poses again.
+  void OnStep(double t, const Eigen::Ref<const Eigen::VectorXd>& q, const Eigen::Ref<const Eigen::VectorXd>& v,
+              const Data* at_q = nullptr);
   // At an output row: `evaluated` holds the pipeline at (state, vdot) (EvaluateDynamics, as the
   // recorder leaves it), `step_s` the integrator's last step. Appends a row to the declared
   // series; throws RunHealthError to stop.

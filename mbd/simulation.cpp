@@ -137,11 +137,12 @@ SimulationReport Simulate(const Model& model, const SimulationOptions& options, 
     health.Declare(*out);
     CheckOutputSize(schedule, out->bytes_per_row(), options.max_output_bytes);
   }
-  // Every accepted step: the interrupt flag, then the step's health
+  // Every accepted step: the interrupt flag, then the step's health (its gear angles from the
+  // integrator's position kinematics at the state where it has them)
   integrator->SetStepCallback([&](double t, const Eigen::Ref<const Eigen::VectorXd>& q,
                                   const Eigen::Ref<const Eigen::VectorXd>& v) {
     CheckInterrupt(options.interrupt, t);
-    health.OnStep(t, q, v);
+    health.OnStep(t, q, v, integrator->PositionKinematicsAtState());
   });
   std::unique_ptr<Data> own_data;  // the health's evaluations when there is no recorder
   if (!recorder) own_data = std::make_unique<Data>(model);

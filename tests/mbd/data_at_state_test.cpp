@@ -5,16 +5,24 @@
 // takes without the shortcut. Every field a row reads must be the same to the last bit wherever
 // DataAtState is not null; it must be null on a model with constraints (the velocity projection
 // moves v after the last evaluation) and on IDA.
+//
+// Integrator::PositionKinematicsAtState (the per-step health's shortcut: the gear angles from the
+// integrator's poses) likewise against CalcPositionKinematics and CalcConstraints on a fresh Data
+// at (t, q), both in the step callback (where the health reads it) and after AdvanceTo.
 #include <cmath>
 #include <memory>
 
 #include <gtest/gtest.h>
 
+#include "mbd/constraints.h"
 #include "mbd/data.h"
 #include "mbd/evaluate.h"
+#include "mbd/gear_mesh.h"
 #include "mbd/integrator.h"
+#include "mbd/kinematics.h"
 #include "mbd/model.h"
 #include "mbd/state.h"
+#include "tests/common/spatial_stage.h"
 
 namespace orrery {
 namespace {
@@ -118,6 +126,80 @@ TEST(DataAtState, NullWithConstraintsAndOnIda) {
     bdf->AdvanceTo(i * 1e-3);
     EXPECT_EQ(alpha->DataAtState(), nullptr);
     EXPECT_EQ(bdf->DataAtState(), nullptr);
+  }
+}
+
+// The position kinematics and constraints of `a` against `b`, bit for bit, and the gear angles
+// read from them (what the health's check reads).
+void ExpectSameKinematics(const Model& m, const Data& a, const Data& b, double t) {
+  for (int k = 0; k < m.nq; ++k) EXPECT_EQ(a.q_normalized(k), b.q_normalized(k)) << t;
+  for (BodyIndex k = 1; k < m.nbodies; ++k)
+    for (int r = 0; r < 3; ++r) {
+      EXPECT_EQ(a.X_WB[k].p(r), b.X_WB[k].p(r)) << t;
+      for (int c = 0; c < 3; ++c) EXPECT_EQ(a.X_WB[k].R(r, c), b.X_WB[k].R(r, c)) << t;
+    }
+  for (size_t f = 0; f < m.frames.size(); ++f)
+    for (int r = 0; r < 3; ++r) {
+      EXPECT_EQ(a.X_WFrame[f].p(r), b.X_WFrame[f].p(r)) << t;
+      for (int c = 0; c < 3; ++c) EXPECT_EQ(a.X_WFrame[f].R(r, c), b.X_WFrame[f].R(r, c)) << t;
+    }
+  EXPECT_TRUE(a.S == b.S) << t;
+  EXPECT_TRUE(a.phi == b.phi) << t;
+  EXPECT_TRUE(a.G == b.G) << t;
+  EXPECT_TRUE(a.g_t == b.g_t) << t;
+  for (size_t i = 0; i < m.gear_angles.size(); ++i)
+    EXPECT_EQ(GearAngleAt(m, a, static_cast<int>(i)), GearAngleAt(m, b, static_cast<int>(i))) << t;
+}
+
+// Generalized-alpha with a speed driver (the projection's kinematics) on the driven pendulum and
+// on the spatial stage (free joints: quaternions normalized after the step; meshes' gear angles).
+TEST(PositionKinematicsAtState, IsTheKinematicsAtTheState) {
+  for (const bool stage : {false, true}) {
+    const std::shared_ptr<const Model> model = stage ? test_support::SpatialStage(false) : Pendulum(true);
+    const Model& m = *model;
+    IntegratorOptions o = Alpha();
+    o.step = stage ? 1e-4 : 1e-3;
+    std::unique_ptr<Integrator> integ = MakeIntegrator(m, o);
+    integ->Initialize(State::Initial(m));
+    Data own(m);
+    int in_callback = 0;
+    integ->SetStepCallback([&](double t, const Eigen::Ref<const Eigen::VectorXd>& q,
+                               const Eigen::Ref<const Eigen::VectorXd>&) {
+      const Data* d = integ->PositionKinematicsAtState();
+      ASSERT_NE(d, nullptr) << t;
+      CalcPositionKinematics(m, q, own);
+      CalcConstraints(m, t, own);
+      ExpectSameKinematics(m, *d, own, t);
+      ++in_callback;
+    });
+    for (int i = 1; i <= 100; ++i) {
+      // Outputs off the step grid as well: the steps between them are shortened.
+      integ->AdvanceTo(i * 2.5 * o.step);
+      const Data* d = integ->PositionKinematicsAtState();
+      ASSERT_NE(d, nullptr);
+      const State& s = integ->state();
+      CalcPositionKinematics(m, s.q, own);
+      CalcConstraints(m, s.t, own);
+      ExpectSameKinematics(m, *d, own, s.t);
+    }
+    EXPECT_GE(in_callback, 250);
+  }
+}
+
+// Without constraints it is DataAtState (an evaluation at the state, or nothing); IDA: nothing.
+TEST(PositionKinematicsAtState, DataAtStateWithoutConstraintsAndNullOnIda) {
+  const std::shared_ptr<const Model> free = Pendulum(false);
+  std::unique_ptr<Integrator> alpha = MakeIntegrator(*free, Alpha());
+  alpha->Initialize(State::Initial(*free));
+  IntegratorOptions ida;
+  ida.kind = IntegratorKind::kIda;
+  std::unique_ptr<Integrator> bdf = MakeIntegrator(*free, ida);
+  bdf->Initialize(State::Initial(*free));
+  for (int i = 1; i <= 100; ++i) {
+    alpha->AdvanceTo(i * 1e-3);
+    bdf->AdvanceTo(i * 1e-3);
+    EXPECT_EQ(alpha->PositionKinematicsAtState(), alpha->DataAtState());
+    EXPECT_EQ(bdf->PositionKinematicsAtState(), nullptr);
   }
 }
 

@@ -26,6 +26,7 @@
 #include "mbd/model.h"
 #include "mbd/result_file.h"
 #include "mbd/result_recorder.h"
+#include "mbd/run_health.h"
 #include "mbd/sensor_sampler.h"
 #include "mbd/sensor_signals.h"
 #include "mbd/state.h"
@@ -228,6 +229,18 @@ TEST(NoAllocation, FreeBodyStageProjectionAndGroupedTangents) {
   integ->AdvanceTo(1e-4);
   int k = 1;
   EXPECT_EQ(AllocationsIn([&] { integ->AdvanceTo(++k * 1e-4); }), 0);
+  // The per-step health reading the gear angles from the projection's kinematics
+  // (Integrator::PositionKinematicsAtState), as Simulate calls it.
+  RunHealth health(*model, o, {}, 1e-3);
+  int checked = 0;
+  integ->SetStepCallback([&](double t, const Eigen::Ref<const Eigen::VectorXd>& q,
+                             const Eigen::Ref<const Eigen::VectorXd>& v) {
+    const Data* at_q = integ->PositionKinematicsAtState();
+    checked += at_q != nullptr;
+    health.OnStep(t, q, v, at_q);
+  });
+  EXPECT_EQ(AllocationsIn([&] { integ->AdvanceTo(++k * 1e-4); }), 0);
+  EXPECT_GT(checked, 0);
   DaeSystem dae(*model);
   ASSERT_GT(dae.difference_groups(), 0);
   Eigen::VectorXd y(dae.size()), yp(dae.size());
