@@ -179,6 +179,15 @@ std::string DependentConstraintRows(const Model& model, const Eigen::MatrixXd& G
   return rows + ratio.str();
 }
 
+void AddConstraintForces(const Eigen::MatrixXd& G, const Eigen::Ref<const Eigen::VectorXd>& lambda,
+                         Eigen::Ref<Eigen::VectorXd> out) {
+  if (G.rows() == 1) {
+    out += lambda(0) * G.row(0).transpose();
+    return;
+  }
+  out.noalias() += G.transpose() * lambda;
+}
+
 void AssembleState(const Model& model, State& state, Data& data, double tolerance) {
   NormalizeQuaternions(model, state.q);
   if (model.n_constraints == 0) return;

@@ -119,7 +119,7 @@ void DaeSystem::DynamicRows(double t, const Eigen::Ref<const Eigen::VectorXd>& q
   EvaluateDynamics(model_, t, q, v, vdot, data_);
   rv = data_.tau_id;
   if (nc_ > 0) {
-    rv.noalias() += data_.G.transpose() * lambda;
+    AddConstraintForces(data_.G, lambda, rv);
     rl = data_.g_t;
     rl.noalias() += data_.G * v;
   }

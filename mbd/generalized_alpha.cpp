@@ -278,16 +278,18 @@ class GeneralizedAlpha final : public Integrator {
     rhs_.head(nv) = d.tau_id;
     if (nc > 0) {
       // Position rows of the holonomic constraints, velocity rows of every constraint
-      rhs_.head(nv).noalias() += d.G.transpose() * lambda_new_;
+      AddConstraintForces(d.G, lambda_new_, rhs_.head(nv));
       rhs_.segment(nv, nh) = d.phi / (h * h * beta_ * ca);
       auto velocity = rhs_.segment(nv + nh, nc);
       velocity.noalias() = d.G * v_new_;
       velocity += d.g_t;
       velocity /= h * gamma_ * ca;
     }
-    double size = std::max(1.0, q_new_.lpNorm<Eigen::Infinity>());
-    for (const Transform& X : d.X_WFrame) size = std::max(size, X.p.lpNorm<Eigen::Infinity>());
-    position_floor_ = 64 * std::numeric_limits<double>::epsilon() * size / (h * h * beta_ * ca);
+    if (nh > 0) {  // (only the position rows read it)
+      double size = std::max(1.0, q_new_.lpNorm<Eigen::Infinity>());
+      for (const Transform& X : d.X_WFrame) size = std::max(size, X.p.lpNorm<Eigen::Infinity>());
+      position_floor_ = 64 * std::numeric_limits<double>::epsilon() * size / (h * h * beta_ * ca);
+    }
     return rhs_.lpNorm<Eigen::Infinity>();
   }
 
@@ -619,6 +621,14 @@ class GeneralizedAlpha final : public Integrator {
       inverse_mass_.Solve(model_, d, proj_tau_, proj_y_.col(c));
     }
     proj_schur_.noalias() = d.G * proj_y_;
+    if (nc == 1) {
+      // The 1 x 1 LU's solve is the division, the product's update v_k - y_k mu (as Eigen's)
+      proj_mu_(0) = proj_rhs_(proj_rhs_.size() - 1) / proj_schur_(0, 0);
+      if (!std::isfinite(proj_mu_(0)) || !proj_y_.allFinite()) return false;
+      CalcMassMatrixDiagonal(model_, d, mass_diagonal_);
+      state_.v -= proj_mu_(0) * proj_y_.col(0);
+      return true;
+    }
     proj_schur_lu_.compute(proj_schur_);
     proj_mu_.noalias() = proj_schur_lu_.solve(proj_rhs_.tail(nc));
     if (!proj_mu_.allFinite() || !proj_y_.allFinite()) return false;

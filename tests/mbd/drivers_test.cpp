@@ -5,6 +5,9 @@
 // - Speed driver with the seed 002 trapezoid (w0 = 0, w1 = 20 rpm, w2 = 0, t4 = 0.2 s,
 //   alpha1 = alpha2 = 0.1, alpha3 = 0.6): the joint speed follows the profile and the angle is its
 //   integral (areas of the trapezoid, written out here).
+// - One constraint row (a speed driver): the shortcuts the generalized-alpha residual and
+//   projection take for it (AddConstraintForces; the 1 x 1 Schur complement's division and the
+//   update v - mu y) against Eigen's general products and PartialPivLU, compared with ==.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -12,8 +15,12 @@
 #include <cmath>
 #include <filesystem>
 #include <memory>
+#include <random>
 #include <string>
 
+#include <Eigen/LU>
+
+#include "mbd/constraints.h"
 #include "mbd/integrator.h"
 #include "mbd/model.h"
 #include "mbd/hdf5_reader.h"
@@ -163,6 +170,45 @@ TEST(Drivers, SpeedDriverFollowsSeed002TrapezoidAndIntegratesIt) {
               err_v, err_q, angle_tol, s.q(s.t.size() - 1));
   // The final angle is the trapezoid's area, 0.1 * w1 (= 0.2094 rad).
   EXPECT_NEAR(angle(0.3), 0.1 * w1, 1e-15);
+}
+
+// The general path: Eigen's G^T lambda (nc x nv, row-major kernel on the transpose), the 1 x 1
+// PartialPivLU's solve and the matrix-vector update; the shortcuts must give the same bits.
+TEST(Drivers, OneRowShortcutsAreEigensProducts) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1, 1);
+  auto value = [&] { return std::ldexp(u(rng), static_cast<int>(std::floor(40 * u(rng)))); };
+  for (const int nv : {1, 6, 7, 36, 41}) {
+    for (int trial = 0; trial < 50; ++trial) {
+      Eigen::MatrixXd G(1, nv);
+      Eigen::VectorXd lambda(1), out(nv), y(nv), v(nv), rhs(1);
+      for (int k = 0; k < nv; ++k) G(0, k) = k % 5 == 3 ? 0.0 : value(), out(k) = value();
+      for (int k = 0; k < nv; ++k) y(k) = value(), v(k) = value();
+      lambda(0) = value(), rhs(0) = value();
+      Eigen::VectorXd general = out, shortcut = out;
+      general.noalias() += G.transpose() * lambda;
+      AddConstraintForces(G, lambda, shortcut);
+      for (int k = 0; k < nv; ++k) EXPECT_EQ(general(k), shortcut(k)) << nv << " " << k;
+      // The projection's Schur complement G M^-1 G^T of one row, its solve and the update
+      Eigen::MatrixXd schur(1, 1);
+      schur(0, 0) = value();
+      Eigen::PartialPivLU<Eigen::MatrixXd> lu(schur);
+      const Eigen::VectorXd mu = lu.solve(rhs);
+      EXPECT_EQ(mu(0), rhs(0) / schur(0, 0));
+      Eigen::MatrixXd Y = y;
+      Eigen::VectorXd v_general = v, v_shortcut = v;
+      v_general.noalias() -= Y * mu;
+      v_shortcut -= mu(0) * Y.col(0);
+      for (int k = 0; k < nv; ++k) EXPECT_EQ(v_general(k), v_shortcut(k)) << nv << " " << k;
+    }
+  }
+  // More rows take Eigen's product itself
+  Eigen::MatrixXd G = Eigen::MatrixXd::Random(2, 7);
+  Eigen::VectorXd lambda = Eigen::VectorXd::Random(2), general = Eigen::VectorXd::Random(7);
+  Eigen::VectorXd shortcut = general;
+  general.noalias() += G.transpose() * lambda;
+  AddConstraintForces(G, lambda, shortcut);
+  EXPECT_TRUE(general == shortcut);
 }
 
 }  // namespace
