@@ -109,8 +109,8 @@ class RunHealth {
   // or a Data holding the position kinematics at exactly q (Integrator::
   // PositionKinematicsAtState), from which the gear angles are read instead of computing the
   // frame poses again.
-  void OnStep(double t, const Eigen::Ref<const Eigen::VectorXd>& q, const Eigen::Ref<const Eigen::VectorXd>& v,
-              const Data* at_q = nullptr);
+  void OnStep(double t, const Eigen::Ref<const Eigen::VectorXd>& q,
+              const Eigen::Ref<const Eigen::VectorXd>& v, const Data* at_q = nullptr);
   // At an output row: `evaluated` holds the pipeline at (state, vdot) (EvaluateDynamics, as the
   // recorder leaves it), `step_s` the integrator's last step. Appends a row to the declared
   // series; throws RunHealthError to stop.

@@ -155,7 +155,8 @@ void ExpectSameKinematics(const Model& m, const Data& a, const Data& b, double t
 // on the spatial stage (free joints: quaternions normalized after the step; meshes' gear angles).
 TEST(PositionKinematicsAtState, IsTheKinematicsAtTheState) {
   for (const bool stage : {false, true}) {
-    const std::shared_ptr<const Model> model = stage ? test_support::SpatialStage(false) : Pendulum(true);
+    const std::shared_ptr<const Model> model =
+        stage ? test_support::SpatialStage(false) : Pendulum(true);
     const Model& m = *model;
     IntegratorOptions o = Alpha();
     o.step = stage ? 1e-4 : 1e-3;

@@ -21,9 +21,9 @@
 #include <Eigen/LU>
 
 #include "mbd/constraints.h"
+#include "mbd/hdf5_reader.h"
 #include "mbd/integrator.h"
 #include "mbd/model.h"
-#include "mbd/hdf5_reader.h"
 #include "mbd/result_file.h"
 #include "mbd/simulation.h"
 
