@@ -142,14 +142,6 @@ TrackedGaps::Pass::Pass(const ContactSurface& node_surface)
   block_wake.assign(part_block_start.back(), -std::numeric_limits<double>::infinity());
 }
 
-void TrackedGaps::UpdateBlockWake(Pass& pass, int block, int v0, int v1) {
-  double wake = std::numeric_limits<double>::infinity();
-  for (int v = v0; v < v1; ++v)
-    wake = pass.face[v] == kUnseeded ? -std::numeric_limits<double>::infinity()
-                            : std::min(wake, pass.stamp[v] + pass.odometer_reach[v]);
-  pass.block_wake[block] = wake;
-}
-
 TrackedGaps::TrackedGaps(const ContactSurface& surface_a, const ContactSurface& surface_b)
     : a_(surface_a), b_(surface_b), search_(surface_a, surface_b), pass_a_(surface_a),
       pass_b_(surface_b) {
@@ -431,150 +423,166 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
     const double odometer = odometers[part];
     const int v_begin = node_surface.part_vertex_start()[part];
     const int v_end = node_surface.part_vertex_start()[part + 1];
+    // A node awake by the odometer: its look, walk or search, and its gap.
+    auto evaluate = [&](int v) {
+      const Vec3 p = X_FN * nodes[v];
+      if (pass.reach[v] > 0) {
+        const double moved = (p - pass.stamp_position[v]).norm() + face_deformation_odometer_m -
+                             pass.stamp_face_deformation[v];
+        if (moved < pass.reach[v]) {
+          // Still out of reach: the odometer may now advance by what is left before a look.
+          pass.odometer_reach[v] = pass.reach[v] - moved;
+          pass.stamp[v] = odometer;
+          return;
+        }
+      }
+      ClosestFace best;
+      double unseen_d2 = far_m * far_m;
+      bool search = pass.face[v] < 0 || pass.distance[v] > walk_reach;
+      double walk_margin = 0;
+      if (pass.face[v] >= 0) {
+        best = OnFace(faces, pass.face[v], p);
+        // The walk from the node's face stays there while every face it tried at its last
+        // walk is farther than this one: their distances change by at most the node's motion
+        // in the face frame plus the faces' deformation since, each (a face tried then is
+        // tried now only if the closest point's vertex, if any, and its side, if below, are
+        // those of then: the tried set is then no larger).
+        const bool within_margin =
+            !search && pass.walk_margin[v] > 0 &&
+            2 * ((p - pass.walk_position[v]).norm() + face_deformation_odometer_m -
+                 pass.walk_face_deformation[v]) +
+                    kWalkRounding <
+                pass.walk_margin[v];
+        const std::array<int, 2> pair = pass.walk_pair[v];
+        bool stays =
+            within_margin && pair[0] < 0 &&
+            (!IsVertex(best.point.feature) || best.point.feature == pass.walk_feature[v]) &&
+            ((p - best.point.point).dot(faces.Normal(best.face)) >= 0 || pass.walk_below[v]);
+        // A tied pair: the walk ends on the closer of its two faces (ties to the lower index).
+        if (within_margin && pair[0] >= 0 && pair_skip_ && !IsVertex(best.point.feature) &&
+            (best.face == pair[0] || best.face == pair[1])) {
+          const ClosestFace other = OnFace(faces, pair[0] == best.face ? pair[1] : pair[0], p);
+          if (!IsVertex(other.point.feature)) {
+            if (other.d2 < best.d2 || (other.d2 == best.d2 && other.face < best.face)) {
+              best = other;
+              ++stats_.walk_steps;
+            }
+            stays = true;
+            ++stats_.pair_walks_skipped;
+          }
+        }
+        if (stays) {  // keeps the margin of the last walk
+          walk_margin = -1;
+          ++stats_.walks_skipped;
+        }
+        // A walk that ends on its part's rim next to another part may belong in that part.
+        if (!search && !stays)
+          search = !Walk(faces, p, &best, &stats_.walk_steps, &walk_margin) ||
+                   OnSharedRim(face_surface, best);
+        if (!search && stays) search = OnSharedRim(face_surface, best);
+        // Inside the other body the distance has a local minimum on every face the node lies
+        // under (a tip corner: flank and tip): deeper than the face's inner reach, the closest
+        // needs the search, bounded by the walk's distance.
+        if (!search && (p - best.point.point).dot(faces.Normal(best.face)) <
+                           -face_surface.face_inner_reach()[best.face])
+          search = true;
+      }
+      if (search) {
+        // A node without a face (not seeded, or far at its last search) is searched only
+        // within the far distance: beyond it the descent stops at the hierarchies' top boxes.
+        if (pass.face[v] < 0) best.d2 = far_m * far_m;
+        unseen_d2 = std::numeric_limits<double>::infinity();
+        for (const int part_f : partners_)
+          FindClosestFaceInPart(
+              face_surface, part_f, p, &best, faces.v,
+              face_part_deformation_m ? (*face_part_deformation_m)[part_f] : face_deformation_m,
+              &unseen_d2);
+        ++stats_.seeded_nodes;
+        ++stats_.seeds;
+      }
+      // No face: the node's position is not finite (a diverging Newton iterate), and it
+      // starts again at the next evaluation; or it is farther than the far distance from
+      // every face of its partners, and sleeps until it may have come within it.
+      if (best.face < 0) {
+        const bool far = p.allFinite();
+        // The descent's bound on every face it passed by (at least the far distance).
+        const double reach = std::max(far_m, std::sqrt(unseen_d2));
+        pass.face[v] = far ? kFar : kUnseeded;
+        pass.reach[v] = pass.odometer_reach[v] = far ? reach : 0.0;
+        pass.distance[v] = reach;
+        pass.stamp[v] = odometer;
+        pass.stamp_position[v] = p;
+        pass.stamp_face_deformation[v] = face_deformation_odometer_m;
+        return;
+      }
+      ++stats_.evaluated_nodes;
+      ++stats_.node_evaluations;
+      NodeGap g = NodeGapFromClosest(face_surface, best.face, faces.Normal(best.face), p,
+                                     best.point.point, best.point.feature);
+      pass.face[v] = best.face;
+      pass.stamp[v] = odometer;
+      pass.stamp_position[v] = p;
+      pass.stamp_face_deformation[v] = face_deformation_odometer_m;
+      // What a later evaluation needs to skip the walk (a search, or a face new to the node:
+      // none).
+      if (search) {
+        pass.walk_margin[v] = 0;
+        pass.walk_pair[v] = {-1, -1};
+      } else if (walk_margin >= 0) {
+        // Settled on an edge shared with another face: that face is as close, so the margin
+        // is the pair's (header).
+        const int edge = FeatureEdge(best.point.feature);
+        const int partner = edge >= 0 ? face_surface.face_neighbors()[best.face][edge] : -1;
+        pass.walk_pair[v] = {-1, -1};
+        if (partner >= 0 && pair_skip_) {
+          walk_margin =
+              PairMargin(faces, p, best.face, partner, best.d2, OnFace(faces, partner, p).d2);
+          if (walk_margin > 0) pass.walk_pair[v] = {best.face, partner};
+        }
+        pass.walk_margin[v] = walk_margin;
+        pass.walk_position[v] = p;
+        pass.walk_face_deformation[v] = face_deformation_odometer_m;
+        pass.walk_feature[v] = best.point.feature;
+        pass.walk_below[v] = (p - best.point.point).dot(faces.Normal(best.face)) < 0;
+      }
+      // Reach: the motion before the node can press. Off the surface (beyond the rim) its
+      // sideways distance must first come within the face's rim fade f (signed_gap.h), by at
+      // least s - f; on it, its gap must close.
+      pass.reach[v] = !g.on_surface ? std::max(0.0, g.rim_offset_m - g.rim_fade_m)
+                      : g.gap > 0   ? g.gap
+                                    : 0.0;
+      pass.odometer_reach[v] = pass.reach[v];
+      pass.distance[v] = std::sqrt(best.d2);
+      if (best.d2 > d * d && !(g.gap < 0 && g.on_surface)) return;
+      g.node = v;
+      g.p_W = X_WF * p;
+      g.q_W = X_WF * best.point.point;
+      g.n_W = X_WF.R * faces.Normal(g.face);
+      gaps->push_back(g);
+    };
     for (int block = pass.part_block_start[part], v0 = v_begin; v0 < v_end; ++block, v0 += kBlock) {
       // The whole block asleep by the odometer (the node test below, with room for the rounding
       // of the sum: odometers stay below 1 m).
       if (odometer < pass.block_wake[block] - 1e-12) continue;
       const int v1 = std::min(v0 + kBlock, v_end);
+      // The block's wake-up reading, the smallest odometer reading at which one of its nodes may
+      // wake (Pass::block_wake), gathered as the nodes are passed (in node order: the value a
+      // second loop over the block gave, to the bit); a node asleep by the odometer adds the
+      // reading its test has just loaded.
+      double wake = std::numeric_limits<double>::infinity();
       for (int v = v0; v < v1; ++v) {
         // Asleep: the surfaces have not moved far enough for this node to touch, by the part's
         // odometer, or else by the node's own displacement in the face frame since its stamp. A
         // node not yet seeded is always evaluated.
-        if (pass.face[v] != kUnseeded && pass.odometer_reach[v] > odometer - pass.stamp[v])
-          continue;
-        const Vec3 p = X_FN * nodes[v];
-        if (pass.reach[v] > 0) {
-          const double moved = (p - pass.stamp_position[v]).norm() + face_deformation_odometer_m -
-                               pass.stamp_face_deformation[v];
-          if (moved < pass.reach[v]) {
-            // Still out of reach: the odometer may now advance by what is left before a look.
-            pass.odometer_reach[v] = pass.reach[v] - moved;
-            pass.stamp[v] = odometer;
-            continue;
-          }
-        }
-        ClosestFace best;
-        double unseen_d2 = far_m * far_m;
-        bool search = pass.face[v] < 0 || pass.distance[v] > walk_reach;
-        double walk_margin = 0;
-        if (pass.face[v] >= 0) {
-          best = OnFace(faces, pass.face[v], p);
-          // The walk from the node's face stays there while every face it tried at its last
-          // walk is farther than this one: their distances change by at most the node's motion
-          // in the face frame plus the faces' deformation since, each (a face tried then is
-          // tried now only if the closest point's vertex, if any, and its side, if below, are
-          // those of then: the tried set is then no larger).
-          const bool within_margin =
-              !search && pass.walk_margin[v] > 0 &&
-              2 * ((p - pass.walk_position[v]).norm() + face_deformation_odometer_m -
-                   pass.walk_face_deformation[v]) + kWalkRounding < pass.walk_margin[v];
-          const std::array<int, 2> pair = pass.walk_pair[v];
-          bool stays = within_margin && pair[0] < 0 &&
-              (!IsVertex(best.point.feature) || best.point.feature == pass.walk_feature[v]) &&
-              ((p - best.point.point).dot(faces.Normal(best.face)) >= 0 || pass.walk_below[v]);
-          // A tied pair: the walk ends on the closer of its two faces (ties to the lower index).
-          if (within_margin && pair[0] >= 0 && pair_skip_ && !IsVertex(best.point.feature) &&
-              (best.face == pair[0] || best.face == pair[1])) {
-            const ClosestFace other = OnFace(faces, pair[0] == best.face ? pair[1] : pair[0], p);
-            if (!IsVertex(other.point.feature)) {
-              if (other.d2 < best.d2 || (other.d2 == best.d2 && other.face < best.face)) {
-                best = other;
-                ++stats_.walk_steps;
-              }
-              stays = true;
-              ++stats_.pair_walks_skipped;
-            }
-          }
-          if (stays) {  // keeps the margin of the last walk
-            walk_margin = -1;
-            ++stats_.walks_skipped;
-          }
-          // A walk that ends on its part's rim next to another part may belong in that part.
-          if (!search && !stays)
-            search = !Walk(faces, p, &best, &stats_.walk_steps, &walk_margin) ||
-                     OnSharedRim(face_surface, best);
-          if (!search && stays) search = OnSharedRim(face_surface, best);
-          // Inside the other body the distance has a local minimum on every face the node lies
-          // under (a tip corner: flank and tip): deeper than the face's inner reach, the closest
-          // needs the search, bounded by the walk's distance.
-          if (!search && (p - best.point.point).dot(faces.Normal(best.face)) <
-                             -face_surface.face_inner_reach()[best.face])
-            search = true;
-        }
-        if (search) {
-          // A node without a face (not seeded, or far at its last search) is searched only
-          // within the far distance: beyond it the descent stops at the hierarchies' top boxes.
-          if (pass.face[v] < 0) best.d2 = far_m * far_m;
-          unseen_d2 = std::numeric_limits<double>::infinity();
-          for (const int part_f : partners_)
-            FindClosestFaceInPart(
-                face_surface, part_f, p, &best, faces.v,
-                face_part_deformation_m ? (*face_part_deformation_m)[part_f] : face_deformation_m,
-                &unseen_d2);
-          ++stats_.seeded_nodes;
-          ++stats_.seeds;
-        }
-        // No face: the node's position is not finite (a diverging Newton iterate), and it
-        // starts again at the next evaluation; or it is farther than the far distance from
-        // every face of its partners, and sleeps until it may have come within it.
-        if (best.face < 0) {
-          const bool far = p.allFinite();
-          // The descent's bound on every face it passed by (at least the far distance).
-          const double reach = std::max(far_m, std::sqrt(unseen_d2));
-          pass.face[v] = far ? kFar : kUnseeded;
-          pass.reach[v] = pass.odometer_reach[v] = far ? reach : 0.0;
-          pass.distance[v] = reach;
-          pass.stamp[v] = odometer;
-          pass.stamp_position[v] = p;
-          pass.stamp_face_deformation[v] = face_deformation_odometer_m;
+        if (pass.face[v] != kUnseeded && pass.odometer_reach[v] > odometer - pass.stamp[v]) {
+          wake = std::min(wake, pass.stamp[v] + pass.odometer_reach[v]);
           continue;
         }
-        ++stats_.evaluated_nodes;
-        ++stats_.node_evaluations;
-        NodeGap g = NodeGapFromClosest(face_surface, best.face, faces.Normal(best.face), p,
-                                       best.point.point, best.point.feature);
-        pass.face[v] = best.face;
-        pass.stamp[v] = odometer;
-        pass.stamp_position[v] = p;
-        pass.stamp_face_deformation[v] = face_deformation_odometer_m;
-        // What a later evaluation needs to skip the walk (a search, or a face new to the node:
-        // none).
-        if (search) {
-          pass.walk_margin[v] = 0;
-          pass.walk_pair[v] = {-1, -1};
-        } else if (walk_margin >= 0) {
-          // Settled on an edge shared with another face: that face is as close, so the margin
-          // is the pair's (header).
-          const int edge = FeatureEdge(best.point.feature);
-          const int partner = edge >= 0 ? face_surface.face_neighbors()[best.face][edge] : -1;
-          pass.walk_pair[v] = {-1, -1};
-          if (partner >= 0 && pair_skip_) {
-            walk_margin = PairMargin(faces, p, best.face, partner, best.d2,
-                                     OnFace(faces, partner, p).d2);
-            if (walk_margin > 0) pass.walk_pair[v] = {best.face, partner};
-          }
-          pass.walk_margin[v] = walk_margin;
-          pass.walk_position[v] = p;
-          pass.walk_face_deformation[v] = face_deformation_odometer_m;
-          pass.walk_feature[v] = best.point.feature;
-          pass.walk_below[v] = (p - best.point.point).dot(faces.Normal(best.face)) < 0;
-        }
-        // Reach: the motion before the node can press. Off the surface (beyond the rim) its
-        // sideways distance must first come within the face's rim fade f (signed_gap.h), by at
-        // least s - f; on it, its gap must close.
-        pass.reach[v] = !g.on_surface ? std::max(0.0, g.rim_offset_m - g.rim_fade_m)
-                        : g.gap > 0     ? g.gap
-                                        : 0.0;
-        pass.odometer_reach[v] = pass.reach[v];
-        pass.distance[v] = std::sqrt(best.d2);
-        if (best.d2 > d * d && !(g.gap < 0 && g.on_surface)) continue;
-        g.node = v;
-        g.p_W = X_WF * p;
-        g.q_W = X_WF * best.point.point;
-        g.n_W = X_WF.R * faces.Normal(g.face);
-        gaps->push_back(g);
+        evaluate(v);
+        wake = pass.face[v] == kUnseeded ? -std::numeric_limits<double>::infinity()
+                                         : std::min(wake, pass.stamp[v] + pass.odometer_reach[v]);
       }
-      UpdateBlockWake(pass, block, v0, v1);
+      pass.block_wake[block] = wake;
     }
   }
 }

@@ -253,8 +253,6 @@ class TrackedGaps {
   // Pass::face without a face: not seeded yet (always evaluated); farther than the far distance
   // from every face of the node's partners at its last search (sleeps on that reach).
   static constexpr int kUnseeded = -1, kFar = -2;
-  // The smallest odometer reading at which a node of block `block` (nodes [v0, v1)) may wake.
-  static void UpdateBlockWake(Pass& pass, int block, int v0, int v1);
   void ResetPart(Pass& pass, const ContactSurface& node_surface, int part);
   void RunPass(const ContactSurface& node_surface, const SurfaceVertices& nodes,
                const Geometry& faces, double face_deformation_m,
