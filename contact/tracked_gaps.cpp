@@ -1,6 +1,7 @@
 #include "contact/tracked_gaps.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -47,21 +48,50 @@ bool OnSharedRim(const ContactSurface& s, const ClosestFace& c) {
   return s.shared_rim_edges()[c.face] & FeatureEdges(c.point.feature);
 }
 
+// The triangle distances measured at one node position, for the tied pair's margin that
+// follows a walk there (PairMargin): the walk's last round measured the faces across the edges
+// of the face it settled on, and PairMargin reaches most of them again (and some twice). OnFace
+// at the same position gives the same value, and the margin is a minimum, so taking a kept
+// value leaves it unchanged to the bit. A fixed array: no allocation; full, a face is measured.
+struct MeasuredFaces {
+  static constexpr int kMax = 32;
+  int n = 0;
+  std::array<int, kMax> face;
+  std::array<double, kMax> d2;
+  void Add(int f, double d2_f) {
+    if (n == kMax) return;
+    face[n] = f;
+    d2[n++] = d2_f;
+  }
+  // The squared distance of `f` to p, from the kept values or measured (and kept).
+  double Of(const Geometry& g, int f, const Vec3& p) {
+    for (int i = 0; i < n; ++i)
+      if (face[i] == f) return d2[i];
+    const double d2_f = OnFace(g, f, p).d2;
+    Add(f, d2_f);
+    return d2_f;
+  }
+};
+
 // Local descent over the faces (header): at each step the faces across the current face's
 // three edges, and around its vertex when the closest point is one, are tried, and the walk
 // moves to the closest (ties to the lower index); a node below its face also tries the faces
 // two edges away before it settles. False if it did not settle within kMaxWalkSteps.
 // *margin_m: at the face it settled on, the smallest distance of the faces it tried there less
-// the face's own (what lets a later evaluation skip the walk, RunPass).
-bool Walk(const Geometry& g, const Vec3& p, ClosestFace* current, long* steps, double* margin_m) {
+// the face's own (what lets a later evaluation skip the walk, RunPass). *measured: the faces
+// tried in its last round (at the face it settled on) with their squared distances.
+bool Walk(const Geometry& g, const Vec3& p, ClosestFace* current, long* steps, double* margin_m,
+          MeasuredFaces* measured) {
   const ContactSurface& s = g.s;
   const auto& tris = s.triangles();
   for (int step = 0; step < kMaxWalkSteps; ++step) {
     ClosestFace best = *current;
     double tried_d2 = std::numeric_limits<double>::infinity();
+    measured->n = 0;
     auto consider = [&](int face) {
       if (face < 0 || face == current->face) return;
       const ClosestFace c = OnFace(g, face, p);
+      measured->Add(face, c.d2);
       tried_d2 = std::min(tried_d2, c.d2);
       if (c.d2 < best.d2 || (c.d2 == best.d2 && face < best.face)) best = c;
     };
@@ -95,13 +125,15 @@ bool Walk(const Geometry& g, const Vec3& p, ClosestFace* current, long* steps, d
 
 // The margin of a tied pair (header): the smallest distance of the faces a walk from f or from
 // h could try, other than f and h (their edge neighbours and the faces two edges away; a face
-// reached twice is measured twice), less the larger of d2_f and d2_h's distances.
-double PairMargin(const Geometry& g, const Vec3& p, int f, int h, double d2_f, double d2_h) {
+// reached twice, or measured by the walk before, is taken from *measured), less the larger of
+// d2_f and d2_h's distances.
+double PairMargin(const Geometry& g, const Vec3& p, int f, int h, double d2_f, double d2_h,
+                  MeasuredFaces* measured) {
   const ContactSurface& s = g.s;
   double tried_d2 = std::numeric_limits<double>::infinity();
   auto consider = [&](int face) {
     if (face < 0 || face == f || face == h) return;
-    tried_d2 = std::min(tried_d2, OnFace(g, face, p).d2);
+    tried_d2 = std::min(tried_d2, measured->Of(g, face, p));
   };
   for (const int start : {f, h})
     for (const int neighbor : s.face_neighbors()[start]) {
@@ -440,6 +472,7 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
       double unseen_d2 = far_m * far_m;
       bool search = pass.face[v] < 0 || pass.distance[v] > walk_reach;
       double walk_margin = 0;
+      MeasuredFaces measured;  // by the walk, for its tied pair's margin
       if (pass.face[v] >= 0) {
         best = OnFace(faces, pass.face[v], p);
         // The walk from the node's face stays there while every face it tried at its last
@@ -477,7 +510,7 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
         }
         // A walk that ends on its part's rim next to another part may belong in that part.
         if (!search && !stays)
-          search = !Walk(faces, p, &best, &stats_.walk_steps, &walk_margin) ||
+          search = !Walk(faces, p, &best, &stats_.walk_steps, &walk_margin, &measured) ||
                    OnSharedRim(face_surface, best);
         if (!search && stays) search = OnSharedRim(face_surface, best);
         // Inside the other body the distance has a local minimum on every face the node lies
@@ -535,8 +568,8 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
         const int partner = edge >= 0 ? face_surface.face_neighbors()[best.face][edge] : -1;
         pass.walk_pair[v] = {-1, -1};
         if (partner >= 0 && pair_skip_) {
-          walk_margin =
-              PairMargin(faces, p, best.face, partner, best.d2, OnFace(faces, partner, p).d2);
+          walk_margin = PairMargin(faces, p, best.face, partner, best.d2,
+                                   measured.Of(faces, partner, p), &measured);
           if (walk_margin > 0) pass.walk_pair[v] = {best.face, partner};
         }
         pass.walk_margin[v] = walk_margin;
