@@ -455,8 +455,10 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
     const double odometer = odometers[part];
     const int v_begin = node_surface.part_vertex_start()[part];
     const int v_end = node_surface.part_vertex_start()[part + 1];
-    // A node awake by the odometer: its look, walk or search, and its gap.
-    auto evaluate = [&](int v) {
+    // A node awake by the odometer: its look, walk or search, and its gap. Kept out of the
+    // node loop (noinline): the loop then holds only the sleep test and the block's wake-up
+    // reading, and inlined it took 2.5 % more instructions over the rigid scene (callgrind).
+    auto evaluate = [&](int v) __attribute__((noinline)) {
       const Vec3 p = X_FN * nodes[v];
       if (pass.reach[v] > 0) {
         const double moved = (p - pass.stamp_position[v]).norm() + face_deformation_odometer_m -
