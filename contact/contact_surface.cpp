@@ -12,10 +12,15 @@
 #include "contact/triangle_geometry.h"
 
 namespace orrery::contact {
+namespace {
+// An interior edge whose normals turn by more than this is sharp (header: the inner reach and
+// the smoothed normals).
+constexpr double kSharpEdgeDeg = 10.0;
+}  // namespace
 
 ContactSurface::ContactSurface(const std::vector<TriangleMesh>& parts, double margin_m,
                                double slack_m, std::optional<PartRing> part_ring,
-                               std::vector<double> part_stiffness_scale)
+                               std::vector<double> part_stiffness_scale, bool smooth_normals)
     : part_ring_(std::move(part_ring)), margin_m_(margin_m), slack_m_(slack_m) {
   if (!(margin_m > 0))
     throw std::invalid_argument("ContactSurface: margin_m must be > 0, got " +
@@ -29,6 +34,7 @@ ContactSurface::ContactSurface(const std::vector<TriangleMesh>& parts, double ma
   CalcBoundingSpheres();
   CalcRimFades();
   CalcInnerReach();
+  if (smooth_normals) CalcCornerNormals();
   CheckPartRing();
   SetStiffnessScales(std::move(part_stiffness_scale));
   culling_ = BuildCullingGeometry(*this);
@@ -203,11 +209,79 @@ void ContactSurface::CalcRimFades() {
     if (!std::isfinite(f)) f = 0;
 }
 
+void ContactSurface::CalcCornerNormals() {
+  // Around each vertex v: the faces joined across smooth edges at v (union-find over the
+  // faces around v), then each group's angle-weighted normal sum (header).
+  const double smooth = std::cos(kSharpEdgeDeg * 3.14159265358979323846 / 180.0);
+  face_corner_normals_.assign(triangles_.size(), {Vec3::Zero(), Vec3::Zero(), Vec3::Zero()});
+  std::vector<int> group;
+  std::vector<Vec3> sum;
+  std::vector<double> angle;
+  std::vector<std::vector<std::pair<int, double>>> groups(3 * triangles_.size());
+  for (int v = 0; v < num_vertices(); ++v) {
+    const int begin = vertex_face_start_[v], end = vertex_face_start_[v + 1];
+    const int nf = end - begin;
+    group.resize(nf);
+    for (int i = 0; i < nf; ++i) group[i] = i;
+    auto root = [&](int i) {
+      while (group[i] != i) i = group[i] = group[group[i]];
+      return i;
+    };
+    auto corner = [&](int t) {
+      const auto& tri = triangles_[t];
+      return tri[0] == v ? 0 : tri[1] == v ? 1 : 2;
+    };
+    for (int i = 0; i < nf; ++i) {
+      const int t = vertex_faces_[begin + i];
+      const int k = corner(t);
+      // The two edges of t at v: k (v, next) and k + 2 (previous, v).
+      for (const int e : {k, (k + 2) % 3}) {
+        const int n = face_neighbors_[t][e];
+        if (n < 0 || face_normals_[t].dot(face_normals_[n]) < smooth) continue;
+        const int j = static_cast<int>(
+            std::lower_bound(vertex_faces_.begin() + begin, vertex_faces_.begin() + end, n) -
+            (vertex_faces_.begin() + begin));
+        group[root(i)] = root(j);
+      }
+    }
+    sum.assign(nf, Vec3::Zero());
+    angle.resize(nf);
+    for (int i = 0; i < nf; ++i) {
+      const int t = vertex_faces_[begin + i];
+      const int k = corner(t);
+      const auto& tri = triangles_[t];
+      const Vec3 e1 = (vertices_[tri[(k + 1) % 3]] - vertices_[v]).normalized();
+      const Vec3 e2 = (vertices_[tri[(k + 2) % 3]] - vertices_[v]).normalized();
+      angle[i] = std::acos(std::clamp(e1.dot(e2), -1.0, 1.0));
+      sum[root(i)] += angle[i] * face_normals_[t];
+    }
+    for (int i = 0; i < nf; ++i) {
+      const int t = vertex_faces_[begin + i];
+      const int k = corner(t);
+      face_corner_normals_[t][k] = sum[root(i)].normalized();
+      auto& list = groups[3 * t + k];
+      for (int j = 0; j < nf; ++j)
+        if (root(j) == root(i)) list.emplace_back(vertex_faces_[begin + j], angle[j]);
+    }
+  }
+  // The groups as compressed rows, corner by corner.
+  corner_face_start_.assign(3 * triangles_.size() + 1, 0);
+  for (size_t c = 0; c < groups.size(); ++c)
+    corner_face_start_[c + 1] = corner_face_start_[c] + static_cast<int>(groups[c].size());
+  corner_faces_.reserve(corner_face_start_.back());
+  corner_weights_.reserve(corner_face_start_.back());
+  for (const auto& list : groups)
+    for (const auto& [f, a] : list) {
+      corner_faces_.push_back(f);
+      corner_weights_.push_back(a);
+    }
+}
+
 void ContactSurface::CalcInnerReach() {
   // Inner reach of every face (header): sharp interior edges per part, then the distance of
   // each face from the nearest, capped by a quarter of the radius of curvature L / angle across
   // each edge (L: distance between the two centroids).
-  const double sharp = std::cos(10.0 * 3.14159265358979323846 / 180.0);
+  const double sharp = std::cos(kSharpEdgeDeg * 3.14159265358979323846 / 180.0);
   face_inner_reach_.assign(triangles_.size(), std::numeric_limits<double>::infinity());
   for (int j = 0; j < num_parts(); ++j) {
     std::vector<std::pair<Vec3, Vec3>> sharp_edges;

@@ -1,7 +1,7 @@
 #pragma once
 // A rigid contact surface: a triangle mesh held in its body's frame B (any surface; for gears the
-// tooth flanks, tips and fillets), split into parts (for example one per tooth) that the broad phase
-// culls separately. Built once; everything the step needs is precomputed here:
+// tooth flanks, tips and fillets), split into parts (for example one per tooth) that the broad
+// phase culls separately. Built once; everything the step needs is precomputed here:
 //   - face unit normals (right-hand rule, out of the material),
 //   - vertex area weights A_i = sum over incident triangles of area / 3 (the nodal quadrature
 //     weights of the contact pressure integral, seed 000 eq. 20: sum_i A_i = surface area),
@@ -33,6 +33,23 @@
 // face of part j of the other carries s_i s_j times its law's force, stiffness and damping (the
 // contact elements scale the node's area weight by it); e.g. a softer part (the gear layer's
 // cracked tooth, models/gear_contact.h).
+// smooth_normals: the facets stand for a smooth surface (a gear's involute flanks, fillets and
+// tips), and the contact force at a closest point q acts along the surface normal interpolated
+// at q instead of q's facet normal (signed_gap.h ForceNormal). The corner normals are made here:
+// at each corner of each face, the normal of the smooth surface through that vertex, the
+// angle-weighted mean of the normals of the faces around the vertex that reach the face across
+// smooth edges (normals turning by at most 10 degrees, the sharp-edge test of the inner reach);
+// a sharp edge (a tooth's tip corners, its end faces) keeps each side's own normals. Across a
+// smooth edge the two faces then share their corner normals at its ends, so the interpolated
+// normal is continuous where a node's closest point passes from one facet to the next (a
+// deformed surface makes them from its deformed face normals: signed_gap.h ForceNormal). With
+// the facet normals the force turned there by the angle between the facets (about 1 degree on
+// a 40-interval involute), and on a flexible gear by the deformation's turning of each face:
+// a spur pair's mid-face row of nodes lies exactly on the other flank's mid-face edges (an FE
+// element boundary of the planet, where the deformed faces' normals differ), its closest face
+// flips between the two with the rounding of Newton's iterates, and the force with it. Newton
+// then cycled between the two faces at 60 to 500 times its tolerance (seed 003's flexible stage:
+// 8 failed and 100 backtracked steps in its first 10 ms; none with the smoothed normals).
 //
 // Usage:
 //   auto flank = std::make_shared<const ContactSurface>(
@@ -75,9 +92,9 @@ class ContactSurface {
   // whose radii are not 0 <= inner < outer.
   // Also throws for a part_stiffness_scale of the wrong size or with a value that is not a
   // positive finite number.
-  ContactSurface(const std::vector<TriangleMesh>& parts, double margin_m,
-                 double slack_m = 0, std::optional<PartRing> part_ring = std::nullopt,
-                 std::vector<double> part_stiffness_scale = {});
+  ContactSurface(const std::vector<TriangleMesh>& parts, double margin_m, double slack_m = 0,
+                 std::optional<PartRing> part_ring = std::nullopt,
+                 std::vector<double> part_stiffness_scale = {}, bool smooth_normals = false);
   ~ContactSurface();
   ContactSurface(const ContactSurface&) = delete;
   ContactSurface& operator=(const ContactSurface&) = delete;
@@ -95,6 +112,17 @@ class ContactSurface {
   const std::vector<Vec3>& face_normals() const { return face_normals_; }             // #T, B
   const std::vector<double>& vertex_areas() const { return vertex_areas_; }           // #V, m^2
   const std::vector<Vec3>& vertex_normals() const { return vertex_normals_; }         // #V, B
+  // The smoothed corner normals (header), #T x 3 in B; empty without smooth_normals.
+  bool smooth_normals() const { return !face_corner_normals_.empty(); }
+  const std::vector<std::array<Vec3, 3>>& face_corner_normals() const {
+    return face_corner_normals_;
+  }
+  // The faces whose normals make corner k of face t, with their angle weights (a deformed
+  // surface's corner normals from its deformed face normals):
+  // corner_faces()[corner_face_start()[3 t + k] .. [3 t + k + 1]), corner_weights() alike.
+  const std::vector<int>& corner_face_start() const { return corner_face_start_; }
+  const std::vector<int>& corner_faces() const { return corner_faces_; }
+  const std::vector<double>& corner_weights() const { return corner_weights_; }
   // #T: bit k set if edge k (vertex k to vertex k+1 mod 3) of the triangle is a boundary edge.
   const std::vector<std::uint8_t>& boundary_edges() const { return boundary_edges_; }
   // #V: 1 for a vertex on a boundary edge (of any of its triangles), else 0.
@@ -149,6 +177,7 @@ class ContactSurface {
   void CalcBoundingSpheres();      // part spheres and boxes, triangle spheres
   void CalcRimFades();             // rim fades and outward directions
   void CalcInnerReach();           // inner reach of every face
+  void CalcCornerNormals();        // smoothed corner normals (smooth_normals only)
   void CheckPartRing() const;
   void SetStiffnessScales(std::vector<double> part_scale);  // vertex and face stiffness scales
   void CalcSharedRimEdges();       // after the culling geometry
@@ -164,6 +193,9 @@ class ContactSurface {
   std::vector<double> face_inner_reach_;
   std::vector<double> face_rim_fade_, vertex_rim_fade_;
   std::vector<std::array<Vec3, 3>> face_rim_outward_;
+  std::vector<std::array<Vec3, 3>> face_corner_normals_;
+  std::vector<int> corner_face_start_, corner_faces_;
+  std::vector<double> corner_weights_;
   std::vector<int> part_triangle_start_, part_vertex_start_;
   std::vector<Vec3> part_centers_;
   std::vector<double> part_radii_;

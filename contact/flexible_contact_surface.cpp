@@ -115,7 +115,8 @@ FlexibleContactSurface::FlexibleContactSurface(std::shared_ptr<const FlexibleBod
     kept.push_back(std::move(parts[p]));
   }
   surface_ = std::make_shared<const ContactSurface>(
-      kept, spec_.gap_margin_m + 2 * spec_.deformation_allowance_m, spec_.slack_m, spec_.part_ring);
+      kept, spec_.gap_margin_m + 2 * spec_.deformation_allowance_m, spec_.slack_m, spec_.part_ring,
+      /*part_stiffness_scale=*/std::vector<double>{}, spec_.smooth_normals);
   // Stacked shapes and the per-mode bounds.
   const int nv = static_cast<int>(vertex_node_.size());
   shapes_.resize(3 * nv, m.nf);
@@ -134,7 +135,8 @@ FlexibleContactSurface::FlexibleContactSurface(std::shared_ptr<const FlexibleBod
   const FlexibleBodyModes& m = *modes_;
   const std::vector<std::array<int, 3>> tris = SelectedTriangles(what);
   surface_ = std::make_shared<const ContactSurface>(
-      parts, spec_.gap_margin_m + 2 * spec_.deformation_allowance_m, spec_.slack_m, spec_.part_ring);
+      parts, spec_.gap_margin_m + 2 * spec_.deformation_allowance_m, spec_.slack_m, spec_.part_ring,
+      /*part_stiffness_scale=*/std::vector<double>{}, spec_.smooth_normals);
   const auto& verts = surface_->vertices();
   const int nv = static_cast<int>(verts.size());
   vertex_node_.assign(nv, -1);
@@ -188,7 +190,8 @@ FlexibleContactSurface::FlexibleContactSurface(std::shared_ptr<const FlexibleBod
   const std::string what = "FlexibleContactSurface (given shapes): ";
   Check(what);
   surface_ = std::make_shared<const ContactSurface>(
-      parts, spec_.gap_margin_m + 2 * spec_.deformation_allowance_m, spec_.slack_m, spec_.part_ring);
+      parts, spec_.gap_margin_m + 2 * spec_.deformation_allowance_m, spec_.slack_m, spec_.part_ring,
+      /*part_stiffness_scale=*/std::vector<double>{}, spec_.smooth_normals);
   if (shapes_.rows() != 3 * surface_->num_vertices() || shapes_.cols() != modes_->nf)
     throw std::invalid_argument(what + "shapes are " + std::to_string(shapes_.rows()) + " x " +
                                 std::to_string(shapes_.cols()) + ", expected " +

@@ -60,6 +60,9 @@ struct FlexibleContactSurfaceSpec {
   // displacement bound of its own, which the tracked gaps add to the zone's reach). For a
   // gear the gear layer measures it as for its rigid surfaces (MeasurePartRing).
   std::optional<PartRing> part_ring;
+  // Smoothed force normals (contact_surface.h smooth_normals): interpolated across the facets
+  // from corner normals made of the deformed faces' normals (signed_gap.h ForceNormal).
+  bool smooth_normals = false;
 };
 
 class FlexibleContactSurface {

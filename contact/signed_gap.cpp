@@ -130,7 +130,11 @@ void ComputeNodeGaps(const ContactSurface& node_surface, const Transform& X_WN,
       g.node = node;
       g.p_W = X_WF * s.p_F[node];
       g.q_W = X_WF * s.q_F[node];
-      g.n_W = X_WF.R * face_surface.face_normals()[g.face];
+      const auto& ft = face_tris[g.face];
+      g.n_W = X_WF.R * ForceNormal(face_surface, g.face, s.q_F[node], fv[ft[0]], fv[ft[1]],
+                                   fv[ft[2]], /*deformed=*/false, [&](int f) -> const Vec3& {
+                                     return face_surface.face_normals()[f];
+                                   });
       gaps->push_back(g);
     }
     s.best_d2[node] = kInf;
@@ -238,7 +242,10 @@ void ComputeNodeGapsFromCandidates(const ContactSurface& /*node_surface*/,
     g.node = node;
     g.p_W = X_WF * p_F;
     g.q_W = X_WF * best.point;
-    g.n_W = X_WF.R * face_normals_F[g.face];
+    const auto& ft = face_tris[g.face];
+    g.n_W = X_WF.R * ForceNormal(face_surface, g.face, best.point, fv[ft[0]], fv[ft[1]], fv[ft[2]],
+                                 &face_normals_F != &face_surface.face_normals(),
+                                 [&](int f) -> const Vec3& { return face_normals_F[f]; });
     gaps->push_back(g);
   }
 }

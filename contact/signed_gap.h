@@ -21,6 +21,14 @@
 //   back, switched some 140 N on and off between Newton iterates, and Newton cycled. A vertex
 //   is on the rim when any of its faces has a rim edge there: the face a search picks among
 //   ties (the lowest index) may have only interior edges at it.
+// The force normal n_W of a listed gap: Q's face normal n, or, on a face surface with smoothed
+// normals (contact_surface.h), the corner normals c_k of Q's face interpolated at Q's
+// barycentric coordinates w_k:   n_s = normalize(sum_k w_k c_k); on a deformed surface each
+// c_k is made from the deformed normals of its faces (ForceNormal below).
+// The gap g keeps the face's normal; n_s turns the force only: continuous where Q passes
+// from one facet to the next (the faces share their corner normals there), and within a
+// facet's half angle of n. The forces are then no longer exactly minus the gradient of the
+// penalty energy (the facets' jump of that gradient is what the smoothing removes).
 // Only nodes with |P - Q| <= the search distance are listed: for them the candidate faces hold
 // the true closest face (candidate_pairs.h), so the gaps equal a search over all faces.
 //
@@ -113,6 +121,32 @@ void ComputeNodeGapsFromCandidates(const ContactSurface& node_surface,
                                    const std::vector<Vec3>& face_normals_F, const Transform& X_WF,
                                    const std::vector<NodeFaceCandidate>& candidates,
                                    double search_distance_m, std::vector<NodeGap>* gaps);
+
+// The force normal of the header at Q (face frame) on `face`, whose vertices are x0, x1, x2
+// (own or deformed, face frame); normal(f): the unit normal of face f as the gaps read it (own
+// or deformed). Without smoothed normals: normal(face). With them: on the surface's own
+// vertices (deformed false) its corner normals; on deformed ones the corner normals made from
+// the deformed normals of each corner's faces (contact_surface.h corner_faces), so that faces
+// sharing an edge share them there whatever the deformation.
+template <class FaceNormal>
+Vec3 ForceNormal(const ContactSurface& face_surface, int face, const Vec3& q_F, const Vec3& x0,
+                 const Vec3& x1, const Vec3& x2, bool deformed, const FaceNormal& normal) {
+  if (!face_surface.smooth_normals()) return normal(face);
+  const Vec3 w = Barycentric(q_F, x0, x1, x2);
+  if (!deformed) {
+    const auto& c = face_surface.face_corner_normals()[face];
+    return (w(0) * c[0] + w(1) * c[1] + w(2) * c[2]).normalized();
+  }
+  Vec3 n = Vec3::Zero();
+  for (int k = 0; k < 3; ++k) {
+    Vec3 c = Vec3::Zero();
+    const int end = face_surface.corner_face_start()[3 * face + k + 1];
+    for (int i = face_surface.corner_face_start()[3 * face + k]; i < end; ++i)
+      c += face_surface.corner_weights()[i] * normal(face_surface.corner_faces()[i]);
+    n += w(k) * c.normalized();
+  }
+  return n.normalized();
+}
 
 // The gap of one node P (face frame) against its closest face q (feature as found), by the
 // rules above; shared by the pass and by tests.

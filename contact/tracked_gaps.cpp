@@ -592,7 +592,10 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
       g.node = v;
       g.p_W = X_WF * p;
       g.q_W = X_WF * best.point.point;
-      g.n_W = X_WF.R * faces.Normal(g.face);
+      const auto& ft = face_surface.triangles()[g.face];
+      g.n_W = X_WF.R * ForceNormal(face_surface, g.face, best.point.point, faces.v[ft[0]],
+                                   faces.v[ft[1]], faces.v[ft[2]], faces.lazy_n != nullptr,
+                                   [&](int f) -> const Vec3& { return faces.Normal(f); });
       gaps->push_back(g);
     };
     for (int block = pass.part_block_start[part], v0 = v_begin; v0 < v_end; ++block, v0 += kBlock) {
