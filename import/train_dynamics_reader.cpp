@@ -208,9 +208,10 @@ void ReadToothContact(const Context& ctx, const std::optional<Item>& item, const
                       gears::TrainContactOptions& c) {
   if (!item || item->node.IsNull()) return;
   const auto margin = std::vector<std::pair<std::string, double>>{{"margin", 1.0}, {"margin_um", 1e-6}};
-  std::vector<std::string> allowed{"involute_intervals", "single_pair_stiffness", "calibration_load",
-                                   "hunt_crossley", "friction_coefficient", "missing_teeth", "flexible",
-                                   "record_points"};
+  std::vector<std::string> allowed{
+      "involute_intervals", "single_pair_stiffness", "calibration_load",
+      "hunt_crossley",      "friction_coefficient",  "missing_teeth",
+      "flexible",           "record_points",         "smooth_normals"};
   Append(allowed, Names(margin));
   const MapReader m(ctx, *item, allowed,
                     {{"meshes", "choose the meshes with dynamics.mesh_model and dynamics.meshes[NAME].model"}});
@@ -218,6 +219,7 @@ void ReadToothContact(const Context& ctx, const std::optional<Item>& item, const
     c.gear.involute_intervals = m.Int("involute_intervals", c.gear.involute_intervals);
     if (c.gear.involute_intervals < 4) ctx.Fail(m.Need("involute_intervals"), "must be >= 4");
   }
+  c.gear.smooth_normals = m.Bool("smooth_normals", c.gear.smooth_normals);
   if (m.Has("record_points")) {
     c.gear.record_points = m.Int("record_points", 0);
     if (c.gear.record_points < 0 || c.gear.record_points > 1000) ctx.Fail(m.Need("record_points"), "must be in 0..1000");

@@ -144,7 +144,8 @@ std::shared_ptr<const ContactSurface> MakeGearContactSurface(
   }
   if (parts.empty()) throw std::invalid_argument("MakeGearContactSurface: no tooth left");
   return std::make_shared<const ContactSurface>(parts, options.margin_m, options.slack_m,
-                                                std::move(ring), std::move(scales));
+                                                std::move(ring), std::move(scales),
+                                                options.smooth_normals);
 }
 
 std::vector<std::pair<int, double>> CrackStiffnessScales(const gears::GearPair& pair, int gear,
@@ -259,10 +260,11 @@ MeshSweep SweepGearMesh(const gears::GearPair& pair, const GearContactOptions& o
                                           : kPi + kPi / z2 - z1 / z2 * pt.roll_angle_rad;
     const Transform X_W2(AxisAngle(Vec3::UnitZ(), theta2), p2);
     // Moment balance of gear 1 as a function of the TE: contact moment + applied torque.
+    Vec6 f1 = Vec6::Zero();
     auto residual = [&](double te) {
       const Transform X_W1(AxisAngle(Vec3::UnitZ(), pt.roll_angle_rad + te / rb1), Vec3::Zero());
       element.UpdateGaps(X_W1, X_W2, ws);
-      Vec6 f1, f2;
+      Vec6 f2;
       double e = 0, p = 0;
       element.CalcForces(zero, zero, ws, &f1, &f2, &e, &p);
       ++pt.evaluations;
@@ -301,6 +303,8 @@ MeshSweep SweepGearMesh(const gears::GearPair& pair, const GearContactOptions& o
     pt.stiffness_n_per_m = load_n / te;
     pt.normal_force_n = ws.normal_force;
     pt.friction_force_n = ws.friction_force;
+    pt.force_x_n = f1(3);
+    pt.force_y_n = f1(4);
     pt.contact_points = ws.contact_points;
     // Contact pattern on gear 1: roll distance of every contact, per tooth of gear 1 (its
     // gear-frame index from the part's angle: a cracked tooth has two parts).

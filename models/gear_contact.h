@@ -80,6 +80,12 @@ struct GearContactOptions {
   // radially (docs/faults.md). 1 um: 21 to 36 intervals per fillet there.
   double fillet_max_sag_m = 1e-6;
   int face_intervals = 2;
+  // The contact force along the flank normal interpolated across the facets, not the facet's own
+  // (contact/contact_surface.h smooth_normals): a facet's normal turns by ~1 degree from one
+  // involute interval to the next, and the force turning with it where a contact point passes
+  // an interval's edge was a jump in the residual that Newton could not settle at tight
+  // tolerances (docs/fault_study.md).
+  bool smooth_normals = true;
   double margin_m = 30e-6;   // above the largest penetration (delta_ref is a few um)
   double slack_m = 100e-6;   // per surface: pairs are kept for relative motions up to this
   std::vector<int> missing_teeth1, missing_teeth2;  // teeth removed (gear frame indices)
@@ -174,6 +180,9 @@ struct MeshSweepPoint {
   double stiffness_n_per_m = 0;    // load / TE
   double normal_force_n = 0;       // sum of the node normal forces
   double friction_force_n = 0;
+  // Gear 1's contact force in the sweep frame (x, y; N, its bearing load from the mesh): along
+  // the line of action for frictionless involute flanks, at the working pressure angle to y.
+  double force_x_n = 0, force_y_n = 0;
   int contact_points = 0;
   int teeth_in_contact = 0;        // teeth of gear 1 with a penetrating node or face
   int teeth[3] = {-1, -1, -1};     // their gear-frame indices, in the order of the pattern slots

@@ -174,10 +174,13 @@ std::shared_ptr<const FlexibleContactSurface> FlexibleGearSurface(
     angles.push_back(2 * kPi * t / gear.teeth());
   }
   if (parts.empty()) FailTrain(what + "no tooth left");
-  const FlexibleContactSurfaceSpec spec{.node_sets = faces.sets, .gap_margin_m = c.gear.margin_m,
-                                        .deformation_allowance_m = c.flexible.deformation_allowance_m,
-                                        .slack_m = c.gear.slack_m,
-                                        .part_ring = contact::MeasurePartRing(parts, X_BG, std::move(angles))};
+  const FlexibleContactSurfaceSpec spec{
+      .node_sets = faces.sets,
+      .gap_margin_m = c.gear.margin_m,
+      .deformation_allowance_m = c.flexible.deformation_allowance_m,
+      .slack_m = c.gear.slack_m,
+      .part_ring = contact::MeasurePartRing(parts, X_BG, std::move(angles)),
+      .smooth_normals = c.gear.smooth_normals};
   try {
     return std::make_shared<const FlexibleContactSurface>(modes, parts, spec, c.flexible.embed_tolerance_m);
   } catch (const std::invalid_argument& e) {
