@@ -31,8 +31,8 @@ NodeGap GapOnFace(const ContactSurface& s, int f, const Vec3& p) {
   return NodeGapFromClosest(s, f, p, c.point, c.feature);
 }
 
-// The gap over all faces (closest face, ties to the lower index), as a search gives it.
-NodeGap ClosestGap(const ContactSurface& s, const Vec3& p) {
+// The closest face over all faces (ties to the lower index), as a search gives it.
+int ClosestFace(const ContactSurface& s, const Vec3& p) {
   double best = 1e300;
   int face = -1;
   for (int f = 0; f < s.num_triangles(); ++f) {
@@ -40,7 +40,12 @@ NodeGap ClosestGap(const ContactSurface& s, const Vec3& p) {
     const double d = (ClosestPointOnTriangle(p, s.vertices()[t[0]], s.vertices()[t[1]], s.vertices()[t[2]]).point - p).norm();
     if (d < best) best = d, face = f;
   }
-  return GapOnFace(s, face, p);
+  return face;
+}
+
+// The gap over all faces, as a search gives it.
+NodeGap ClosestGap(const ContactSurface& s, const Vec3& p) {
+  return GapOnFace(s, ClosestFace(s, p), p);
 }
 
 // A flat square z = 0, normal +z, 4 x 4 cells of 5 mm (its rim fade: a tenth of 5 mm).
@@ -141,15 +146,7 @@ TEST(ForceNormal, OnAFacetedCylinderIsTheRadiusThroughTheClosestPoint) {
   for (int trial = 0; trial < 400; ++trial) {
     const double a = angle(rng);
     const Vec3 p((r + depth(rng)) * std::cos(a), (r + depth(rng)) * std::sin(a), z(rng));
-    // The closest face, as a search takes it.
-    double best = 1e300;
-    int face = -1;
-    for (int f = 0; f < smooth.num_triangles(); ++f) {
-      const auto& t = smooth.triangles()[f];
-      const auto& x = smooth.vertices();
-      const double d = (ClosestPointOnTriangle(p, x[t[0]], x[t[1]], x[t[2]]).point - p).norm();
-      if (d < best) best = d, face = f;
-    }
+    const int face = ClosestFace(smooth, p);
     const auto& t = smooth.triangles()[face];
     const auto& x = smooth.vertices();
     const Vec3 q = ClosestPointOnTriangle(p, x[t[0]], x[t[1]], x[t[2]]).point;
@@ -178,14 +175,7 @@ TEST(ForceNormal, IsContinuousAcrossAFacetEdge) {
   for (const double da : {-1e-9, 1e-9}) {
     const double a = edge + da;
     const Vec3 p((r - 3e-6) * std::cos(a), (r - 3e-6) * std::sin(a), 10e-3);
-    double best = 1e300;
-    int face = -1;
-    for (int f = 0; f < s.num_triangles(); ++f) {
-      const auto& t = s.triangles()[f];
-      const auto& x = s.vertices();
-      const double d = (ClosestPointOnTriangle(p, x[t[0]], x[t[1]], x[t[2]]).point - p).norm();
-      if (d < best) best = d, face = f;
-    }
+    const int face = ClosestFace(s, p);
     (da < 0 ? before : after) = NormalOnFace(s, face, p);
     const auto& t = s.triangles()[face];
     (da < 0 ? q_before : q_after) =
