@@ -82,9 +82,10 @@ struct GearContactOptions {
   int face_intervals = 2;
   // The contact force along the flank normal interpolated across the facets, not the facet's own
   // (contact/contact_surface.h smooth_normals): a facet's normal turns by ~1 degree from one
-  // involute interval to the next, and the force turning with it where a contact point passes
-  // an interval's edge was a jump in the residual that Newton could not settle at tight
-  // tolerances (docs/fault_study.md).
+  // involute interval to the next, and on a flexible gear the deformed faces' normals differ
+  // across its FE element boundaries, where a spur pair's mid-face row of nodes sits; the force
+  // turning with the face a node took was a jump in the residual that Newton could not settle
+  // (docs/fault_study.md).
   bool smooth_normals = true;
   double margin_m = 30e-6;   // above the largest penetration (delta_ref is a few um)
   double slack_m = 100e-6;   // per surface: pairs are kept for relative motions up to this

@@ -145,7 +145,8 @@ TEST(ContactNoAllocation, GearContactEvaluationCandidatePairs) {
 // rigid plane through a FlexibleContactElement: after a first pass has sized the lists, a second
 // pass over heights and modal states evaluates the dynamics, contact tracked on the deformed
 // surfaces and modal forces included, without allocating; so does the tangents' pass (both
-// tests).
+// tests). The block's surface has smoothed normals: the plane's nodes on its deformed faces take
+// the force normal of the deformed corners (signed_gap.h ForceNormal).
 TEST(ContactNoAllocation, FlexibleContactEvaluation) {
   flex::FeMesh mesh = flex::MakeBoxMesh({.origin_m = {-0.01, -0.01, 0}, .size_m = {0.02, 0.02, 0.01},
                                          .divisions = {4, 4, 2}, .type = flex::ElementType::kHex8});
@@ -165,10 +166,15 @@ TEST(ContactNoAllocation, FlexibleContactEvaluation) {
   const JointIndex ji = b.AddJoint(j);
   b.AddExternalForce(std::make_shared<FlexibleContactElement>(FlexibleContactElementSpec{
       .name = "block_on_plane",
-      .a = {.body = block, .flexible = std::make_shared<const FlexibleContactSurface>(
-                               modes, FlexibleContactSurfaceSpec{.node_sets = {"ZMIN"}, .slack_m = 2e-6})},
-      .b = {.body = kWorldBody, .rigid = std::make_shared<const ContactSurface>(std::vector{plane}, 30e-6)},
-      .law = {.stiffness_per_area = 2e13, .hunt_crossley_s_per_m = 0.1, .friction_coefficient = 0.2}}));
+      .a = {.body = block,
+            .flexible = std::make_shared<const FlexibleContactSurface>(
+                modes,
+                FlexibleContactSurfaceSpec{
+                    .node_sets = {"ZMIN"}, .slack_m = 2e-6, .smooth_normals = true})},
+      .b = {.body = kWorldBody,
+            .rigid = std::make_shared<const ContactSurface>(std::vector{plane}, 30e-6)},
+      .law = {
+          .stiffness_per_area = 2e13, .hunt_crossley_s_per_m = 0.1, .friction_coefficient = 0.2}}));
   const std::shared_ptr<const Model> model = std::move(b).Finalize();
   const Model& m = *model;
   Data data(m);

@@ -112,15 +112,21 @@ TEST(DataAtState, IsTheEvaluationAtTheState) {
   EXPECT_GT(not_at_state, 0);
 }
 
+// IDA on `model`, initialized at its initial state.
+std::unique_ptr<Integrator> StartedIda(const Model& model) {
+  IntegratorOptions ida;
+  ida.kind = IntegratorKind::kIda;
+  std::unique_ptr<Integrator> bdf = MakeIntegrator(model, ida);
+  bdf->Initialize(State::Initial(model));
+  return bdf;
+}
+
 TEST(DataAtState, NullWithConstraintsAndOnIda) {
   const std::shared_ptr<const Model> driven = Pendulum(true);
   std::unique_ptr<Integrator> alpha = MakeIntegrator(*driven, Alpha());
   alpha->Initialize(State::Initial(*driven));
   const std::shared_ptr<const Model> free = Pendulum(false);
-  IntegratorOptions ida;
-  ida.kind = IntegratorKind::kIda;
-  std::unique_ptr<Integrator> bdf = MakeIntegrator(*free, ida);
-  bdf->Initialize(State::Initial(*free));
+  std::unique_ptr<Integrator> bdf = StartedIda(*free);
   for (int i = 1; i <= 100; ++i) {
     alpha->AdvanceTo(i * 1e-3);
     bdf->AdvanceTo(i * 1e-3);
@@ -192,10 +198,7 @@ TEST(PositionKinematicsAtState, DataAtStateWithoutConstraintsAndNullOnIda) {
   const std::shared_ptr<const Model> free = Pendulum(false);
   std::unique_ptr<Integrator> alpha = MakeIntegrator(*free, Alpha());
   alpha->Initialize(State::Initial(*free));
-  IntegratorOptions ida;
-  ida.kind = IntegratorKind::kIda;
-  std::unique_ptr<Integrator> bdf = MakeIntegrator(*free, ida);
-  bdf->Initialize(State::Initial(*free));
+  std::unique_ptr<Integrator> bdf = StartedIda(*free);
   for (int i = 1; i <= 100; ++i) {
     alpha->AdvanceTo(i * 1e-3);
     bdf->AdvanceTo(i * 1e-3);
