@@ -61,6 +61,29 @@ constexpr double kRateDecay = 0.9;
 // iteration rarely takes more increments than this, and one that does starts the updates anew.
 constexpr int kMaxBroydenUpdates = 16;
 
+// The size of the position coordinate behind each velocity coordinate (what one ulp of it is
+// relative to): |q| for angles, lengths and modal coordinates; 1 for a quaternion's angular
+// velocity components (its rotation is held to eps by a unit quaternion). A free joint's lengths
+// follow its quaternion in v and in q alike, in the same order.
+void CoordinateSizes(const Model& model, const Eigen::VectorXd& q, Eigen::VectorXd* size) {
+  for (const Joint& j : model.joints) {
+    const JointTypeInfo& info = JointInfo(j.spec.type);
+    int q_length = 0;  // the next length coordinate among q's
+    for (int k = 0; k < j.nv; ++k) {
+      double s = 1;
+      if (j.nq == j.nv) {
+        s = std::abs(q(j.q_start + k));
+      } else if (info.v_kind[k] == CoordinateKind::kLength) {
+        while (q_length < j.nq && info.q_kind[q_length] != CoordinateKind::kLength) ++q_length;
+        s = std::abs(q(j.q_start + q_length++));
+      }
+      (*size)(j.v_start + k) = s;
+    }
+  }
+  for (const FlexibleBody& f : model.flexible_bodies)
+    (*size).segment(f.v_start, f.nf) = q.segment(f.q_start, f.nf).cwiseAbs();
+}
+
 class GeneralizedAlpha final : public Integrator {
  public:
   GeneralizedAlpha(const Model& model, const IntegratorOptions& options)
@@ -109,6 +132,8 @@ class GeneralizedAlpha final : public Integrator {
     proj_mu_.setZero(nc);
     proj_tau_.setZero(nv);
     mass_diagonal_.setZero(nv);
+    rounding_floor_.setZero(nv);
+    coordinate_size_.setZero(nv);
     proj_update_.setZero(nv + nc);
     q_start_.setZero(model.nq);
     v_start_.setZero(nv);
@@ -294,13 +319,40 @@ class GeneralizedAlpha final : public Integrator {
   }
 
   // rhs_ against the convergence test: the largest of the rows' max norms, each over its
-  // tolerance (tol; the position rows max(tol, their rounding floor)). <= 1: converged.
+  // tolerance (tol; the dynamic rows max(tol, rounding_floor_), the position rows max(tol,
+  // position_floor_)). <= 1: converged; infinite for a residual with a NaN.
   double ResidualRatio(double tol) const {
     const int nv = model_.nv, nh = model_.n_holonomic, nc = model_.n_constraints;
-    double ratio = rhs_.head(nv).lpNorm<Eigen::Infinity>() / tol;
+    double ratio = 0;
+    for (int r = 0; r < nv; ++r) {
+      const double x = std::abs(rhs_(r)) / std::max(tol, rounding_floor_(r));
+      if (std::isnan(x)) return std::numeric_limits<double>::infinity();
+      ratio = std::max(ratio, x);
+    }
     if (nh > 0) ratio = std::max(ratio, rhs_.segment(nv, nh).lpNorm<Eigen::Infinity>() / std::max(tol, position_floor_));
     if (nc > 0) ratio = std::max(ratio, rhs_.segment(nv + nh, nc).lpNorm<Eigen::Infinity>() / tol);
     return std::isnan(ratio) ? std::numeric_limits<double>::infinity() : ratio;
+  }
+
+  // The dynamic rows' rounding floor at the current iterate, from the tangents just made:
+  //   floor_r = (eps / 2) sum_j (|K_rj| |q_j| + |C_rj| |v_j|),
+  // what row r moves by when every coordinate moves by half its ulp (|q_j|: the size of the
+  // position coordinate behind velocity j, CoordinateSizes), the least residual that iterates can
+  // be told apart by. Angles of turning gears grow without bound, and a stiff mesh on a ring
+  // turned through 12 rad (ulp 1.8e-15 rad) moves a planet's modal rows by about 1e-6 N per ulp:
+  // seed 003's flexible stage at newton_tolerance 1e-11 (2.5e-7 N there) stalled Newton at 2 to 4
+  // times the tolerance in 104 steps from t = 0.13 s on (the residuals 0.7-1.2e-6 N, this floor
+  // 1.0-1.9e-6 N; docs/performance.md, "rounding-floor"). Zero until the first refresh.
+  void UpdateRoundingFloor() {
+    const int nv = model_.nv;
+    CoordinateSizes(model_, q_new_, &coordinate_size_);
+    rounding_floor_.setZero();
+    for (int j = 0; j < nv; ++j) {
+      const double sq = coordinate_size_(j), sv = std::abs(v_new_(j));
+      for (int r = 0; r < nv; ++r)
+        rounding_floor_(r) += std::abs(Kq_(r, j)) * sq + std::abs(Cv_(r, j)) * sv;
+    }
+    rounding_floor_ *= 0.5 * std::numeric_limits<double>::epsilon();
   }
 
   // Iteration matrix at the current iterate (the file's top comment), unknowns (vdot, lambda,
@@ -312,6 +364,7 @@ class GeneralizedAlpha final : public Integrator {
     ++stats_.jacobian_evaluations;
     Data& d = dae_.data();
     mass_diagonal_ = d.M.diagonal();
+    UpdateRoundingFloor();
     iteration_.setZero();
     iteration_.topLeftCorner(nv, nv) = d.M + (h * gamma_ * ca) * Cv_ + b * Kq_.topRows(nv);
     if (nc > 0) {
@@ -707,6 +760,8 @@ class GeneralizedAlpha final : public Integrator {
   IntegratorStats stats_;
   long pipeline_evaluations_ = 0;
   double position_floor_ = 0;  // set by Residual
+  Eigen::VectorXd rounding_floor_;   // nv: the dynamic rows' rounding floor (UpdateRoundingFloor)
+  Eigen::VectorXd coordinate_size_;  // nv: scratch of UpdateRoundingFloor
   double newton_norm_ = 0;     // Converge: max norm of the last residual (for the failure message)
   bool evaluated_at_iterate_ = false;  // Converge: Data holds the evaluation at the accepted iterate
   // Data holds CalcPositionKinematics and CalcConstraints at (state_.t, state_.q), nothing
