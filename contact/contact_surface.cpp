@@ -217,7 +217,10 @@ void ContactSurface::CalcCornerNormals() {
   std::vector<int> group;
   std::vector<Vec3> sum;
   std::vector<double> angle;
+  std::vector<int> group_id;
   std::vector<std::vector<std::pair<int, double>>> groups(3 * triangles_.size());
+  corner_group_.assign(3 * triangles_.size(), -1);
+  num_corner_groups_ = 0;
   for (int v = 0; v < num_vertices(); ++v) {
     const int begin = vertex_face_start_[v], end = vertex_face_start_[v + 1];
     const int nf = end - begin;
@@ -255,10 +258,15 @@ void ContactSurface::CalcCornerNormals() {
       angle[i] = std::acos(std::clamp(e1.dot(e2), -1.0, 1.0));
       sum[root(i)] += angle[i] * face_normals_[t];
     }
+    // One group id per root, in the order of the roots' first faces.
+    group_id.assign(nf, -1);
+    for (int i = 0; i < nf; ++i)
+      if (group_id[root(i)] < 0) group_id[root(i)] = num_corner_groups_++;
     for (int i = 0; i < nf; ++i) {
       const int t = vertex_faces_[begin + i];
       const int k = corner(t);
       face_corner_normals_[t][k] = sum[root(i)].normalized();
+      corner_group_[3 * t + k] = group_id[root(i)];
       auto& list = groups[3 * t + k];
       for (int j = 0; j < nf; ++j)
         if (root(j) == root(i)) list.emplace_back(vertex_faces_[begin + j], angle[j]);

@@ -123,6 +123,12 @@ class ContactSurface {
   const std::vector<int>& corner_face_start() const { return corner_face_start_; }
   const std::vector<int>& corner_faces() const { return corner_faces_; }
   const std::vector<double>& corner_weights() const { return corner_weights_; }
+  // The corner's group, #T x 3 (3 t + k): the corners at one vertex whose faces meet across
+  // smooth edges there, which share their list of faces and weights above (the same faces in
+  // the same order), so a deformed surface's corner normal made once serves every corner of the
+  // group to the bit (signed_gap.h ForceNormal's cache); num_corner_groups() ids.
+  const std::vector<int>& corner_group() const { return corner_group_; }
+  int num_corner_groups() const { return num_corner_groups_; }
   // #T: bit k set if edge k (vertex k to vertex k+1 mod 3) of the triangle is a boundary edge.
   const std::vector<std::uint8_t>& boundary_edges() const { return boundary_edges_; }
   // #V: 1 for a vertex on a boundary edge (of any of its triangles), else 0.
@@ -196,6 +202,8 @@ class ContactSurface {
   std::vector<std::array<Vec3, 3>> face_corner_normals_;
   std::vector<int> corner_face_start_, corner_faces_;
   std::vector<double> corner_weights_;
+  std::vector<int> corner_group_;
+  int num_corner_groups_ = 0;
   std::vector<int> part_triangle_start_, part_vertex_start_;
   std::vector<Vec3> part_centers_;
   std::vector<double> part_radii_;

@@ -23,6 +23,8 @@ ContactSideBuffers::ContactSideBuffers(const ContactSide& side)
     : vertices(side.surface().vertices()),
       normals(side.surface().face_normals()),
       normal_stamp(side.surface().num_triangles(), -1),
+      corner_normals(side.surface().num_corner_groups(), Vec3::Zero()),
+      corner_stamp(side.surface().num_corner_groups(), -1),
       node_force(side.surface().num_vertices(), Vec3::Zero()) {
   const int nv = side.surface().num_vertices();
   const int nf = side.flexible ? side.flexible->nf() : 0;
@@ -237,7 +239,9 @@ void FlexibleContactElement::Evaluate(const ContactSideState& a, const ContactSi
                                       .lazy_normals = lazy ? &buf.normals : nullptr,
                                       .normal_stamp = lazy ? &buf.normal_stamp : nullptr,
                                       .normal_epoch = buf.normal_epoch,
-                                      .deformed_vertices = lazy ? &buf.deformed : nullptr};
+                                      .deformed_vertices = lazy ? &buf.deformed : nullptr,
+                                      .lazy_corner_normals = lazy ? &buf.corner_normals : nullptr,
+                                      .corner_stamp = lazy ? &buf.corner_stamp : nullptr};
     };
     ws.tracked.ComputeGaps(a.X_WB, b.X_WB, side(ws.side_a), side(ws.side_b), d, &ws.gaps_a,
                            &ws.gaps_b);

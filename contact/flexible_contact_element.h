@@ -130,6 +130,10 @@ struct ContactSideBuffers {
   std::vector<Vec3> normals;    // #T: deformed face normals (B); with tracked gaps made lazily
   std::vector<long> normal_stamp;  // #T: normal_epoch at which normals[face] was made (tracked)
   long normal_epoch = 0;           // advanced by every tracked deformation
+  // #corner groups of a surface with smoothed normals (tracked gaps): the deformed corner
+  // normals made at normal_epoch (tracked_gaps.h TrackedSide::lazy_corner_normals).
+  std::vector<Vec3> corner_normals;
+  std::vector<long> corner_stamp;
   Eigen::VectorXd displacement; // 3 #V: Phi q_f (flexible, candidate pairs)
   std::vector<Vec3> node_force; // #V: contact force on each vertex, body frame (N)
   Vec6 f_W = Vec6::Zero();      // spatial force on the body, world origin

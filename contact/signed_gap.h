@@ -21,7 +21,7 @@
 //   back, switched some 140 N on and off between Newton iterates, and Newton cycled. A vertex
 //   is on the rim when any of its faces has a rim edge there: the face a search picks among
 //   ties (the lowest index) may have only interior edges at it.
-// The force normal n_W of a listed gap: Q's face normal n, or, on a face surface with smoothed
+// The force normal n_W of a gap in contact: Q's face normal n, or, on a face surface with smoothed
 // normals (contact_surface.h), the corner normals c_k of Q's face interpolated at Q's
 // barycentric coordinates w_k:   n_s = normalize(sum_k w_k c_k); on a deformed surface each
 // c_k is made from the deformed normals of its faces (ForceNormal below).
@@ -62,8 +62,14 @@ struct NodeGap {
   double rim_fade_m = 0;   // f: the rim's fade (header; 0 for a closest point off the rim)
   Vec3 p_W = Vec3::Zero();  // node position, world
   Vec3 q_W = Vec3::Zero();  // closest point on the face surface, world
-  Vec3 n_W = Vec3::Zero();  // unit normal of the face, world (out of the face surface)
+  // Unit normal, world (out of the face surface): for a node in contact (InContact) the force
+  // normal of the header, for the others (listed, no force) their face's normal: the force
+  // normal is made only where a force reads it.
+  Vec3 n_W = Vec3::Zero();
 };
+
+// Whether a listed node presses (a contact point: penetrating, on the surface).
+inline bool InContact(const NodeGap& g) { return g.gap < 0 && g.on_surface; }
 
 // Per-node scratch of one pass, sized once from the node surface (no allocation in a step).
 struct GapScratch {
@@ -128,9 +134,13 @@ void ComputeNodeGapsFromCandidates(const ContactSurface& node_surface,
 // vertices (deformed false) its corner normals; on deformed ones the corner normals made from
 // the deformed normals of each corner's faces (contact_surface.h corner_faces), so that faces
 // sharing an edge share them there whatever the deformation.
-template <class FaceNormal>
+// corner(face, k): the unit corner normal k of `face` on a deformed surface, that of
+// DeformedCornerNormal (or a copy of it made for another corner of its group,
+// contact_surface.h corner_group: the same numbers).
+template <class FaceNormal, class CornerNormal>
 Vec3 ForceNormal(const ContactSurface& face_surface, int face, const Vec3& q_F, const Vec3& x0,
-                 const Vec3& x1, const Vec3& x2, bool deformed, const FaceNormal& normal) {
+                 const Vec3& x1, const Vec3& x2, bool deformed, const FaceNormal& normal,
+                 const CornerNormal& corner) {
   if (!face_surface.smooth_normals()) return normal(face);
   const Vec3 w = Barycentric(q_F, x0, x1, x2);
   if (!deformed) {
@@ -138,14 +148,28 @@ Vec3 ForceNormal(const ContactSurface& face_surface, int face, const Vec3& q_F, 
     return (w(0) * c[0] + w(1) * c[1] + w(2) * c[2]).normalized();
   }
   Vec3 n = Vec3::Zero();
-  for (int k = 0; k < 3; ++k) {
-    Vec3 c = Vec3::Zero();
-    const int end = face_surface.corner_face_start()[3 * face + k + 1];
-    for (int i = face_surface.corner_face_start()[3 * face + k]; i < end; ++i)
-      c += face_surface.corner_weights()[i] * normal(face_surface.corner_faces()[i]);
-    n += w(k) * c.normalized();
-  }
+  for (int k = 0; k < 3; ++k) n += w(k) * corner(face, k);
   return n.normalized();
+}
+
+// Corner k of `face` on a deformed surface: its faces' deformed normals, angle-weighted and
+// normalized (contact_surface.h corner_faces).
+template <class FaceNormal>
+Vec3 DeformedCornerNormal(const ContactSurface& face_surface, int face, int k,
+                          const FaceNormal& normal) {
+  Vec3 c = Vec3::Zero();
+  const int end = face_surface.corner_face_start()[3 * face + k + 1];
+  for (int i = face_surface.corner_face_start()[3 * face + k]; i < end; ++i)
+    c += face_surface.corner_weights()[i] * normal(face_surface.corner_faces()[i]);
+  return c.normalized();
+}
+
+// The same with each deformed corner normal made anew (no cache).
+template <class FaceNormal>
+Vec3 ForceNormal(const ContactSurface& face_surface, int face, const Vec3& q_F, const Vec3& x0,
+                 const Vec3& x1, const Vec3& x2, bool deformed, const FaceNormal& normal) {
+  return ForceNormal(face_surface, face, q_F, x0, x1, x2, deformed, normal,
+                     [&](int f, int k) { return DeformedCornerNormal(face_surface, f, k, normal); });
 }
 
 // The gap of one node P (face frame) against its closest face q (feature as found), by the

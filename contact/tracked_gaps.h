@@ -149,6 +149,14 @@ class TrackedGaps {
     // *vertices is not read; deformation_change_m must then bound the change of every vertex
     // of the tracked parts, made or not (flexible_contact_surface.h PartDeformationBound).
     DeformedVertices* deformed_vertices = nullptr;
+    // Optional, with lazy normals on a surface with smoothed normals: the deformed corner
+    // normals of signed_gap.h ForceNormal, one per corner group (contact_surface.h
+    // corner_group, #groups), made on first read into (*lazy_corner_normals)[group] with
+    // (*corner_stamp)[group] != normal_epoch. A listed node's force normal reads three corners
+    // of about six face normals each, and the nodes next to it on the same faces the same
+    // corners: made once per evaluation, the same numbers.
+    std::vector<Vec3>* lazy_corner_normals = nullptr;
+    std::vector<long>* corner_stamp = nullptr;  // #groups
   };
   void Update(const Transform& X_WA, const Transform& X_WB, const TrackedSide& a,
               const TrackedSide& b, double gap_distance_m, std::vector<NodeGap>* gaps_a,
@@ -203,6 +211,8 @@ class TrackedGaps {
     std::vector<Vec3>* lazy_n = nullptr;
     std::vector<long>* stamp = nullptr;
     long epoch = 0;
+    std::vector<Vec3>* lazy_corner = nullptr;  // TrackedSide's lazy_corner_normals (or none)
+    std::vector<long>* corner_stamp = nullptr;
     const Vec3& Normal(int face) const {
       if (!lazy_n) return n[face];
       if ((*stamp)[face] != epoch) {
@@ -212,6 +222,18 @@ class TrackedGaps {
         (*stamp)[face] = epoch;
       }
       return (*lazy_n)[face];
+    }
+    // Deformed corner normal k of `face` (signed_gap.h DeformedCornerNormal over Normal()),
+    // made once per group and epoch when the cache is given.
+    Vec3 CornerNormal(int face, int k) const {
+      auto normal = [this](int f) -> const Vec3& { return Normal(f); };
+      if (!lazy_corner) return DeformedCornerNormal(s, face, k, normal);
+      const int group = s.corner_group()[3 * face + k];
+      if ((*corner_stamp)[group] != epoch) {
+        (*lazy_corner)[group] = DeformedCornerNormal(s, face, k, normal);
+        (*corner_stamp)[group] = epoch;
+      }
+      return (*lazy_corner)[group];
     }
   };
 

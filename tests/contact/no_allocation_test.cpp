@@ -146,7 +146,9 @@ TEST(ContactNoAllocation, GearContactEvaluationCandidatePairs) {
 // pass over heights and modal states evaluates the dynamics, contact tracked on the deformed
 // surfaces and modal forces included, without allocating; so does the tangents' pass (both
 // tests). The block's surface has smoothed normals: the plane's nodes on its deformed faces take
-// the force normal of the deformed corners (signed_gap.h ForceNormal).
+// the force normal of the deformed corners (signed_gap.h ForceNormal), each corner group's made
+// once per evaluation into the side's corner cache (sized with the workspace, tracked_gaps.h
+// TrackedSide::lazy_corner_normals).
 TEST(ContactNoAllocation, FlexibleContactEvaluation) {
   flex::FeMesh mesh = flex::MakeBoxMesh({.origin_m = {-0.01, -0.01, 0}, .size_m = {0.02, 0.02, 0.01},
                                          .divisions = {4, 4, 2}, .type = flex::ElementType::kHex8});

@@ -254,5 +254,56 @@ TEST(ForceNormal, DeformedCornersTurnWithTheirFacesAndStayShared) {
   EXPECT_GT(shared, 100);
 }
 
+// The corner cache of the tracked gaps (contact_surface.h corner_group, tracked_gaps.h
+// Geometry::CornerNormal): a deformed corner normal made once per group and read by every
+// corner of the group gives each face's force normal to the bit (`==` against the corners made
+// anew). The faceted cylinder with each face turned by its own rotation, faces visited in a
+// shuffled order at points inside and on their edges, so most corners are read from another
+// face's making.
+TEST(ForceNormal, CornerNormalsMadeOncePerGroupAreTheSameNumbers) {
+  const ContactSurface s = FacetedCylinder(12, 20e-3, true);
+  const auto& x = s.vertices();
+  std::mt19937 rng(7);
+  std::normal_distribution<double> small(0, 1e-3);
+  std::vector<Vec3> bent(s.num_triangles());
+  for (int g = 0; g < s.num_triangles(); ++g)
+    bent[g] = (s.face_normals()[g] + Vec3(small(rng), small(rng), small(rng))).normalized();
+  auto normal = [&](int g) -> const Vec3& { return bent[g]; };
+  // Every edge is smooth (7.5 degree facets): one group per vertex, shared by its faces' corners
+  // (six at a vertex inside the cylinder's side).
+  ASSERT_EQ(s.corner_group().size(), 3u * s.num_triangles());
+  EXPECT_EQ(s.num_corner_groups(), s.num_vertices());
+  std::vector<Vec3> cache(s.num_corner_groups(), Vec3::Zero());
+  std::vector<char> made(s.num_corner_groups(), 0);
+  int reused = 0;
+  auto cached = [&](int f, int k) {
+    const int group = s.corner_group()[3 * f + k];
+    if (!made[group]) {
+      cache[group] = DeformedCornerNormal(s, f, k, normal);
+      made[group] = 1;
+    } else {
+      ++reused;
+    }
+    return cache[group];
+  };
+  std::vector<int> order(s.num_triangles());
+  for (int g = 0; g < s.num_triangles(); ++g) order[g] = g;
+  std::shuffle(order.begin(), order.end(), rng);
+  std::uniform_real_distribution<double> unit(0, 1);
+  for (const int f : order) {
+    const auto& t = s.triangles()[f];
+    for (int trial = 0; trial < 3; ++trial) {
+      double w0 = unit(rng), w1 = unit(rng);
+      if (trial == 2) w1 = 1 - w0;  // on the edge of corners 0 and 1
+      if (w0 + w1 > 1) w0 = 1 - w0, w1 = 1 - w1;
+      const Vec3 q = w0 * x[t[0]] + w1 * x[t[1]] + (1 - w0 - w1) * x[t[2]];
+      const Vec3 anew = ForceNormal(s, f, q, x[t[0]], x[t[1]], x[t[2]], true, normal);
+      const Vec3 reread = ForceNormal(s, f, q, x[t[0]], x[t[1]], x[t[2]], true, normal, cached);
+      EXPECT_EQ(anew, reread) << "face " << f;
+    }
+  }
+  EXPECT_GT(reused, 6 * s.num_triangles());
+}
+
 }  // namespace
 }  // namespace orrery::contact
