@@ -48,6 +48,17 @@
 
 namespace orrery::contact {
 
+// Phi x for one point's 3 x n block of a row-major shape matrix (rows a, a + stride, a + 2 stride;
+// x of n entries): the numbers of Eigen's own product of that block, middleRows<3>(...) * x
+// (Eigen 3.4 takes a 3-row, dynamic-depth product coefficient by coefficient, each row's dot
+// product a vectorized sum: Redux.h, LinearVectorizedTraversal), in SSE2 with the three rows
+// sharing each load of x (docs/performance.md, perf-flex6a). The order of Eigen's sum with
+// packets of two: the products of columns (0, 1) and (2, 3) start two packets, each next four
+// columns add to them in turn, the two packets are added, then a last full packet, then the
+// packet's two lanes, then a last odd column. Without SSE2 packets of two (an AVX build): Eigen's
+// product itself. Tested `==` against Eigen's product (flexible_contact_element_test.cpp).
+Vec3 ThreeRowsTimes(const double* a, Eigen::Index stride, const double* x, Eigen::Index n);
+
 struct FlexibleContactSurfaceSpec {
   std::vector<std::string> node_sets;   // empty: every surface triangle
   double gap_margin_m = 30e-6;          // > 0: the gap distance of the deformed surfaces
@@ -129,8 +140,10 @@ class FlexibleContactSurface {
   int num_bases() const { return static_cast<int>(BaseShapes().rows() / 3); }
   // Phi_P v for one vertex (a deformation rate from q_f-dot), and Q += Phi_P^T f (a vertex force
   // in B onto the modal forces).
+  // (ThreeRowsTimes: the numbers of shapes_rows_.middleRows<3>(3 vertex) * v, VertexShapes.)
   Vec3 VertexShapeTimes(int vertex, const Eigen::Ref<const Eigen::VectorXd>& v) const {
-    return shapes_rows_.middleRows<3>(3 * vertex) * v;
+    return ThreeRowsTimes(shapes_rows_.data() + 3 * vertex * shapes_rows_.cols(),
+                          shapes_rows_.cols(), v.data(), v.size());
   }
   void AddVertexForce(int vertex, const Vec3& f_B, Eigen::VectorXd* modal_force) const {
     modal_force->noalias() += shapes_rows_.middleRows<3>(3 * vertex).transpose() * f_B;

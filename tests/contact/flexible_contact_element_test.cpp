@@ -321,6 +321,42 @@ TEST(FlexibleContactSurface, LazyVerticesAndPartBounds) {
   EXPECT_EQ(surface.PartDeformationBound(0, Eigen::VectorXd::Zero(nf)), 0.0);
 }
 
+// ThreeRowsTimes (flexible_contact_surface.h) gives the numbers of Eigen's product of a 3-row
+// block of a row-major matrix and a vector, for every depth (the packet loop's cases: below one
+// packet, one, two, odd tails), and so do the surface's vertex rates and lazy vertices: `==`.
+TEST(FlexibleContactSurface, ThreeRowsTimesIsEigensProductToTheBit) {
+  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  for (int n = 0; n <= 33; ++n) {
+    RowMajor m(12, n);
+    Eigen::VectorXd x(n);
+    for (int i = 0; i < 12; ++i)
+      for (int j = 0; j < n; ++j) m(i, j) = std::sin(1.3 * i + 0.7 * j + 0.1 * n) * std::exp(0.1 * j);
+    for (int j = 0; j < n; ++j) x(j) = std::cos(2.1 * j + n) * 1e-3 * (j % 3 == 0 ? -1 : 7);
+    const Eigen::Ref<const Eigen::VectorXd> xr = x;  // as DeformVertex reads q_f
+    for (int b = 0; b < 4; ++b) {
+      const Vec3 eigen = m.middleRows<3>(3 * b) * xr;
+      EXPECT_EQ(ThreeRowsTimes(m.data() + 3 * b * n, n, x.data(), n), eigen) << n << " " << b;
+    }
+  }
+  const Block b = MakeBlock(8);
+  const FlexibleContactSurface surface(b.modes, {.node_sets = {"ZMIN"}, .gap_margin_m = 30e-6});
+  const ContactSurface& s = surface.undeformed();
+  const int nf = surface.nf(), nv = s.num_vertices();
+  Eigen::VectorXd q(nf);
+  for (int k = 0; k < nf; ++k) q(k) = 1e-6 * std::sin(1.7 * k + 0.3) / surface.mode_bounds()(k);
+  std::vector<Vec3> got(nv, Vec3::Zero());
+  DeformedVertices lazy(surface);
+  lazy.Begin(&q, &got);
+  for (int v = 0; v < nv; ++v) {
+    const Vec3 product = surface.VertexShapes(v) * q;
+    EXPECT_EQ(surface.VertexShapeTimes(v, q), product) << v;
+    // A node-set surface's vertex is its own base, of weight 1 (DeformVertex).
+    Vec3 u = Vec3::Zero();
+    u += 1.0 * product;
+    EXPECT_EQ(lazy[v], Vec3(s.vertices()[v] + u)) << v;
+  }
+}
+
 // Vertex rates made on first read (deformed_vertices.h VertexRates) are the direct product
 // R Phi_v q_f-dot to the last bit, each made once per Begin(), and a Begin() at new rates (the
 // same vector changed in place, as Data's q_f-dot is from one evaluation to the next) and a new
