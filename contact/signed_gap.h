@@ -168,8 +168,9 @@ Vec3 DeformedCornerNormal(const ContactSurface& face_surface, int face, int k,
 template <class FaceNormal>
 Vec3 ForceNormal(const ContactSurface& face_surface, int face, const Vec3& q_F, const Vec3& x0,
                  const Vec3& x1, const Vec3& x2, bool deformed, const FaceNormal& normal) {
-  return ForceNormal(face_surface, face, q_F, x0, x1, x2, deformed, normal,
-                     [&](int f, int k) { return DeformedCornerNormal(face_surface, f, k, normal); });
+  return ForceNormal(face_surface, face, q_F, x0, x1, x2, deformed, normal, [&](int f, int k) {
+    return DeformedCornerNormal(face_surface, f, k, normal);
+  });
 }
 
 // The gap of one node P (face frame) against its closest face q (feature as found), by the

@@ -330,7 +330,8 @@ TEST(FlexibleContactSurface, ThreeRowsTimesIsEigensProductToTheBit) {
     RowMajor m(12, n);
     Eigen::VectorXd x(n);
     for (int i = 0; i < 12; ++i)
-      for (int j = 0; j < n; ++j) m(i, j) = std::sin(1.3 * i + 0.7 * j + 0.1 * n) * std::exp(0.1 * j);
+      for (int j = 0; j < n; ++j)
+        m(i, j) = std::sin(1.3 * i + 0.7 * j + 0.1 * n) * std::exp(0.1 * j);
     for (int j = 0; j < n; ++j) x(j) = std::cos(2.1 * j + n) * 1e-3 * (j % 3 == 0 ? -1 : 7);
     const Eigen::Ref<const Eigen::VectorXd> xr = x;  // as DeformVertex reads q_f
     for (int b = 0; b < 4; ++b) {
