@@ -5,19 +5,25 @@
 // A contact point P, where a node of side N touches a face of side F, carries the force f on N
 // and -f on F at the node's position p (world). Its relative velocity is linear in the element's
 // local velocities
-//   z = [V_WA (6); V_WB (6); q_f-dot of A (nf_A); q_f-dot of B (nf_B)]   (m = 12 + nf_A + nf_B)
-// as v_rel = J_P z, with the rigid rows +T_p on N's twist and -T_p on F's, T_p = [-[p]x, I]
-// (v_p = v + w x p, spatial velocities about the world origin), and the modal rows R_WN Phi_node
-// on a flexible N and -sum_k w_k R_WF Phi_k on a flexible F (w_k the barycentric coordinates of
-// the face point, Phi_k its vertices' shapes). The same J_P maps f to the local generalized
-// forces, Q_z = sum_P J_P^T f. With the law's tangent (contact_law.h: df = -K_P dx_rel -
-// C_P dv_rel) and z = L v (L: the body Jacobians data.J_WB of A and B, and the modal
-// coordinates' places in v),
+//   z = [V_WA - V_WB (6); q_f-dot of A (nf_A); q_f-dot of B (nf_B)]   (m = 6 + nf_A + nf_B)
+// as v_rel = J_P z, with the rigid rows +T_p when the node is on A and -T_p when it is on B,
+// T_p = [-[p]x, I] (v_p = v + w x p, spatial velocities about the world origin: both sides'
+// rigid motions act at the same point p, so only the difference of their twists enters), and
+// the modal rows R_WN Phi_node on a flexible N and -sum_k w_k R_WF Phi_k on a flexible F (w_k
+// the barycentric coordinates of the face point, Phi_k its vertices' shapes). The same J_P maps
+// f to the local generalized forces, Q_z = sum_P J_P^T f. With the law's tangent (contact_law.h:
+// df = -K_P dx_rel - C_P dv_rel) and z = L v (L = [J_A - J_B; E]: the body Jacobians data.J_WB
+// of A and B, and E the modal coordinates' places in v),
 //   K += L^T (sum_P J_P^T K_P J_P) L,   C += L^T (sum_P J_P^T C_P J_P) L.
-// K_P and C_P are a few rank-1 terms (k_n a n^T, c_n a n^T, the slip directions), so a point
-// costs O(m^2) and the scatter O(m nv^2) per element. What is left out: the turning of n and of
-// the lever p with the bodies (terms of the order of the force, not of the stiffness), which
-// only slows Newton's convergence where forces are large against stiffness times lengths.
+// K_P and C_P are a few rank-1 terms (k_n a n^T, c_n a n^T, the slip directions): a point's
+// columns J_P^T x go into preallocated blocks of kBlock points, and K_z = U diag(k_n) W^T (C_z
+// likewise) is made one block at a time as a matrix product (a GEMM of m x m x kBlock, not a
+// rank-1 update per term). The scatter uses the structure of L: the body Jacobians are nonzero
+// only in the columns of the bodies' joint chains (a few in a torsional train) and E is a
+// selector, so L^T K_z L costs O(m ns (6 + ns)) with ns those columns, not O(m nv^2). What is
+// left out: the turning of n and of the lever p with the bodies (terms of the order of the
+// force, not of the stiffness), which only slows Newton's convergence where forces are large
+// against stiffness times lengths.
 // Nothing is allocated after construction.
 //
 // Usage (inside an element's AddTangents):
@@ -26,6 +32,7 @@
 //   for each contact point: t.AddPoint(point, EvaluateContactLawTangent(...), n_W);
 //   t.Scatter(model, data, body_a, body_b, K, C);
 #include <array>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -65,10 +72,16 @@ class ContactTangents {
                Eigen::Ref<Eigen::MatrixXd> K, Eigen::Ref<Eigen::MatrixXd> C);
 
   int points() const { return points_; }
+  // Points per block of gathered columns (K: one column per point, C: up to three).
+  static constexpr int kBlock = 32;
 
  private:
   // x -> J_P^T x for the current point (m), into out.
-  void Project(const Vec3& x, Eigen::VectorXd& out) const;
+  void Project(const Vec3& x, Eigen::Ref<Eigen::VectorXd> out) const;
+  // K_z += U_K W_K^T, C_z += U_C W_C^T over the columns gathered since the last flush.
+  void Flush();
+  // out += L^T M L (M: K_z or C_z) with the support's columns of the body Jacobians in J_s_.
+  void ScatterOne(const Eigen::MatrixXd& M, Eigen::Ref<Eigen::MatrixXd> out);
 
   const FlexibleContactSurface* flexible_[2];
   int nf_[2];
@@ -80,8 +93,19 @@ class ContactTangents {
   Eigen::Matrix<double, 3, Eigen::Dynamic> modal_[2];  // 3 x nf: Phi rows of the point, per side
   Mat3 R_[2];
   Eigen::MatrixXd K_z_, C_z_;  // m x m
-  Eigen::VectorXd u_, w_, s_;  // m
-  Eigen::MatrixXd L_, LK_;     // m x nv
+  Eigen::VectorXd u_, w_;      // m: J^T a and J^T n of the current point
+  // Gathered columns: k_n J^T a and J^T n per point (m x kBlock); c_n J^T a and J^T n, and
+  // slip_damping J^T d and J^T d per slip direction (m x 3 kBlock).
+  Eigen::MatrixXd U_K_, W_K_, U_C_, W_C_;
+  int columns_k_ = 0, columns_c_ = 0;
+  // Scatter: the velocity coordinates the body Jacobians can touch (the joints from each body
+  // to the root; filled in each Scatter, capacity nv), their columns of J_A - J_B (6 x nv, the
+  // first support_.size() used), and products (m x nv, nv x m, nv x nv).
+  std::vector<int> support_;
+  std::vector<char> in_support_;  // nv: support_'s membership
+  Eigen::MatrixXd J_s_, X_, Y_, Z_;
+  int offset_[2] = {12, 12};   // each side's modal rows in z (Scatter sets both)
+  int v_start_[2] = {0, 0};    // and their coordinates in v
   int points_ = 0;
 };
 

@@ -26,6 +26,7 @@
 #include "flex/flexible_body_modes.h"
 #include "flex/geometric_stiffness.h"
 #include "mbd/dae.h"
+#include "mbd/kinematics.h"
 #include "mbd/model.h"
 #include "mbd/state.h"
 
@@ -245,6 +246,127 @@ TEST(FlexibleContactElement, TangentsMatchPipelineDifferences) {
   std::printf("flexible block (%d modes): |K - K_fd| / |K_fd| = %.2e, |C - C_fd| / |C_fd| = %.2e "
               "(bound %.1e)\n", nf, (K_an - K_fd).norm() / K_fd.norm(),
               (C_an - C_fd).norm() / C_fd.norm(), relative);
+}
+
+// ContactTangents' gathered products and structured scatter (contact_tangents.h) against the
+// formula written out densely: J_P (3 x m) from its definition (T_p rows + on the node's side,
+// - on the face's; R Phi_node on a flexible node side, -sum_k w_k R Phi_k on a flexible face
+// side), K_z = sum_P J_P^T K_P J_P with the law's dense 3 x 3 forms (NodeForceTangent::K, C),
+// then L^T K_z L with L = [J_A; J_B; the modal selector] as a dense m x nv matrix. The bodies:
+// a rigid hub on a revolute joint, the flexible block on a free joint on the hub (side B), a
+// rigid body on its own prismatic joint (side A; its chain shares no coordinate with the
+// block's), and a third body on the world whose column no Jacobian touches. 80 points (more
+// than two blocks of columns) with every kind of law term, nodes on either side.
+TEST(FlexibleContactElement, TangentsScatterEqualsDenseProducts) {
+  const Block b = MakeBlock(6);
+  const int nf = b.modes->nf;
+  auto block = std::make_shared<const FlexibleContactSurface>(
+      b.modes, FlexibleContactSurfaceSpec{.node_sets = {"ZMIN"}, .gap_margin_m = 30e-6,
+                                          .deformation_allowance_m = 20e-6});
+  ModelBuilder mb;
+  const BodyIndex other = mb.AddBody("other", 0.5, Vec3(0, 0, 0), Mat3::Identity() * 1e-3);
+  mb.AddJoint({.name = "other", .type = JointType::kPrismatic, .parent = kWorldBody,
+               .child = other, .axis = Vec3(1, 1, 0).normalized()});
+  const BodyIndex side_a = mb.AddBody("rigid", 1.0, Vec3(0.01, 0, 0), Mat3::Identity() * 1e-3);
+  const JointIndex slider = mb.AddJoint({.name = "slider", .type = JointType::kPrismatic,
+                                         .parent = kWorldBody, .child = side_a,
+                                         .axis = Vec3(0.3, -0.2, 1).normalized()});
+  const BodyIndex hub = mb.AddBody("hub", 2.0, Vec3(0, 0.02, 0), Mat3::Identity() * 2e-3);
+  const JointIndex turn = mb.AddJoint({.name = "hub", .type = JointType::kRevolute,
+                                       .parent = kWorldBody, .child = hub,
+                                       .axis = Vec3(0.1, 0.2, 1).normalized()});
+  const BodyIndex side_b = mb.AddFlexibleBody("block", b.modes);
+  const JointIndex free = mb.AddJoint({.name = "free", .type = JointType::kFree, .parent = hub,
+                                       .child = side_b,
+                                       .X_PF = Transform::Translation(Vec3(0.05, 0, 0))});
+  Eigen::VectorXd q0(7), v0(6), qf(nf), vf(nf);
+  const double tilt = 0.3;
+  q0 << 0.01, -0.02, 0.03, std::cos(tilt / 2), std::sin(tilt / 2) * Vec3(1, 2, 2).normalized();
+  v0.setZero();
+  qf.setConstant(1e-7);
+  vf.setZero();
+  mb.SetJointPosition(free, q0);
+  mb.SetJointPosition(turn, Eigen::VectorXd::Constant(1, 0.7));
+  mb.SetJointPosition(slider, Eigen::VectorXd::Constant(1, 0.02));
+  mb.SetModalCoordinates(side_b, qf, vf);
+  // An element with tangents makes Data keep the body Jacobians.
+  mb.AddExternalForce(std::make_shared<FlexibleContactElement>(FlexibleContactElementSpec{
+      .name = "rigid_on_block", .a = {.body = side_a, .rigid = Plane()},
+      .b = {.body = side_b, .flexible = block}, .law = {.stiffness_per_area = 2.1e13}}));
+  const std::shared_ptr<const Model> model = std::move(mb).Finalize();
+  const int nv = model->nv;
+  const State s = State::Initial(*model);
+  Data data(*model);
+  CalcPositionKinematics(*model, s.q, data);
+  CalcBodyJacobians(*model, data);
+  const Mat3 R_A = data.X_WB[side_a].R, R_B = data.X_WB[side_b].R;
+  const FlexibleBody& fb = model->flexible_bodies[model->bodies[side_b].flexible];
+  ASSERT_EQ(fb.nf, nf);
+
+  const int m = 12 + nf;
+  Eigen::MatrixXd L = Eigen::MatrixXd::Zero(m, nv);
+  L.topRows<6>() = data.J_WB[side_a];
+  L.middleRows<6>(6) = data.J_WB[side_b];
+  for (int k = 0; k < nf; ++k) L(12 + k, fb.v_start + k) = 1;
+  Eigen::MatrixXd K_z = Eigen::MatrixXd::Zero(m, m), C_z = Eigen::MatrixXd::Zero(m, m);
+  ContactTangents t(nullptr, block.get(), nv);
+  t.Clear();
+  int pressing = 0;  // points with a nonzero term (the others are skipped)
+  const int surface_vertices = block->undeformed().num_vertices();
+  const auto& tris = block->undeformed().triangles();
+  for (int i = 0; i < 80; ++i) {
+    const double x = 0.37 * i;
+    const Vec3 n = Vec3(std::sin(x), std::cos(1.3 * x), 2).normalized();
+    NodeForceTangent law;
+    law.k_n = i % 7 == 3 ? 0 : 1e8 * (1 + 0.5 * std::sin(2.1 * x));
+    law.c_n = i % 5 == 1 ? 0 : 3e3 * (1 + 0.5 * std::cos(1.7 * x));
+    law.a = n + 0.1 * Vec3(std::cos(x), 0.5, -std::sin(3 * x));
+    law.slip_directions = i % 3;
+    law.slip_damping = 2e4 * (1 + 0.3 * std::sin(x));
+    law.slip_direction[0] = n.cross(Vec3::UnitX()).normalized();
+    law.slip_direction[1] = n.cross(law.slip_direction[0]);
+    TangentPoint point{.p_W = Vec3(0.01 * std::sin(x), 0.02 * std::cos(x), 0.005 * x),
+                       .node_on_a = i % 2 == 0};
+    Eigen::Matrix<double, 3, Eigen::Dynamic> modal = Eigen::MatrixXd::Zero(3, nf);
+    if (point.node_on_a) {
+      // The node on the rigid side A, the face on the flexible side B.
+      const auto& tri = tris[(7 * i) % tris.size()];
+      point.face_vertices = {tri[0], tri[1], tri[2]};
+      point.face_weights = Vec3(0.2 + 0.1 * std::sin(x), 0.3, 0.0);
+      point.face_weights(2) = 1 - point.face_weights(0) - point.face_weights(1);
+      for (int k = 0; k < 3; ++k)
+        modal -= point.face_weights(k) * R_B * block->VertexShapes(point.face_vertices[k]);
+    } else {
+      point.node_vertex = (11 * i) % surface_vertices;
+      modal = R_B * block->VertexShapes(point.node_vertex);
+    }
+    t.AddPoint(point, law, n, R_A, R_B);
+    if (law.k_n != 0 || law.c_n != 0 || law.slip_directions > 0) ++pressing;
+    // J_P: v_rel = J_P z (node side minus face side).
+    Eigen::MatrixXd J_P = Eigen::MatrixXd::Zero(3, m);
+    const double sign_a = point.node_on_a ? 1 : -1;
+    for (int side = 0; side < 2; ++side) {
+      const double sign = side == 0 ? sign_a : -sign_a;
+      J_P.block<3, 3>(0, 6 * side) = -sign * Skew(point.p_W);
+      J_P.block<3, 3>(0, 6 * side + 3) = sign * Mat3::Identity();
+    }
+    J_P.rightCols(nf) = modal;
+    K_z += J_P.transpose() * law.K(n) * J_P;
+    C_z += J_P.transpose() * law.C(n) * J_P;
+  }
+  const Eigen::MatrixXd K_dense = L.transpose() * K_z * L, C_dense = L.transpose() * C_z * L;
+  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(nv, nv), C = Eigen::MatrixXd::Zero(nv, nv);
+  t.Scatter(*model, data, side_a, side_b, K, C);
+  EXPECT_EQ(t.points(), pressing);
+  EXPECT_GT(pressing, 2 * ContactTangents::kBlock);
+  EXPECT_GT(K_dense.norm(), 0);
+  EXPECT_LE((K - K_dense).norm(), 1e-13 * K_dense.norm()) << "K\n" << K << "\ndense\n" << K_dense;
+  EXPECT_LE((C - C_dense).norm(), 1e-13 * C_dense.norm()) << "C\n" << C << "\ndense\n" << C_dense;
+  // The column of the body on its own (no Jacobian reaches it) stays empty: exact zeros.
+  const int v_other = model->joints[0].v_start;
+  EXPECT_EQ(K.col(v_other).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ(K.row(v_other).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ(C.col(v_other).cwiseAbs().maxCoeff(), 0.0);
 }
 
 TEST(FlexibleContactElement, ReportsDeformationBeyondTheInflation) {

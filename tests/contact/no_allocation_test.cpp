@@ -24,6 +24,7 @@
 #include "mbd/dynamics.h"
 #include "mbd/evaluate.h"
 #include "mbd/force_elements.h"
+#include "mbd/kinematics.h"
 #include "mbd/model.h"
 #include "mbd/state.h"
 
@@ -47,8 +48,10 @@ TEST(ContactNoAllocation, CounterCountsVectorGrowth) {
 }
 
 // The iteration matrix's tangents at state s (differences without the contact elements, their
-// analytic tangents) after one call has sized everything; the contact must press.
-void ExpectTangentsWithoutAllocation(const Model& m, const State& s) {
+// analytic tangents) after one call has sized everything; the contact must press, with more
+// than min_points points in element 0's tangents (Workspace: its workspace type).
+template <class Workspace>
+void ExpectTangentsWithoutAllocation(const Model& m, const State& s, int min_points) {
   DaeSystem dae(m);
   Eigen::MatrixXd K(m.nv, m.nv), C(m.nv, m.nv);
   const Eigen::VectorXd vdot = Eigen::VectorXd::Zero(m.nv), lambda;
@@ -56,6 +59,7 @@ void ExpectTangentsWithoutAllocation(const Model& m, const State& s) {
   tangents();
   EXPECT_EQ(AllocationsIn(tangents), 0);
   EXPECT_GT(K.norm(), 0);
+  EXPECT_GT(static_cast<const Workspace&>(*dae.data().external[0]).tangents.points(), min_points);
 }
 
 // A 18/34 spur pair (seed 001's sun and planet) on revolute joints with gear contact: after one
@@ -126,7 +130,48 @@ void CheckGearContactEvaluation(ContactGapMethod method, int threads = 1) {
     EXPECT_GE(ws.search.stats().searches - searches, 25);
   }
   EXPECT_GT(ws.normal_force, 0);
-  ExpectTangentsWithoutAllocation(m, s);
+  ExpectTangentsWithoutAllocation<ContactWorkspace>(m, s, 0);
+}
+
+// ContactTangents over more points than a block of its gathered columns (contact_tangents.h:
+// blocks multiplied out while points are added, then the scatter), two rigid bodies on revolute
+// joints and a third on its own: no allocation after construction.
+TEST(ContactNoAllocation, ContactTangentsOverSeveralBlocks) {
+  ModelBuilder b;
+  BodyIndex body[3];
+  for (int i = 0; i < 3; ++i) {
+    body[i] = b.AddBody("b" + std::to_string(i), 1.0, Vec3(0.01 * i, 0, 0), Mat3::Identity() * 1e-3);
+    JointSpec j;
+    j.name = "j" + std::to_string(i), j.type = JointType::kRevolute, j.child = body[i];
+    j.parent = i == 1 ? body[0] : kWorldBody;
+    j.axis = Vec3(0.1 * i, 0.2, 1).normalized();
+    b.AddJoint(j);
+  }
+  const std::shared_ptr<const Model> model = std::move(b).Finalize();
+  const Model& m = *model;
+  Data data(m);
+  data.J_WB.assign(m.nbodies, Eigen::Matrix<double, 6, Eigen::Dynamic>::Zero(6, m.nv));
+  const State s = State::Initial(m);
+  CalcPositionKinematics(m, s.q, data);
+  CalcBodyJacobians(m, data);
+  ContactTangents t(nullptr, nullptr, m.nv);
+  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(m.nv, m.nv), C = K;
+  auto tangents = [&] {
+    t.Clear();
+    for (int i = 0; i < 3 * ContactTangents::kBlock + 5; ++i) {
+      NodeForceTangent law{.k_n = 1e8, .c_n = 1e3, .a = Vec3(0.1, 0.2, 1), .slip_damping = 1e4,
+                           .slip_directions = i % 3};
+      law.slip_direction[0] = Vec3::UnitX();
+      law.slip_direction[1] = Vec3::UnitY();
+      t.AddPoint({.p_W = Vec3(0.001 * i, 0.01, 0), .node_on_a = i % 2 == 0}, law, Vec3::UnitZ(),
+                 Mat3::Identity(), Mat3::Identity());
+    }
+    t.Scatter(m, data, body[1], body[2], K, C);
+  };
+  tangents();
+  EXPECT_EQ(AllocationsIn(tangents), 0);
+  EXPECT_EQ(t.points(), 3 * ContactTangents::kBlock + 5);
+  EXPECT_GT(K.norm(), 0);
 }
 
 TEST(ContactNoAllocation, GearContactEvaluationTracked) {
@@ -209,7 +254,7 @@ TEST(ContactNoAllocation, FlexibleContactEvaluation) {
   EXPECT_EQ(AllocationsIn(record), 0);
   EXPECT_GT(ws.normal_force, 0);
   EXPECT_GT(ws.side_a.modal_force.norm(), 0);
-  ExpectTangentsWithoutAllocation(m, s);
+  ExpectTangentsWithoutAllocation<FlexibleContactWorkspace>(m, s, 0);
 }
 
 }  // namespace
