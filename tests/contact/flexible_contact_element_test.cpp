@@ -261,22 +261,31 @@ TEST(FlexibleContactElement, TangentsScatterEqualsDenseProducts) {
   const Block b = MakeBlock(6);
   const int nf = b.modes->nf;
   auto block = std::make_shared<const FlexibleContactSurface>(
-      b.modes, FlexibleContactSurfaceSpec{.node_sets = {"ZMIN"}, .gap_margin_m = 30e-6,
-                                          .deformation_allowance_m = 20e-6});
+      b.modes, FlexibleContactSurfaceSpec{
+                   .node_sets = {"ZMIN"}, .gap_margin_m = 30e-6, .deformation_allowance_m = 20e-6});
   ModelBuilder mb;
   const BodyIndex other = mb.AddBody("other", 0.5, Vec3(0, 0, 0), Mat3::Identity() * 1e-3);
-  mb.AddJoint({.name = "other", .type = JointType::kPrismatic, .parent = kWorldBody,
-               .child = other, .axis = Vec3(1, 1, 0).normalized()});
+  mb.AddJoint({.name = "other",
+               .type = JointType::kPrismatic,
+               .parent = kWorldBody,
+               .child = other,
+               .axis = Vec3(1, 1, 0).normalized()});
   const BodyIndex side_a = mb.AddBody("rigid", 1.0, Vec3(0.01, 0, 0), Mat3::Identity() * 1e-3);
-  const JointIndex slider = mb.AddJoint({.name = "slider", .type = JointType::kPrismatic,
-                                         .parent = kWorldBody, .child = side_a,
+  const JointIndex slider = mb.AddJoint({.name = "slider",
+                                         .type = JointType::kPrismatic,
+                                         .parent = kWorldBody,
+                                         .child = side_a,
                                          .axis = Vec3(0.3, -0.2, 1).normalized()});
   const BodyIndex hub = mb.AddBody("hub", 2.0, Vec3(0, 0.02, 0), Mat3::Identity() * 2e-3);
-  const JointIndex turn = mb.AddJoint({.name = "hub", .type = JointType::kRevolute,
-                                       .parent = kWorldBody, .child = hub,
+  const JointIndex turn = mb.AddJoint({.name = "hub",
+                                       .type = JointType::kRevolute,
+                                       .parent = kWorldBody,
+                                       .child = hub,
                                        .axis = Vec3(0.1, 0.2, 1).normalized()});
   const BodyIndex side_b = mb.AddFlexibleBody("block", b.modes);
-  const JointIndex free = mb.AddJoint({.name = "free", .type = JointType::kFree, .parent = hub,
+  const JointIndex free = mb.AddJoint({.name = "free",
+                                       .type = JointType::kFree,
+                                       .parent = hub,
                                        .child = side_b,
                                        .X_PF = Transform::Translation(Vec3(0.05, 0, 0))});
   Eigen::VectorXd q0(7), v0(6), qf(nf), vf(nf);
@@ -290,9 +299,11 @@ TEST(FlexibleContactElement, TangentsScatterEqualsDenseProducts) {
   mb.SetJointPosition(slider, Eigen::VectorXd::Constant(1, 0.02));
   mb.SetModalCoordinates(side_b, qf, vf);
   // An element with tangents makes Data keep the body Jacobians.
-  mb.AddExternalForce(std::make_shared<FlexibleContactElement>(FlexibleContactElementSpec{
-      .name = "rigid_on_block", .a = {.body = side_a, .rigid = Plane()},
-      .b = {.body = side_b, .flexible = block}, .law = {.stiffness_per_area = 2.1e13}}));
+  mb.AddExternalForce(std::make_shared<FlexibleContactElement>(
+      FlexibleContactElementSpec{.name = "rigid_on_block",
+                                 .a = {.body = side_a, .rigid = Plane()},
+                                 .b = {.body = side_b, .flexible = block},
+                                 .law = {.stiffness_per_area = 2.1e13}}));
   const std::shared_ptr<const Model> model = std::move(mb).Finalize();
   const int nv = model->nv;
   const State s = State::Initial(*model);

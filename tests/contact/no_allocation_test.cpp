@@ -14,7 +14,6 @@
 #include <string>
 
 #include "contact/flexible_contact_element.h"
-#include "models/gear_contact.h"
 #include "flex/box_mesher.h"
 #include "flex/craig_bampton.h"
 #include "flex/fe_assembly.h"
@@ -27,6 +26,7 @@
 #include "mbd/kinematics.h"
 #include "mbd/model.h"
 #include "mbd/state.h"
+#include "models/gear_contact.h"
 
 #include "tests/common/counting_allocator.h"
 #include "tests/contact/two_mesh_model.h"
@@ -140,7 +140,8 @@ TEST(ContactNoAllocation, ContactTangentsOverSeveralBlocks) {
   ModelBuilder b;
   BodyIndex body[3];
   for (int i = 0; i < 3; ++i) {
-    body[i] = b.AddBody("b" + std::to_string(i), 1.0, Vec3(0.01 * i, 0, 0), Mat3::Identity() * 1e-3);
+    body[i] =
+        b.AddBody("b" + std::to_string(i), 1.0, Vec3(0.01 * i, 0, 0), Mat3::Identity() * 1e-3);
     JointSpec j;
     j.name = "j" + std::to_string(i), j.type = JointType::kRevolute, j.child = body[i];
     j.parent = i == 1 ? body[0] : kWorldBody;
@@ -159,7 +160,10 @@ TEST(ContactNoAllocation, ContactTangentsOverSeveralBlocks) {
   auto tangents = [&] {
     t.Clear();
     for (int i = 0; i < 3 * ContactTangents::kBlock + 5; ++i) {
-      NodeForceTangent law{.k_n = 1e8, .c_n = 1e3, .a = Vec3(0.1, 0.2, 1), .slip_damping = 1e4,
+      NodeForceTangent law{.k_n = 1e8,
+                           .c_n = 1e3,
+                           .a = Vec3(0.1, 0.2, 1),
+                           .slip_damping = 1e4,
                            .slip_directions = i % 3};
       law.slip_direction[0] = Vec3::UnitX();
       law.slip_direction[1] = Vec3::UnitY();
