@@ -104,7 +104,7 @@ class ContactTangents {
   std::vector<int> support_;
   std::vector<char> in_support_;  // nv: support_'s membership
   Eigen::MatrixXd J_s_, X_, Y_, Z_;
-  int offset_[2] = {12, 12};  // each side's modal rows in z (Scatter sets both)
+  int offset_[2] = {6, 6};    // each side's modal rows in z (Scatter sets both)
   int v_start_[2] = {0, 0};   // and their coordinates in v
   int points_ = 0;
 };
