@@ -63,6 +63,9 @@ Data::Data(const Model& model) {
     flex[i].scratch = Eigen::VectorXd::Zero(n);
     flex[i].qf = Eigen::VectorXd::Zero(n);
     flex[i].qf_dot = Eigen::VectorXd::Zero(n);
+    flex[i].G = Eigen::Matrix<double, 3, Eigen::Dynamic>::Zero(3, n);
+    flex[i].qf_of_D = Eigen::VectorXd::Zero(n);
+    flex[i].qf_dot_of_G = Eigen::VectorXd::Zero(n);
   }
   for (const auto& element : model.external_forces) external.push_back(element->MakeWorkspace(model));
   external_errors.resize(model.external_forces.size());

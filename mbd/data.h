@@ -41,6 +41,15 @@ struct Data {
     Eigen::MatrixXd K_geo;       // nf x nf: geometric stiffness at the current omega (force
                                  //   elements stage)
     Eigen::VectorXd scratch;     // nf
+    // The modal Coriolis sums g_l = sum_k q_f-dot_k mode_cross_kl (column l; model.h), made by
+    // CalcFlexibleBodyForce.
+    Eigen::Matrix<double, 3, Eigen::Dynamic> G;  // 3 x nf
+    // What the O(nf^2) sums above were made from, so that a stage called again at the same
+    // modal coordinates (the position differences of DaeSystem::Tangents over rigid coordinates,
+    // its base points) reuses them; compared bit for bit (flexible_dynamics.cpp).
+    Eigen::VectorXd qf_of_D;      // nf: the qf that S, J, D, L were made at (position stage)
+    Eigen::VectorXd qf_dot_of_G;  // nf: the qf_dot that G was made at (inverse-dynamics stage)
+    bool D_made = false, G_made = false;
   };
   std::vector<FlexibleBodyTerms> flex;  // n flexible bodies
 

@@ -1,11 +1,33 @@
 #include "mbd/flexible_dynamics.h"
 
+#include <cstring>
+
 namespace orrery {
 namespace {
 
 // int rho (a x b) from int rho a b^T: (a x b)_i = eps_ijk a_j b_k.
 inline Vec3 Axial(const Mat3& ab) {
   return {ab(1, 2) - ab(2, 1), ab(2, 0) - ab(0, 2), ab(0, 1) - ab(1, 0)};
+}
+
+// The O(nf^2) sums over the modal coordinates are matrix-vector products over the invariants as
+// they are stored: a std::vector<Mat3> (or <Vec3>) holds its entries one after another, each
+// column-major, so m.I4 is a 9 x nf matrix (column l = vec I4_l), the I5_kl of one k a column of
+// 9 nf entries (column k of a 9 nf x nf matrix with leading dimension 9 N), and fb.mode_cross a
+// 3 nf x nf matrix (column k = mode_cross_k0 ... mode_cross_k,nf-1). Data's D (3 x 3 nf) is, in
+// memory, vec D_0 ... vec D_nf-1: a 9 x nf matrix.
+static_assert(sizeof(Mat3) == 9 * sizeof(double) && sizeof(Vec3) == 3 * sizeof(double),
+              "Mat3 and Vec3 hold their entries without padding");
+using Nine = Eigen::Matrix<double, 9, 1>;
+using NineByN = Eigen::Map<const Eigen::Matrix<double, 9, Eigen::Dynamic>>;
+using Stacked = Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>>;
+
+// The same coordinates, bit for bit (a cache's key: -0 and +0 differ, so a cached result is
+// always the one the stage would make).
+inline bool SameBits(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+  return a.size() == b.size() &&
+         (a.size() == 0 ||
+          std::memcmp(a.data(), b.data(), sizeof(double) * static_cast<size_t>(a.size())) == 0);
 }
 
 }  // namespace
@@ -16,19 +38,27 @@ void CalcFlexibleInertiaTerms(const Model& model, Data& data) {
     const FlexibleBodyModes& m = *fb.modes;
     Data::FlexibleBodyTerms& T = data.flex[i];
     const int n = fb.nf, N = m.nf;
-    // First moment, D_l = I4_l + sum_k q_k I5_kl, U = I3 + sum_l q_l (I4_l^T + D_l).
-    T.S = m.I1;
-    Mat3 U = m.I3;
-    for (int l = 0; l < n; ++l) {
-      T.S.noalias() += m.I2.col(l) * T.qf(l);
-      Mat3 D = m.I4[l];
-      for (int k = 0; k < n; ++k) D.noalias() += T.qf(k) * m.I5[k * N + l];
-      T.D.block<3, 3>(0, 3 * l) = D;
-      T.L.col(l) = Axial(D);
-      U.noalias() += T.qf(l) * (m.I4[l].transpose() + D);
+    // First moment S = I1 + I2 q, D_l = I4_l + sum_k q_k I5_kl (one 9 nf x nf product),
+    // U = I3 + sum_l q_l (I4_l^T + D_l), J = tr(U) 1 - U. Made again only at other modal
+    // coordinates.
+    if (!T.D_made || !SameBits(T.qf, T.qf_of_D)) {
+      T.S = m.I1;
+      Mat3 U = m.I3;
+      if (n > 0) {
+        T.S.noalias() += m.I2.leftCols(n) * T.qf;
+        Eigen::Map<Eigen::VectorXd> D(T.D.data(), 9 * n);
+        D.noalias() = Stacked(m.I5[0].data(), 9 * n, n, Eigen::OuterStride<>(9 * N)) * T.qf;
+        D += Eigen::Map<const Eigen::VectorXd>(m.I4[0].data(), 9 * n);
+        const Nine I4q = NineByN(m.I4[0].data(), 9, n) * T.qf;
+        const Nine Dq = NineByN(T.D.data(), 9, n) * T.qf;
+        U += Eigen::Map<const Mat3>(I4q.data()).transpose() + Eigen::Map<const Mat3>(Dq.data());
+        for (int l = 0; l < n; ++l) T.L.col(l) = Axial(T.D.block<3, 3>(0, 3 * l));
+      }
+      T.J = -U;
+      T.J.diagonal().array() += U.trace();
+      T.qf_of_D = T.qf;
+      T.D_made = true;
     }
-    T.J = -U;
-    T.J.diagonal().array() += U.trace();
     // Deformed spatial inertia about the world origin.
     const Transform& X = data.X_WB[fb.body];
     const Vec3 c = T.S / m.mass;
@@ -125,7 +155,7 @@ Vec6 CalcFlexibleBodyForce(const Model& model, const FlexibleBody& fb,
                            const Eigen::Ref<const Eigen::VectorXd>& vdot, Data& data) {
   const int i = model.bodies[fb.body].flexible;
   const FlexibleBodyModes& m = *fb.modes;
-  const Data::FlexibleBodyTerms& T = data.flex[i];
+  Data::FlexibleBodyTerms& T = data.flex[i];
   const int n = fb.nf;
   const Transform& X = data.X_WB[fb.body];
   const Vec6& V = data.V_WB[fb.body];
@@ -144,21 +174,29 @@ Vec6 CalcFlexibleBodyForce(const Model& model, const FlexibleBody& fb,
   Vec3 N = T.S.cross(a) + T.J * alpha + w.cross(T.J * w);
   if (n > 0) {
     const Vec3 I2qd = m.I2.leftCols(n) * qd;
-    Mat3 C = Mat3::Zero();
-    for (int l = 0; l < n; ++l) C.noalias() += qd(l) * T.D.block<3, 3>(0, 3 * l);
+    const NineByN D(T.D.data(), 9, n);
+    const Nine Cv = D * qd;  // C = sum_l qd_l D_l
+    const Eigen::Map<const Mat3> C(Cv.data());
     F.noalias() += 2 * w.cross(I2qd) + m.I2.leftCols(n) * qdd;
     N.noalias() += 2 * (C.trace() * w - C.transpose() * w) + T.L * qdd;
-    // Modal rows.
+    // Modal rows: r_l = M_l qdd + I2_l . a + L_l . alpha + w^T D_l w - |w|^2 tr D_l + 2 w . g_l,
+    // the two D_l terms as one product with vec(w w^T - |w|^2 1); g_l made again only at other
+    // modal rates.
+    if (!T.G_made || !SameBits(T.qf_dot, T.qf_dot_of_G)) {
+      Eigen::Map<Eigen::VectorXd>(T.G.data(), 3 * n).noalias() =
+          Eigen::Map<const Eigen::MatrixXd>(fb.mode_cross[0].data(), 3 * n, n) * qd;
+      T.qf_dot_of_G = T.qf_dot;
+      T.G_made = true;
+    }
     auto r = data.tau_id.segment(fb.v_start, n);
     r.noalias() = fb.mass * qdd;
-    const double w2 = w.squaredNorm();
-    for (int l = 0; l < n; ++l) {
-      const Mat3 D = T.D.block<3, 3>(0, 3 * l);
-      Vec3 g = Vec3::Zero();
-      for (int k = 0; k < n; ++k) g.noalias() += qd(k) * fb.mode_cross[k * n + l];
-      r(l) += m.I2.col(l).dot(a) + T.L.col(l).dot(alpha) + w.dot(D * w) - w2 * D.trace() +
-              2 * w.dot(g);
-    }
+    r.noalias() += m.I2.leftCols(n).transpose() * a;
+    r.noalias() += T.L.transpose() * alpha;
+    Mat3 W = w * w.transpose();
+    W.diagonal().array() -= w.squaredNorm();
+    r.noalias() += D.transpose() * Eigen::Map<const Nine>(W.data());
+    const Vec3 w2 = 2 * w;
+    r.noalias() += T.G.transpose() * w2;
   }
   const Vec3 F_W = X.R * F;
   Vec6 f;

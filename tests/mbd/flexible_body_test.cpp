@@ -15,8 +15,10 @@
 // here); the bound printed is 2 steps rtol sqrt(n) like the rigid-body tests.
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <memory>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -384,6 +386,141 @@ TEST(FlexibleBody, FrozenModesMoveLikeTheRigidBody) {
   std::printf("[flex] frozen flexible body vs rigid body on a spherical joint, 2 s: max |dq| "
               "%.2e over %ld steps (bound %.2e)\n", err, steps, bound);
   EXPECT_LE(err, bound);
+}
+
+// A cloud of point masses, each moved by all nf modes along its own random directions (no body
+// of the joint model above: every I5_kl is a full 3 x 3 matrix and the sums run over seven modes,
+// so a wrong stride or index in the stacked products of flexible_dynamics.cpp shows). The oracle
+// is the particles themselves: with y_p = x_p + Phi_p q the deformed position of point p in B,
+//   S = sum m_p y_p,   J = sum m_p (|y_p|^2 1 - y_p y_p^T),   D_l = sum m_p y_p Phi_pl^T,
+//   L_l = sum m_p y_p x Phi_pl,
+// and Newton's law per particle gives the modal rows of inverse dynamics (no stiffness, gravity
+// or load): r_l = sum m_p Phi_pl . (a + alpha x y_p + w x (w x y_p) + 2 w x Phi_p qd + Phi_p qdd),
+// with a, alpha, w the acceleration of B's origin, B's angular acceleration and velocity, in B.
+struct ParticleCloud {
+  static constexpr int kModes = 7, kPoints = 11;
+  std::vector<double> mass;
+  std::vector<Vec3> x;
+  std::vector<Eigen::Matrix<double, 3, kModes>> phi;
+
+  ParticleCloud() {
+    std::srand(7);
+    auto uniform = [] { return 2.0 * std::rand() / RAND_MAX - 1.0; };
+    for (int p = 0; p < kPoints; ++p) {
+      mass.push_back(0.2 + 0.5 * (uniform() + 1));
+      x.push_back(0.3 * Vec3(uniform(), uniform(), uniform()));
+      Eigen::Matrix<double, 3, kModes> shapes;
+      for (int i = 0; i < 3; ++i)
+        for (int k = 0; k < kModes; ++k) shapes(i, k) = uniform();
+      phi.push_back(shapes);
+    }
+  }
+
+  std::shared_ptr<FlexibleBodyModes> Modes() const {
+    auto m = std::make_shared<FlexibleBodyModes>();
+    const int n = kModes;
+    m->nf = n;
+    m->I2 = Eigen::Matrix<double, 3, Eigen::Dynamic>::Zero(3, n);
+    m->I4.assign(n, Mat3::Zero());
+    m->I5.assign(n * n, Mat3::Zero());
+    for (int p = 0; p < kPoints; ++p) {
+      m->mass += mass[p];
+      m->I1 += mass[p] * x[p];
+      m->I3 += mass[p] * x[p] * x[p].transpose();
+      m->I2 += mass[p] * phi[p];
+      for (int k = 0; k < n; ++k) {
+        m->I4[k] += mass[p] * x[p] * phi[p].col(k).transpose();
+        for (int l = 0; l < n; ++l) m->I5[k * n + l] += mass[p] * phi[p].col(k) * phi[p].col(l).transpose();
+      }
+    }
+    m->stiffness = Eigen::MatrixXd::Zero(n, n);
+    return m;
+  }
+};
+
+TEST(FlexibleBody, ModalSumsMatchAParticleCloud) {
+  const ParticleCloud cloud;
+  const int n = ParticleCloud::kModes;
+  ModelBuilder b;
+  const BodyIndex body = b.AddFlexibleBody("cloud", cloud.Modes());
+  const JointIndex free = b.AddJoint({.name = "free", .type = JointType::kFree,
+                                      .parent = kWorldBody, .child = body});
+  Eigen::VectorXd q0(7), v0(6), qf(n), vf(n);
+  q0 << kFreeP0, QuatCoords(kFreeQ0);
+  v0 << 0.7, -1.1, 0.4, 1.5, -2.0, 3.0;
+  for (int k = 0; k < n; ++k) {
+    qf(k) = 0.01 * (k + 1) * (k % 2 ? -1 : 1);
+    vf(k) = 0.3 - 0.07 * k;
+  }
+  b.SetJointPosition(free, q0);
+  b.SetJointVelocity(free, v0);
+  b.SetModalCoordinates(body, qf, vf);
+  const auto model = std::move(b).Finalize();
+  const State s = State::Initial(*model);
+  Eigen::VectorXd vdot(model->nv);
+  for (int i = 0; i < model->nv; ++i) vdot(i) = 0.5 * std::sin(1.0 + i);
+  Data data(*model);
+  EvaluateDynamics(*model, 0.0, s.q, s.v, vdot, data);
+
+  const int fi = model->bodies[body].flexible;
+  const FlexibleBody& fb = model->flexible_bodies[fi];
+  const Data::FlexibleBodyTerms& T = data.flex[fi];
+  // B's motion in B axes from the spatial (world-origin) velocity and acceleration.
+  const Transform& X = data.X_WB[body];
+  const Vec3 w_W = data.V_WB[body].head<3>();
+  const Vec3 v_o = data.V_WB[body].tail<3>() + w_W.cross(X.p);
+  const Vec3 a_o = data.A_WB[body].tail<3>() + data.A_WB[body].head<3>().cross(X.p) + w_W.cross(v_o);
+  const Vec3 w = X.R.transpose() * w_W, alpha = X.R.transpose() * data.A_WB[body].head<3>();
+  const Vec3 a = X.R.transpose() * a_o;
+  const Eigen::VectorXd qd = vf, qdd = vdot.segment(fb.v_start, n);
+
+  Vec3 S = Vec3::Zero();
+  Mat3 J = Mat3::Zero();
+  Eigen::Matrix<double, 3, Eigen::Dynamic> D = Eigen::Matrix<double, 3, Eigen::Dynamic>::Zero(3, 3 * n);
+  Eigen::Matrix<double, 3, Eigen::Dynamic> L = Eigen::Matrix<double, 3, Eigen::Dynamic>::Zero(3, n);
+  Eigen::VectorXd r = Eigen::VectorXd::Zero(n);
+  for (int p = 0; p < ParticleCloud::kPoints; ++p) {
+    const double m = cloud.mass[p];
+    const Vec3 y = cloud.x[p] + cloud.phi[p] * qf;
+    S += m * y;
+    J += m * (y.squaredNorm() * Mat3::Identity() - y * y.transpose());
+    const Vec3 acc = a + alpha.cross(y) + w.cross(w.cross(y)) + 2 * w.cross(cloud.phi[p] * qd) +
+                     cloud.phi[p] * qdd;
+    for (int l = 0; l < n; ++l) {
+      D.block<3, 3>(0, 3 * l) += m * y * cloud.phi[p].col(l).transpose();
+      L.col(l) += m * y.cross(cloud.phi[p].col(l));
+      r(l) += m * cloud.phi[p].col(l).dot(acc);
+    }
+  }
+  // Rounding only: sums of ~100 terms of order 1 (bound 1e-13 of each quantity's size).
+  const double dS = (T.S - S).norm() / S.norm(), dJ = (T.J - J).norm() / J.norm();
+  const double dD = (T.D - D).norm() / D.norm(), dL = (T.L - L).norm() / L.norm();
+  const double dr = (data.tau_id.segment(fb.v_start, n) - r).norm() / r.norm();
+  std::printf("[flex] particle cloud, 7 modes: rel. diff S %.1e, J %.1e, D %.1e, L %.1e, "
+              "modal rows %.1e\n", dS, dJ, dD, dL, dr);
+  EXPECT_LT(dS, 1e-13);
+  EXPECT_LT(dJ, 1e-13);
+  EXPECT_LT(dD, 1e-13);
+  EXPECT_LT(dL, 1e-13);
+  EXPECT_LT(dr, 1e-13);
+
+  // The stage's caches: a Data that went through other coordinates and rates (and back to
+  // these, with the body elsewhere) writes what a fresh Data writes, to the bit.
+  Data fresh(*model);
+  EvaluateDynamics(*model, 0.0, s.q, s.v, vdot, fresh);
+  Eigen::VectorXd q1 = s.q, v1 = s.v;
+  q1.segment(fb.q_start, n) *= 1.5;
+  v1.segment(fb.v_start, n) *= -0.5;
+  EvaluateDynamics(*model, 0.0, q1, v1, vdot, data);
+  EXPECT_NE(data.tau_id, fresh.tau_id);
+  q1 = s.q;
+  q1(0) += 0.1;  // another place, the same modal coordinates
+  EvaluateDynamics(*model, 0.0, q1, s.v, vdot, data);
+  EvaluateDynamics(*model, 0.0, s.q, s.v, vdot, data);
+  EXPECT_EQ(data.tau_id, fresh.tau_id);
+  EXPECT_EQ(data.flex[fi].D, fresh.flex[fi].D);
+  EXPECT_EQ(data.flex[fi].J, fresh.flex[fi].J);
+  EXPECT_EQ(data.flex[fi].G, fresh.flex[fi].G);
 }
 
 TEST(FlexibleBody, BadInputIsNamed) {
