@@ -20,7 +20,6 @@ static_assert(sizeof(Mat3) == 9 * sizeof(double) && sizeof(Vec3) == 3 * sizeof(d
               "Mat3 and Vec3 hold their entries without padding");
 using Nine = Eigen::Matrix<double, 9, 1>;
 using NineByN = Eigen::Map<const Eigen::Matrix<double, 9, Eigen::Dynamic>>;
-using Stacked = Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>>;
 
 // The same coordinates, bit for bit (a cache's key: -0 and +0 differ, so a cached result is
 // always the one the stage would make).
@@ -30,7 +29,77 @@ inline bool SameBits(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
           std::memcmp(a.data(), b.data(), sizeof(double) * static_cast<size_t>(a.size())) == 0);
 }
 
+
+// Four doubles as one value (GCC and Clang vector extensions): one AVX register, or two SSE2
+// registers in the baseline build. Lane-wise + and * are IEEE operations on each lane.
+typedef double Lanes4 __attribute__((vector_size(32)));
+
+// Four doubles from anywhere (unaligned), through memory: a vector is not passed by value
+// (its ABI differs between the builds).
+__attribute__((always_inline)) inline void Load4(Lanes4* v, const double* p) {
+  std::memcpy(v, p, sizeof *v);
+}
+
+// Rows [i, i + 4 kVecs) of AddColumnCombination, held in registers across the columns (so A is
+// read once and y written once), each lane the plain sequential sum of its row. Inlined into
+// each build of the kernel, so it takes that build's vector width.
+template <int kVecs>
+__attribute__((always_inline)) inline void CombineRows(int i, int cols, const double* A, long lda,
+                                                      const double* x, const double* b, double* y) {
+  Lanes4 acc[kVecs];
+  for (int j = 0; j < kVecs; ++j) {
+    acc[j] = Lanes4{0, 0, 0, 0};
+    if (b) Load4(&acc[j], b + i + 4 * j);
+  }
+  for (int k = 0; k < cols; ++k) {
+    const double* a = A + k * lda + i;
+    const Lanes4 xk = {x[k], x[k], x[k], x[k]};
+    for (int j = 0; j < kVecs; ++j) {
+      Lanes4 column;
+      Load4(&column, a + 4 * j);
+      acc[j] += column * xk;
+    }
+  }
+  std::memcpy(y + i, acc, sizeof acc);
+}
+
+__attribute__((always_inline)) inline void CombineColumns(int rows, int cols, const double* A,
+                                                         long lda, const double* x,
+                                                         const double* b, double* y) {
+  int i = 0;
+  for (; i + 16 <= rows; i += 16) CombineRows<4>(i, cols, A, lda, x, b, y);
+  if (i + 8 <= rows) CombineRows<2>(i, cols, A, lda, x, b, y), i += 8;
+  if (i + 4 <= rows) CombineRows<1>(i, cols, A, lda, x, b, y), i += 4;
+  for (; i < rows; ++i) {
+    double acc = b ? b[i] : 0.0;
+    for (int k = 0; k < cols; ++k) acc += A[k * lda + i] * x[k];
+    y[i] = acc;
+  }
+}
+
 }  // namespace
+
+void AddColumnCombinationBaseline(int rows, int cols, const double* A, long lda, const double* x,
+                                  const double* b, double* y) {
+  CombineColumns(rows, cols, A, lda, x, b, y);
+}
+
+#if ORRERY_COLUMN_COMBINATION_AVX
+__attribute__((target("avx"))) void AddColumnCombinationAvx(int rows, int cols, const double* A,
+                                                            long lda, const double* x,
+                                                            const double* b, double* y) {
+  CombineColumns(rows, cols, A, lda, x, b, y);
+}
+#endif
+
+void AddColumnCombination(int rows, int cols, const double* A, long lda, const double* x,
+                          const double* b, double* y) {
+#if ORRERY_COLUMN_COMBINATION_AVX
+  static const bool avx = __builtin_cpu_supports("avx");
+  if (avx) return AddColumnCombinationAvx(rows, cols, A, lda, x, b, y);
+#endif
+  AddColumnCombinationBaseline(rows, cols, A, lda, x, b, y);
+}
 
 void CalcFlexibleInertiaTerms(const Model& model, Data& data) {
   for (size_t i = 0; i < model.flexible_bodies.size(); ++i) {
@@ -46,9 +115,8 @@ void CalcFlexibleInertiaTerms(const Model& model, Data& data) {
       Mat3 U = m.I3;
       if (n > 0) {
         T.S.noalias() += m.I2.leftCols(n) * T.qf;
-        Eigen::Map<Eigen::VectorXd> D(T.D.data(), 9 * n);
-        D.noalias() = Stacked(m.I5[0].data(), 9 * n, n, Eigen::OuterStride<>(9 * N)) * T.qf;
-        D += Eigen::Map<const Eigen::VectorXd>(m.I4[0].data(), 9 * n);
+        AddColumnCombination(9 * n, n, m.I5[0].data(), 9L * N, T.qf.data(), m.I4[0].data(),
+                             T.D.data());
         const Nine I4q = NineByN(m.I4[0].data(), 9, n) * T.qf;
         const Nine Dq = NineByN(T.D.data(), 9, n) * T.qf;
         U += Eigen::Map<const Mat3>(I4q.data()).transpose() + Eigen::Map<const Mat3>(Dq.data());
@@ -130,10 +198,10 @@ std::pair<double, double> CalcFlexibleInternalForces(const Model& model, Data& d
     if (n == 0) continue;
     Data::FlexibleBodyTerms& T = data.flex[i];
     auto tau = data.tau_applied.segment(fb.v_start, n);
-    T.scratch.noalias() = fb.stiffness * T.qf;
+    AddColumnCombination(n, n, fb.stiffness.data(), n, T.qf.data(), nullptr, T.scratch.data());
     energy += 0.5 * T.qf.dot(T.scratch);
     tau -= T.scratch;
-    T.scratch.noalias() = fb.damping * T.qf_dot;
+    AddColumnCombination(n, n, fb.damping.data(), n, T.qf_dot.data(), nullptr, T.scratch.data());
     dissipated += T.qf_dot.dot(T.scratch);
     tau -= T.scratch;
     if (fb.geometric_stiffening) {
@@ -183,8 +251,8 @@ Vec6 CalcFlexibleBodyForce(const Model& model, const FlexibleBody& fb,
     // the two D_l terms as one product with vec(w w^T - |w|^2 1); g_l made again only at other
     // modal rates.
     if (!T.G_made || !SameBits(T.qf_dot, T.qf_dot_of_G)) {
-      Eigen::Map<Eigen::VectorXd>(T.G.data(), 3 * n).noalias() =
-          Eigen::Map<const Eigen::MatrixXd>(fb.mode_cross[0].data(), 3 * n, n) * qd;
+      AddColumnCombination(3 * n, n, fb.mode_cross[0].data(), 3L * n, T.qf_dot.data(), nullptr,
+                           T.G.data());
       T.qf_dot_of_G = T.qf_dot;
       T.G_made = true;
     }

@@ -38,6 +38,25 @@ void AddFlexibleMassMatrix(const Model& model, Data& data);
 // Kinetic energy beyond 1/2 V^T I_W V of the flexible bodies: V^T F_W q-dot + 1/2 q-dot^T M q-dot.
 double FlexibleKineticEnergy(const Model& model, const Data& data);
 
+// y = b + A x for a column-major rows x cols matrix A (leading dimension lda >= rows): the
+// floating frame's O(nf^2) sums (D = I4 + I5 q, g = mode_cross q-dot). Each y_i is summed in one
+// fixed order, b_i + A_i0 x_0 + A_i1 x_1 + ..., with separate multiplies and adds, so the numbers
+// are the same to the bit whatever vector width the build that runs uses: AVX where the CPU has
+// it (GCC or Clang on x86-64, chosen once at run time), the compiler's baseline (SSE2 on x86-64)
+// otherwise. b may be null (zero); y must not alias A, x or b.
+void AddColumnCombination(int rows, int cols, const double* A, long lda, const double* x,
+                          const double* b, double* y);
+// The builds themselves (tests call each): the baseline always, AVX where the compiler has it.
+void AddColumnCombinationBaseline(int rows, int cols, const double* A, long lda, const double* x,
+                                  const double* b, double* y);
+#if (defined(__GNUC__) || defined(__clang__)) && defined(__x86_64__)
+#define ORRERY_COLUMN_COMBINATION_AVX 1
+void AddColumnCombinationAvx(int rows, int cols, const double* A, long lda, const double* x,
+                             const double* b, double* y);
+#else
+#define ORRERY_COLUMN_COMBINATION_AVX 0
+#endif
+
 // Spatial momentum (world origin) of the whole model: sum of I_W V plus the flexible bodies'
 // F_W q-dot. Needs the kinematics stages.
 Vec6 CalcSpatialMomentum(const Model& model, const Data& data);

@@ -523,6 +523,46 @@ TEST(FlexibleBody, ModalSumsMatchAParticleCloud) {
   EXPECT_EQ(data.flex[fi].G, fresh.flex[fi].G);
 }
 
+// The floating frame's column-combination kernel against the plain sequential sum, to the bit:
+// every row summed in the order b_i + A_i0 x_0 + A_i1 x_1 + ... whatever the block a row falls
+// in (blocks of 16, 8, 4 and single rows) and whatever vector width this machine's clone uses;
+// both builds are called (the baseline runs everywhere, the AVX one where the CPU has it).
+
+TEST(FlexibleBody, ColumnCombinationIsTheSequentialSumToTheBit) {
+  std::srand(11);
+  auto uniform = [] { return 2.0 * std::rand() / RAND_MAX - 1.0; };
+  for (int rows : {1, 3, 4, 7, 8, 15, 16, 17, 24, 29, 72, 216})
+    for (int cols : {0, 1, 5, 24}) {
+      const long lda = rows + 3;
+      std::vector<double> A(static_cast<size_t>(lda) * std::max(cols, 1)), x(std::max(cols, 1)),
+          b(rows), y(rows), expected(rows);
+      for (double& v : A) v = uniform() * std::pow(10.0, 3 * uniform());
+      for (double& v : x) v = uniform();
+      for (double& v : b) v = uniform();
+      for (const bool with_b : {false, true}) {
+        for (int i = 0; i < rows; ++i) {
+          volatile double sum = with_b ? b[i] : 0.0;  // no reassociation, no contraction
+          for (int k = 0; k < cols; ++k) {
+            volatile double product = A[k * lda + i] * x[k];
+            sum = sum + product;
+          }
+          expected[i] = sum;
+        }
+        const double* bp = with_b ? b.data() : nullptr;
+        AddColumnCombination(rows, cols, A.data(), lda, x.data(), bp, y.data());
+        EXPECT_EQ(y, expected) << rows << " x " << cols << (with_b ? " with b" : "");
+        AddColumnCombinationBaseline(rows, cols, A.data(), lda, x.data(), bp, y.data());
+        EXPECT_EQ(y, expected) << "baseline, " << rows << " x " << cols;
+#if ORRERY_COLUMN_COMBINATION_AVX
+        if (__builtin_cpu_supports("avx")) {
+          AddColumnCombinationAvx(rows, cols, A.data(), lda, x.data(), bp, y.data());
+          EXPECT_EQ(y, expected) << "AVX, " << rows << " x " << cols;
+        }
+#endif
+      }
+    }
+}
+
 TEST(FlexibleBody, BadInputIsNamed) {
   const PointMassBody pm;
   auto modes = pm.Modes();
