@@ -7,6 +7,7 @@
 #include "mbd/constraints.h"
 #include "mbd/dynamics.h"
 #include "mbd/evaluate.h"
+#include "mbd/flexible_dynamics.h"
 #include "mbd/force_elements.h"
 
 namespace orrery {
@@ -244,7 +245,8 @@ void ResultRecorder::Record(const State& s, const Eigen::VectorXd& vdot,
     if (fs.von_mises >= 0) {
       const int n = static_cast<int>(m.stress_nodes.size());
       auto sigma = stress_.head(6 * n);
-      sigma.noalias() = m.stress_modes.leftCols(fb.nf) * qf;
+      AddColumnCombination(6 * n, fb.nf, m.stress_modes.data(), m.stress_modes.rows(), qf.data(),
+                           nullptr, sigma.data());
       double best = -1;
       int where = 0;
       for (int k = 0; k < n; ++k) {
