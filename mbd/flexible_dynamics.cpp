@@ -111,14 +111,15 @@ void CalcFlexibleInertiaTerms(const Model& model, Data& data) {
     // U = I3 + sum_l q_l (I4_l^T + D_l), J = tr(U) 1 - U. Made again only at other modal
     // coordinates.
     if (!T.D_made || !SameBits(T.qf, T.qf_of_D)) {
-      T.S = m.I1;
+      T.S = m.I1;  // + I2 q below
       Mat3 U = m.I3;
       if (n > 0) {
-        T.S.noalias() += m.I2.leftCols(n) * T.qf;
+        AddColumnCombination(3, n, m.I2.data(), 3, T.qf.data(), m.I1.data(), T.S.data());
         AddColumnCombination(9 * n, n, m.I5[0].data(), 9L * N, T.qf.data(), m.I4[0].data(),
                              T.D.data());
-        const Nine I4q = NineByN(m.I4[0].data(), 9, n) * T.qf;
-        const Nine Dq = NineByN(T.D.data(), 9, n) * T.qf;
+        Nine I4q, Dq;
+        AddColumnCombination(9, n, m.I4[0].data(), 9, T.qf.data(), nullptr, I4q.data());
+        AddColumnCombination(9, n, T.D.data(), 9, T.qf.data(), nullptr, Dq.data());
         U += Eigen::Map<const Mat3>(I4q.data()).transpose() + Eigen::Map<const Mat3>(Dq.data());
         for (int l = 0; l < n; ++l) T.L.col(l) = Axial(T.D.block<3, 3>(0, 3 * l));
       }
@@ -241,12 +242,16 @@ Vec6 CalcFlexibleBodyForce(const Model& model, const FlexibleBody& fb,
   Vec3 F = m.mass * a + alpha.cross(T.S) + w.cross(Sw);
   Vec3 N = T.S.cross(a) + T.J * alpha + w.cross(T.J * w);
   if (n > 0) {
-    const Vec3 I2qd = m.I2.leftCols(n) * qd;
+    Vec3 I2qd, I2qdd, Lqdd;
+    AddColumnCombination(3, n, m.I2.data(), 3, qd.data(), nullptr, I2qd.data());
+    AddColumnCombination(3, n, m.I2.data(), 3, qdd.data(), nullptr, I2qdd.data());
+    AddColumnCombination(3, n, T.L.data(), 3, qdd.data(), nullptr, Lqdd.data());
     const NineByN D(T.D.data(), 9, n);
-    const Nine Cv = D * qd;  // C = sum_l qd_l D_l
+    Nine Cv;  // C = sum_l qd_l D_l
+    AddColumnCombination(9, n, T.D.data(), 9, qd.data(), nullptr, Cv.data());
     const Eigen::Map<const Mat3> C(Cv.data());
-    F.noalias() += 2 * w.cross(I2qd) + m.I2.leftCols(n) * qdd;
-    N.noalias() += 2 * (C.trace() * w - C.transpose() * w) + T.L * qdd;
+    F.noalias() += 2 * w.cross(I2qd) + I2qdd;
+    N.noalias() += 2 * (C.trace() * w - C.transpose() * w) + Lqdd;
     // Modal rows: r_l = M_l qdd + I2_l . a + L_l . alpha + w^T D_l w - |w|^2 tr D_l + 2 w . g_l,
     // the two D_l terms as one product with vec(w w^T - |w|^2 1); g_l made again only at other
     // modal rates.
@@ -256,15 +261,14 @@ Vec6 CalcFlexibleBodyForce(const Model& model, const FlexibleBody& fb,
       T.qf_dot_of_G = T.qf_dot;
       T.G_made = true;
     }
-    auto r = data.tau_id.segment(fb.v_start, n);
-    r.noalias() = fb.mass * qdd;
-    r.noalias() += m.I2.leftCols(n).transpose() * a;
-    r.noalias() += T.L.transpose() * alpha;
+    double* r = data.tau_id.data() + fb.v_start;
+    AddColumnCombination(n, n, fb.mass.data(), n, qdd.data(), nullptr, r);
     Mat3 W = w * w.transpose();
     W.diagonal().array() -= w.squaredNorm();
-    r.noalias() += D.transpose() * Eigen::Map<const Nine>(W.data());
+    const Eigen::Map<const Nine> Wv(W.data());
     const Vec3 w2 = 2 * w;
-    r.noalias() += T.G.transpose() * w2;
+    for (int l = 0; l < n; ++l)
+      r[l] += m.I2.col(l).dot(a) + T.L.col(l).dot(alpha) + D.col(l).dot(Wv) + T.G.col(l).dot(w2);
   }
   const Vec3 F_W = X.R * F;
   Vec6 f;
