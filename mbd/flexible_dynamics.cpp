@@ -29,7 +29,6 @@ inline bool SameBits(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
           std::memcmp(a.data(), b.data(), sizeof(double) * static_cast<size_t>(a.size())) == 0);
 }
 
-
 // Four doubles as one value (GCC and Clang vector extensions): one AVX register, or two SSE2
 // registers in the baseline build. Lane-wise + and * are IEEE operations on each lane.
 typedef double Lanes4 __attribute__((vector_size(32)));
@@ -45,7 +44,8 @@ __attribute__((always_inline)) inline void Load4(Lanes4* v, const double* p) {
 // each build of the kernel, so it takes that build's vector width.
 template <int kVecs>
 __attribute__((always_inline)) inline void CombineRows(int i, int cols, const double* A, long lda,
-                                                      const double* x, const double* b, double* y) {
+                                                       const double* x, const double* b,
+                                                       double* y) {
   Lanes4 acc[kVecs];
   for (int j = 0; j < kVecs; ++j) {
     acc[j] = Lanes4{0, 0, 0, 0};
@@ -64,8 +64,8 @@ __attribute__((always_inline)) inline void CombineRows(int i, int cols, const do
 }
 
 __attribute__((always_inline)) inline void CombineColumns(int rows, int cols, const double* A,
-                                                         long lda, const double* x,
-                                                         const double* b, double* y) {
+                                                          long lda, const double* x,
+                                                          const double* b, double* y) {
   int i = 0;
   for (; i + 16 <= rows; i += 16) CombineRows<4>(i, cols, A, lda, x, b, y);
   if (i + 8 <= rows) CombineRows<2>(i, cols, A, lda, x, b, y), i += 8;

@@ -430,7 +430,8 @@ struct ParticleCloud {
       m->I2 += mass[p] * phi[p];
       for (int k = 0; k < n; ++k) {
         m->I4[k] += mass[p] * x[p] * phi[p].col(k).transpose();
-        for (int l = 0; l < n; ++l) m->I5[k * n + l] += mass[p] * phi[p].col(k) * phi[p].col(l).transpose();
+        for (int l = 0; l < n; ++l)
+          m->I5[k * n + l] += mass[p] * phi[p].col(k) * phi[p].col(l).transpose();
       }
     }
     m->stiffness = Eigen::MatrixXd::Zero(n, n);
@@ -443,8 +444,8 @@ TEST(FlexibleBody, ModalSumsMatchAParticleCloud) {
   const int n = ParticleCloud::kModes;
   ModelBuilder b;
   const BodyIndex body = b.AddFlexibleBody("cloud", cloud.Modes());
-  const JointIndex free = b.AddJoint({.name = "free", .type = JointType::kFree,
-                                      .parent = kWorldBody, .child = body});
+  const JointIndex free =
+      b.AddJoint({.name = "free", .type = JointType::kFree, .parent = kWorldBody, .child = body});
   Eigen::VectorXd q0(7), v0(6), qf(n), vf(n);
   q0 << kFreeP0, QuatCoords(kFreeQ0);
   v0 << 0.7, -1.1, 0.4, 1.5, -2.0, 3.0;
@@ -469,14 +470,16 @@ TEST(FlexibleBody, ModalSumsMatchAParticleCloud) {
   const Transform& X = data.X_WB[body];
   const Vec3 w_W = data.V_WB[body].head<3>();
   const Vec3 v_o = data.V_WB[body].tail<3>() + w_W.cross(X.p);
-  const Vec3 a_o = data.A_WB[body].tail<3>() + data.A_WB[body].head<3>().cross(X.p) + w_W.cross(v_o);
+  const Vec3 a_o =
+      data.A_WB[body].tail<3>() + data.A_WB[body].head<3>().cross(X.p) + w_W.cross(v_o);
   const Vec3 w = X.R.transpose() * w_W, alpha = X.R.transpose() * data.A_WB[body].head<3>();
   const Vec3 a = X.R.transpose() * a_o;
   const Eigen::VectorXd qd = vf, qdd = vdot.segment(fb.v_start, n);
 
   Vec3 S = Vec3::Zero();
   Mat3 J = Mat3::Zero();
-  Eigen::Matrix<double, 3, Eigen::Dynamic> D = Eigen::Matrix<double, 3, Eigen::Dynamic>::Zero(3, 3 * n);
+  Eigen::Matrix<double, 3, Eigen::Dynamic> D =
+      Eigen::Matrix<double, 3, Eigen::Dynamic>::Zero(3, 3 * n);
   Eigen::Matrix<double, 3, Eigen::Dynamic> L = Eigen::Matrix<double, 3, Eigen::Dynamic>::Zero(3, n);
   Eigen::VectorXd r = Eigen::VectorXd::Zero(n);
   for (int p = 0; p < ParticleCloud::kPoints; ++p) {
@@ -496,8 +499,10 @@ TEST(FlexibleBody, ModalSumsMatchAParticleCloud) {
   const double dS = (T.S - S).norm() / S.norm(), dJ = (T.J - J).norm() / J.norm();
   const double dD = (T.D - D).norm() / D.norm(), dL = (T.L - L).norm() / L.norm();
   const double dr = (data.tau_id.segment(fb.v_start, n) - r).norm() / r.norm();
-  std::printf("[flex] particle cloud, 7 modes: rel. diff S %.1e, J %.1e, D %.1e, L %.1e, "
-              "modal rows %.1e\n", dS, dJ, dD, dL, dr);
+  std::printf(
+      "[flex] particle cloud, 7 modes: rel. diff S %.1e, J %.1e, D %.1e, L %.1e, "
+      "modal rows %.1e\n",
+      dS, dJ, dD, dL, dr);
   EXPECT_LT(dS, 1e-13);
   EXPECT_LT(dJ, 1e-13);
   EXPECT_LT(dD, 1e-13);
