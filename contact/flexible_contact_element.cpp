@@ -56,6 +56,7 @@ FlexibleContactWorkspace::FlexibleContactWorkspace(const ContactSide& a, const C
       tangents(modal_a, modal_b, nv),
       monitor(monitor ? monitor->MakeState() : nullptr),
       points(a.surface().num_vertices() + b.surface().num_vertices()) {
+  point_laws.reserve(a.surface().num_vertices() + b.surface().num_vertices());
   pairs.reserve(search.suggested_capacity());
   node_faces_a.reserve(3 * pairs.capacity());
   node_faces_b.reserve(3 * pairs.capacity());
@@ -161,7 +162,10 @@ void FlexibleContactElement::ForEachContactPoint(const ContactSideState& a,
 }
 
 void FlexibleContactElement::Evaluate(const ContactSideState& a, const ContactSideState& b,
-                                      FlexibleContactWorkspace& ws) const {
+                                      FlexibleContactWorkspace& ws, bool outputs) const {
+  ws.outputs_pending = false;
+  ws.X_WA = a.X_WB;
+  ws.X_WB = b.X_WB;
   // Deformation bounds, deformed vertices and normals of the flexible sides.
   auto deform = [&](const ContactSide& side, const ContactSideState& st, ContactSideBuffers& buf) {
     buf.deformation_bound = 0;
@@ -273,10 +277,14 @@ void FlexibleContactElement::Evaluate(const ContactSideState& a, const ContactSi
   ws.energy = ws.power_dissipated = 0;
   ws.normal_force = ws.friction_force = ws.max_penetration = 0;
   ws.contact_points = 0;
-  // The monitor reads the points when the workspace has its state (MakeWorkspace() makes it).
-  const ContactMonitor* monitor = ws.monitor ? spec_.monitor.get() : nullptr;
+  // The monitor reads the points when the workspace has its state (MakeWorkspace() makes it);
+  // without outputs each point's law values are kept for it (MakePendingOutputs).
+  const ContactMonitor* monitor = outputs && ws.monitor ? spec_.monitor.get() : nullptr;
+  const bool record = outputs && spec_.record_points > 0;
+  const bool keep_laws = !outputs && (ws.monitor || spec_.record_points > 0);
   if (monitor) monitor->Start(a.X_WB, b.X_WB, *ws.monitor);
-  ws.points.Clear();
+  if (outputs) ws.points.Clear();
+  ws.point_laws.clear();
   const Transform X_AW = a.X_WB.Inverse();
   // A vertex force (body frame), remembering the vertex for the modal forces and the reset.
   auto add_vertex_force = [](ContactSideBuffers& buf, int i, const Vec3& f_B) {
@@ -310,15 +318,36 @@ void FlexibleContactElement::Evaluate(const ContactSideState& a, const ContactSi
     ws.max_penetration = std::max(ws.max_penetration, depth);
     ++ws.contact_points;
     if (monitor) monitor->Add(c.node_on_a ? g.p_W : g.q_W, g.n_W, f.stiffness, *ws.monitor);
-    if (spec_.record_points > 0) ws.points.Add(X_AW * (c.node_on_a ? g.p_W : g.q_W), f.normal);
+    if (record) ws.points.Add(X_AW * (c.node_on_a ? g.p_W : g.q_W), f.normal);
+    if (keep_laws) ws.point_laws.push_back({.stiffness = f.stiffness, .normal = f.normal});
   });
   if (monitor) monitor->Finish(ws.side_a.f_W, *ws.monitor);
+  ws.outputs_pending = keep_laws;
   // Modal forces Q = sum_P Phi_P^T F_P.
   for (const auto& [side, buf] : {std::pair{&spec_.a, &ws.side_a}, std::pair{&spec_.b, &ws.side_b}}) {
     if (!side->flexible) continue;
     buf->modal_force.setZero();
     for (const int i : buf->forced) side->flexible->AddVertexForce(i, buf->node_force[i], &buf->modal_force);
   }
+}
+
+void FlexibleContactElement::MakePendingOutputs(const FlexibleContactWorkspace& ws) const {
+  ws.outputs_pending = false;
+  // Evaluate()'s calls over the same points (ForEachContactPoint's order: the pressing nodes of
+  // gaps_a, then of gaps_b) with the law values that evaluation kept.
+  const ContactMonitor* monitor = ws.monitor ? spec_.monitor.get() : nullptr;
+  if (monitor) monitor->Start(ws.X_WA, ws.X_WB, *ws.monitor);
+  ws.points.Clear();
+  const Transform X_AW = ws.X_WA.Inverse();
+  size_t k = 0;
+  for (const bool node_on_a : {true, false})
+    for (const NodeGap& g : node_on_a ? ws.gaps_a : ws.gaps_b) {
+      if (!(g.gap < 0) || !g.on_surface) continue;
+      const FlexibleContactWorkspace::PointLaw& law = ws.point_laws[k++];
+      if (monitor) monitor->Add(node_on_a ? g.p_W : g.q_W, g.n_W, law.stiffness, *ws.monitor);
+      if (spec_.record_points > 0) ws.points.Add(X_AW * (node_on_a ? g.p_W : g.q_W), law.normal);
+    }
+  if (monitor) monitor->Finish(ws.side_a.f_W, *ws.monitor);
 }
 
 ContactSideState FlexibleContactElement::SideState(const Model& model, const Data& data,
@@ -335,7 +364,9 @@ ContactSideState FlexibleContactElement::SideState(const Model& model, const Dat
 void FlexibleContactElement::Compute(const Model& model, double /*t*/, const Data& data,
                                      ExternalForceWorkspace& workspace) const {
   auto& ws = static_cast<FlexibleContactWorkspace&>(workspace);
-  Evaluate(SideState(model, data, spec_.a), SideState(model, data, spec_.b), ws);
+  // The monitor and the recorded points wait for GetOutputs() (FlexibleContactWorkspace).
+  Evaluate(SideState(model, data, spec_.a), SideState(model, data, spec_.b), ws,
+           /*outputs=*/false);
 }
 
 void FlexibleContactElement::WarmStart(const ExternalForceWorkspace& source,
@@ -400,6 +431,7 @@ void FlexibleContactElement::AddTangents(const Model& model, const Data& data,
 void FlexibleContactElement::GetOutputs(const ExternalForceWorkspace& workspace,
                                         double* values) const {
   const auto& ws = static_cast<const FlexibleContactWorkspace&>(workspace);
+  if (ws.outputs_pending) MakePendingOutputs(ws);
   values[0] = ws.normal_force;
   values[1] = ws.friction_force;
   values[2] = ws.contact_points;

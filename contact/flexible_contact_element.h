@@ -171,8 +171,21 @@ class FlexibleContactWorkspace final : public ExternalForceWorkspace {
   std::vector<NodeGap> gaps_a, gaps_b;  // nodes of A on B's faces, nodes of B on A's faces
   ContactSideBuffers side_a, side_b;
   ContactTangents tangents;             // AddTangents()
-  std::unique_ptr<ContactMonitorState> monitor;  // spec.monitor's state of the last Evaluate()
-  ContactPointRecord points;            // spec.record_points: the last Evaluate()'s points
+  // spec.monitor's state and spec.record_points' points of the last evaluation: Evaluate()
+  // fills them; Compute() (the integrator's evaluations, whose outputs are seldom read) leaves
+  // them to the first GetOutputs() after it, which makes them from that Compute()'s gaps, poses,
+  // side a's force and each point's law stiffness and normal force (point_laws: the same calls
+  // in the same order, the same values to the bit; as ContactWorkspace, contact_element.h).
+  std::unique_ptr<ContactMonitorState> monitor;
+  mutable ContactPointRecord points;
+  mutable bool outputs_pending = false;  // Compute() left them; GetOutputs() clears it
+  Transform X_WA, X_WB;                  // the poses of the last evaluation
+  // Per contact point of the last Compute() (ForEachContactPoint's order): the law's normal
+  // stiffness (N/m) and normal force (N). Reserved for every node of both surfaces.
+  struct PointLaw {
+    double stiffness = 0, normal = 0;
+  };
+  std::vector<PointLaw> point_laws;
   // Outputs of the last Evaluate().
   double normal_force = 0, friction_force = 0, max_penetration = 0;
   double energy = 0, power_dissipated = 0;
@@ -218,9 +231,10 @@ class FlexibleContactElement final : public ExternalForceElement, public Element
                    Eigen::Ref<Eigen::MatrixXd> K, Eigen::Ref<Eigen::MatrixXd> C) const override;
 
   // Stages 1-6 for given states: fills ws.side_a / side_b (f_W, modal_force, node_force),
-  // ws.energy, ws.power_dissipated and the outputs.
+  // ws.energy, ws.power_dissipated and the outputs; with outputs false the monitor's state and
+  // the recorded points are left to the next GetOutputs() (FlexibleContactWorkspace).
   void Evaluate(const ContactSideState& a, const ContactSideState& b,
-                FlexibleContactWorkspace& ws) const;
+                FlexibleContactWorkspace& ws, bool outputs = true) const;
 
  private:
   // A penetrating node of the last evaluation, with what its force and tangents need.
@@ -237,6 +251,8 @@ class FlexibleContactElement final : public ExternalForceElement, public Element
   template <class Fn>
   void ForEachContactPoint(const ContactSideState& a, const ContactSideState& b,
                            FlexibleContactWorkspace& ws, Fn&& fn) const;
+  // The monitor's state and the recorded points of the last Compute() (FlexibleContactWorkspace).
+  void MakePendingOutputs(const FlexibleContactWorkspace& ws) const;
   // A side's state from the kinematics in data.
   static ContactSideState SideState(const Model& model, const Data& data, const ContactSide& side);
 

@@ -12,8 +12,11 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <limits>
 #include <memory>
 #include <vector>
@@ -577,6 +580,98 @@ TEST(FlexibleContactElement, ContactPointsReadTheRatesOfTheirEvaluation) {
   EXPECT_NE(one.normal, first.normal);
   for (int v = 0; v < block->undeformed().num_vertices(); ++v)
     EXPECT_EQ(ws1.side_a.rates[v], Vec3(block->VertexShapeTimes(v, q_dot))) << v;
+}
+
+// A monitor that sums what the element gives it (each point's position, normal and stiffness,
+// the poses and side a's force), for the test below.
+class SummingMonitor final : public ContactMonitor {
+ public:
+  struct Sums final : ContactMonitorState {
+    std::array<double, 8> v{};
+  };
+  const std::vector<OutputDescription>& outputs() const override { return outputs_; }
+  std::unique_ptr<ContactMonitorState> MakeState() const override {
+    return std::make_unique<Sums>();
+  }
+  void Start(const Transform& X_WA, const Transform& X_WB, ContactMonitorState& state) const override {
+    auto& s = static_cast<Sums&>(state).v;
+    s.fill(0.0);
+    s[0] = X_WA.p.z() - 3 * X_WB.p.x();
+  }
+  void Add(const Vec3& p, const Vec3& n, double k, ContactMonitorState& state) const override {
+    auto& s = static_cast<Sums&>(state).v;
+    s[1] += p.x();
+    s[2] += p.y();
+    s[3] += p.z();
+    s[4] += n.dot(Vec3(1, 2, 3));
+    s[5] += k;
+    s[6] += 1;
+  }
+  void Finish(const Vec6& f_A_W, ContactMonitorState& state) const override {
+    static_cast<Sums&>(state).v[7] = f_A_W.sum();
+  }
+  void Write(const ContactMonitorState& state, double* values) const override {
+    const auto& s = static_cast<const Sums&>(state).v;
+    std::copy(s.begin(), s.end(), values);
+  }
+
+ private:
+  std::vector<OutputDescription> outputs_ = {{.name = "sums", .columns = 8}};
+};
+
+// The outputs of an evaluation without them (Evaluate with outputs false, as Compute: the
+// monitor's state and the recorded points made when GetOutputs first reads them) against those
+// of the same evaluation with them, in another workspace of the same element, to the bit: the
+// flexible block pressed onto the plane, sliding and deforming (the law's stiffness and normal
+// force read the deformation rates), its rates changed between the evaluation and the read.
+TEST(FlexibleContactElement, OutputsMadeOnReadEqualThoseOfTheEvaluation) {
+  const Block b = MakeBlock(8);
+  auto block = std::make_shared<const FlexibleContactSurface>(
+      b.modes, FlexibleContactSurfaceSpec{.node_sets = {"ZMIN"}, .gap_margin_m = 30e-6,
+                                          .deformation_allowance_m = 20e-6});
+  const auto monitor = std::make_shared<const SummingMonitor>();
+  const FlexibleContactElement e({.name = "block_on_plane", .a = {.body = 1, .flexible = block},
+                                  .b = {.body = 0, .rigid = Plane()},
+                                  .law = {.stiffness_per_area = 2.1e13,
+                                          .hunt_crossley_s_per_m = 0.5,
+                                          .friction_coefficient = 0.3},
+                                  .monitor = monitor,
+                                  .record_points = 5});
+  const int nf = b.modes->nf;
+  const int n = OutputValueCount(e.outputs());
+  FlexibleContactWorkspace lazy(e.spec().a, e.spec().b, nullptr, nullptr, 0, monitor.get());
+  FlexibleContactWorkspace eager(e.spec().a, e.spec().b, nullptr, nullptr, 0, monitor.get());
+  std::vector<double> lazy_out(n), eager_out(n), again(n);
+  Eigen::VectorXd q(nf), q_dot(nf);
+  int pressed = 0;
+  for (int step = 0; step < 12; ++step) {
+    for (int k = 0; k < nf; ++k) {
+      q(k) = 0.5e-6 * std::sin(2.1 * k + 0.3 * step) / block->mode_bounds()(k);
+      q_dot(k) = 1e-3 * std::sin(1.7 * k + 0.5 * step) / block->mode_bounds()(k);
+    }
+    Vec6 V = Vec6::Zero();
+    V << 0, 0, 0.3, 2e-4, -1e-4 * step, -1e-3;
+    const ContactSideState a{
+        .X_WB = Transform::Translation(Vec3(1e-5 * step, 0, kL - 1e-6 * (1 + step % 4))),
+        .V_WB = V, .q_f = &q, .q_f_dot = &q_dot};
+    const ContactSideState plane{.X_WB = Transform()};
+    e.Evaluate(a, plane, lazy, /*outputs=*/false);
+    EXPECT_TRUE(lazy.outputs_pending) << "step " << step;
+    e.Evaluate(a, plane, eager);
+    EXPECT_FALSE(eager.outputs_pending);
+    ASSERT_TRUE(lazy.side_a.f_W == eager.side_a.f_W) << "step " << step;
+    q_dot *= -3;  // the read must not look at the rates again
+    e.GetOutputs(lazy, lazy_out.data());
+    EXPECT_FALSE(lazy.outputs_pending);
+    e.GetOutputs(eager, eager_out.data());
+    e.GetOutputs(lazy, again.data());  // read twice: made once
+    // Bit for bit (NaN where no point is recorded, in both).
+    ASSERT_EQ(std::memcmp(lazy_out.data(), eager_out.data(), sizeof(double) * n), 0)
+        << "step " << step;
+    ASSERT_EQ(std::memcmp(again.data(), eager_out.data(), sizeof(double) * n), 0) << "step " << step;
+    pressed += lazy.contact_points > 5;
+  }
+  EXPECT_GT(pressed, 8);
 }
 
 // The block held 20 um above the plane (within the gap distance d = 30 um) and deformed into

@@ -197,7 +197,9 @@ TEST(ContactNoAllocation, GearContactEvaluationCandidatePairs) {
 // tests). The block's surface has smoothed normals: the plane's nodes on its deformed faces take
 // the force normal of the deformed corners (signed_gap.h ForceNormal), each corner group's made
 // once per evaluation into the side's corner cache (sized with the workspace, tracked_gaps.h
-// TrackedSide::lazy_corner_normals).
+// TrackedSide::lazy_corner_normals). The element records 4 points: the integrator's
+// evaluations keep each point's law values, the recorder's row makes the points from them when
+// its outputs are read (FlexibleContactWorkspace::point_laws).
 TEST(ContactNoAllocation, FlexibleContactEvaluation) {
   flex::FeMesh mesh = flex::MakeBoxMesh({.origin_m = {-0.01, -0.01, 0}, .size_m = {0.02, 0.02, 0.01},
                                          .divisions = {4, 4, 2}, .type = flex::ElementType::kHex8});
@@ -225,7 +227,8 @@ TEST(ContactNoAllocation, FlexibleContactEvaluation) {
       .b = {.body = kWorldBody,
             .rigid = std::make_shared<const ContactSurface>(std::vector{plane}, 30e-6)},
       .law = {
-          .stiffness_per_area = 2e13, .hunt_crossley_s_per_m = 0.1, .friction_coefficient = 0.2}}));
+          .stiffness_per_area = 2e13, .hunt_crossley_s_per_m = 0.1, .friction_coefficient = 0.2},
+      .record_points = 4}));
   const std::shared_ptr<const Model> model = std::move(b).Finalize();
   const Model& m = *model;
   Data data(m);
@@ -246,12 +249,15 @@ TEST(ContactNoAllocation, FlexibleContactEvaluation) {
   const long evaluations = ws.tracked.stats().node_evaluations;
   EXPECT_EQ(AllocationsIn(pass), 0);
   EXPECT_GT(ws.tracked.stats().node_evaluations - evaluations, 40);
-  // The result recorder's row (as in the gear test above).
+  // The result recorder's row (as in the gear test above), with its outputs (the recorded
+  // points made on this read: FlexibleContactWorkspace).
   Data row(m);
+  std::vector<double> outputs(OutputValueCount(m.external_forces[0]->outputs()));
   auto record = [&] {
     WarmStartExternalWorkspaces(m, data, row);
     s.q(iq) -= 1e-8;
     EvaluateDynamics(m, 0.0, s.q, s.v, vdot, row);
+    m.external_forces[0]->GetOutputs(*row.external[0], outputs.data());
   };
   record();
   pass();
