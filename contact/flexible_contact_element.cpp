@@ -144,10 +144,13 @@ void FlexibleContactElement::ForEachContactPoint(const ContactSideState& a,
     for (const NodeGap& g : gaps) {
       if (!(g.gap < 0) || !g.on_surface) continue;
       ContactPoint c{.gap = &g, .node_on_a = node_on_a, .face_vertices = face_tris[g.face]};
-      // Barycentric coordinates of the closest point on the deformed face.
+      // Barycentric coordinates of the closest point on the deformed face: those of its force
+      // normal when the gap made them (smoothed normals, signed_gap.h NodeGap::face_weights).
       const auto& tri = c.face_vertices;
-      c.face_weights = Barycentric(X_FW * g.q_W, bf.vertices[tri[0]], bf.vertices[tri[1]],
-                                   bf.vertices[tri[2]]);
+      c.face_weights = g.has_face_weights
+                           ? g.face_weights
+                           : Barycentric(X_FW * g.q_W, bf.vertices[tri[0]], bf.vertices[tri[1]],
+                                         bf.vertices[tri[2]]);
       Vec3 v_face = PointVelocity(F.V_WB, g.p_W);
       for (int k = 0; k < 3; ++k) v_face += c.face_weights(k) * vertex_rate(face_rates, bf, tri[k]);
       c.v_rel = PointVelocity(N.V_WB, g.p_W) + vertex_rate(node_rates, bn, g.node) - v_face;

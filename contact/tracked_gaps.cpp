@@ -607,7 +607,9 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
                                         face_surface, g.face, best.point.point, faces.v[ft[0]],
                                         faces.v[ft[1]], faces.v[ft[2]], faces.lazy_n != nullptr,
                                         [&](int f) -> const Vec3& { return faces.Normal(f); },
-                                        [&](int f, int k) { return faces.CornerNormal(f, k); }));
+                                        [&](int f, int k) { return faces.CornerNormal(f, k); },
+                                        &g.face_weights));
+      g.has_face_weights = InContact(g) && face_surface.smooth_normals();
       gaps->push_back(g);
     };
     for (int block = pass.part_block_start[part], v0 = v_begin; v0 < v_end; ++block, v0 += kBlock) {
