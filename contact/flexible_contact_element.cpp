@@ -141,16 +141,19 @@ void FlexibleContactElement::ForEachContactPoint(const ContactSideState& a,
     const ContactSurface& node_surface = node_side.surface();
     const auto& face_tris = face_side.surface().triangles();
     const Transform X_FW = F.X_WB.Inverse();
+    const std::vector<Vec3>* kept_weights =
+        spec_.gap_method == ContactGapMethod::kTracked && face_side.surface().smooth_normals()
+            ? &(node_on_a ? ws.tracked.face_weights_a() : ws.tracked.face_weights_b())
+            : nullptr;
     for (const NodeGap& g : gaps) {
       if (!(g.gap < 0) || !g.on_surface) continue;
       ContactPoint c{.gap = &g, .node_on_a = node_on_a, .face_vertices = face_tris[g.face]};
-      // Barycentric coordinates of the closest point on the deformed face: those of its force
-      // normal when the gap made them (smoothed normals, signed_gap.h NodeGap::face_weights).
+      // Barycentric coordinates of the closest point on the deformed face: with tracked gaps on
+      // smoothed normals, those its force normal was made with (tracked_gaps.h face_weights_a).
       const auto& tri = c.face_vertices;
-      c.face_weights = g.has_face_weights
-                           ? g.face_weights
-                           : Barycentric(X_FW * g.q_W, bf.vertices[tri[0]], bf.vertices[tri[1]],
-                                         bf.vertices[tri[2]]);
+      c.face_weights = kept_weights ? (*kept_weights)[g.node]
+                                    : Barycentric(X_FW * g.q_W, bf.vertices[tri[0]],
+                                                  bf.vertices[tri[1]], bf.vertices[tri[2]]);
       Vec3 v_face = PointVelocity(F.V_WB, g.p_W);
       for (int k = 0; k < 3; ++k) v_face += c.face_weights(k) * vertex_rate(face_rates, bf, tri[k]);
       c.v_rel = PointVelocity(N.V_WB, g.p_W) + vertex_rate(node_rates, bn, g.node) - v_face;

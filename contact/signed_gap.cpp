@@ -131,15 +131,12 @@ void ComputeNodeGaps(const ContactSurface& node_surface, const Transform& X_WN,
       g.p_W = X_WF * s.p_F[node];
       g.q_W = X_WF * s.q_F[node];
       const auto& ft = face_tris[g.face];
-      auto normal = [&](int f) -> const Vec3& { return face_surface.face_normals()[f]; };
       g.n_W = X_WF.R * (!InContact(g)
                             ? face_surface.face_normals()[g.face]
-                            : ForceNormal(
-                                  face_surface, g.face, s.q_F[node], fv[ft[0]], fv[ft[1]],
-                                  fv[ft[2]], /*deformed=*/false, normal,
-                                  [&](int f, int k) { return DeformedCornerNormal(face_surface, f, k, normal); },
-                                  &g.face_weights));
-      g.has_face_weights = InContact(g) && face_surface.smooth_normals();
+                            : ForceNormal(face_surface, g.face, s.q_F[node], fv[ft[0]], fv[ft[1]],
+                                          fv[ft[2]], /*deformed=*/false, [&](int f) -> const Vec3& {
+                                            return face_surface.face_normals()[f];
+                                          }));
       gaps->push_back(g);
     }
     s.best_d2[node] = kInf;
@@ -248,15 +245,11 @@ void ComputeNodeGapsFromCandidates(const ContactSurface& /*node_surface*/,
     g.p_W = X_WF * p_F;
     g.q_W = X_WF * best.point;
     const auto& ft = face_tris[g.face];
-    auto normal = [&](int f) -> const Vec3& { return face_normals_F[f]; };
     g.n_W = X_WF.R * (!InContact(g)
                           ? face_normals_F[g.face]
-                          : ForceNormal(
-                                face_surface, g.face, best.point, fv[ft[0]], fv[ft[1]], fv[ft[2]],
-                                &face_normals_F != &face_surface.face_normals(), normal,
-                                [&](int f, int k) { return DeformedCornerNormal(face_surface, f, k, normal); },
-                                &g.face_weights));
-    g.has_face_weights = InContact(g) && face_surface.smooth_normals();
+                          : ForceNormal(face_surface, g.face, best.point, fv[ft[0]], fv[ft[1]],
+                                        fv[ft[2]], &face_normals_F != &face_surface.face_normals(),
+                                        [&](int f) -> const Vec3& { return face_normals_F[f]; }));
     gaps->push_back(g);
   }
 }

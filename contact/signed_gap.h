@@ -66,12 +66,6 @@ struct NodeGap {
   // normal of the header, for the others (listed, no force) their face's normal: the force
   // normal is made only where a force reads it.
   Vec3 n_W = Vec3::Zero();
-  // For a node in contact on a face surface with smoothed normals: the barycentric coordinates
-  // of q on its face (Barycentric in the face frame, over the vertices the gap read), those the
-  // force normal was interpolated with (ForceNormal); the force's share of each face vertex
-  // (flexible_contact_element.h) takes them too. has_face_weights false: not made.
-  Vec3 face_weights = Vec3::Zero();
-  bool has_face_weights = false;
 };
 
 // Whether a listed node presses (a contact point: penetrating, on the surface).
@@ -143,8 +137,8 @@ void ComputeNodeGapsFromCandidates(const ContactSurface& node_surface,
 // corner(face, k): the unit corner normal k of `face` on a deformed surface, that of
 // DeformedCornerNormal (or a copy of it made for another corner of its group,
 // contact_surface.h corner_group: the same numbers).
-// weights (optional): with smoothed normals, set to Q's barycentric coordinates w_k (NodeGap::
-// face_weights); left alone without.
+// weights (optional): with smoothed normals, set to Q's barycentric coordinates w_k (those the
+// normal was interpolated with; tracked_gaps.h face_weights_a); left alone without.
 template <class FaceNormal, class CornerNormal>
 Vec3 ForceNormal(const ContactSurface& face_surface, int face, const Vec3& q_F, const Vec3& x0,
                  const Vec3& x1, const Vec3& x2, bool deformed, const FaceNormal& normal,

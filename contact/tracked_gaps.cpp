@@ -165,7 +165,8 @@ TrackedGaps::Pass::Pass(const ContactSurface& node_surface)
       walk_face_deformation(node_surface.num_vertices(), 0.0),
       walk_feature(node_surface.num_vertices(), TriangleFeature::kFace),
       walk_below(node_surface.num_vertices(), 0),
-      walk_pair(node_surface.num_vertices(), {-1, -1}) {
+      walk_pair(node_surface.num_vertices(), {-1, -1}),
+      face_weights(node_surface.num_vertices(), Vec3::Zero()) {
   const auto& start = node_surface.part_vertex_start();
   part_block_start.assign(start.size(), 0);
   for (size_t part = 0; part + 1 < start.size(); ++part)
@@ -608,8 +609,7 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
                                         faces.v[ft[1]], faces.v[ft[2]], faces.lazy_n != nullptr,
                                         [&](int f) -> const Vec3& { return faces.Normal(f); },
                                         [&](int f, int k) { return faces.CornerNormal(f, k); },
-                                        &g.face_weights));
-      g.has_face_weights = InContact(g) && face_surface.smooth_normals();
+                                        &pass.face_weights[v]));
       gaps->push_back(g);
     };
     for (int block = pass.part_block_start[part], v0 = v_begin; v0 < v_end; ++block, v0 += kBlock) {

@@ -186,6 +186,13 @@ class TrackedGaps {
   const std::vector<std::pair<int, int>>& tracked_pairs() const { return tracked_; }
   const std::vector<int>& tracked_parts_a() const { return tracked_parts_a_; }
   const std::vector<int>& tracked_parts_b() const { return tracked_parts_b_; }
+  // #V of A (of B): for each node of A (B) listed in contact (InContact) by the last
+  // ComputeGaps() on B's (A's) faces with smoothed normals, the barycentric coordinates of its
+  // closest point on its face, those its force normal n_W was interpolated with (signed_gap.h
+  // ForceNormal); FlexibleContactElement takes them for the force's share of each face vertex.
+  // Other entries are not current.
+  const std::vector<Vec3>& face_weights_a() const { return pass_a_.face_weights; }
+  const std::vector<Vec3>& face_weights_b() const { return pass_b_.face_weights; }
   // Forget every node's face and distance (the next Update() seeds them all).
   void Reset();
   // Takes over the tracking state of `source`, a TrackedGaps of the same two surfaces (another
@@ -265,6 +272,8 @@ class TrackedGaps {
     std::vector<char> walk_below;
     // A tied pair (header): the two faces, walk_margin then the pair's; {-1, -1}: none.
     std::vector<std::array<int, 2>> walk_pair;
+    // The force normal's barycentric coordinates of a node listed in contact (face_weights_a).
+    std::vector<Vec3> face_weights;
     // Blocks of kBlock consecutive nodes of one part (a part's first block starts at its first
     // node): the smallest stamp + odometer_reach of the block's nodes (-inf while one has no
     // face), so that a block whose nodes all sleep by the odometer is passed in one test.
