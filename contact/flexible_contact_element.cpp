@@ -193,8 +193,7 @@ void FlexibleContactElement::Evaluate(const ContactSideState& a, const ContactSi
     // parts' boxes of the tracked pairs and the hierarchies' allowance.
     for (const auto& [side, buf] : {std::pair{&spec_.a, &ws.side_a}, std::pair{&spec_.b, &ws.side_b}}) {
       if (!side->flexible || !buf->q_f) continue;
-      for (int part = 0; part < side->surface().num_parts(); ++part)
-        buf->part_deformation[part] = side->flexible->PartDeformationBound(part, *buf->q_f);
+      side->flexible->PartDeformationBounds(*buf->q_f, &buf->part_deformation);
     }
     const TrackedGaps::DeformedParts deformed{
         .a = ws.side_a.q_f ? &ws.side_a.part_deformation : nullptr,

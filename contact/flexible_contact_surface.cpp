@@ -286,6 +286,29 @@ double FlexibleContactSurface::PartDeformationBound(
   return bound > 0 ? bound * (1 + 1e-12) + 1e-15 : bound;
 }
 
+void FlexibleContactSurface::PartDeformationBounds(const Eigen::Ref<const Eigen::VectorXd>& x,
+                                                   std::vector<double>* bounds) const {
+  // PartDeformationBound's row dot sums a strided row of the column-major part_mode_bounds_
+  // one term at a time from index 0 (Eigen's scalar reduction); here every part's sum gains its
+  // terms in that order, column by column (independent sums: the compiler may take two parts
+  // per instruction), then the same rounding allowance.
+  const Eigen::Index np = part_mode_bounds_.rows(), n = x.size();
+  double* b = bounds->data();
+  const double* c = part_mode_bounds_.data();
+  if (n == 0) {
+    std::fill(b, b + np, 0.0);
+    return;
+  }
+  const double x0 = std::abs(x[0]);
+  for (Eigen::Index p = 0; p < np; ++p) b[p] = c[p] * x0;
+  for (Eigen::Index k = 1; k < n; ++k) {
+    const double xk = std::abs(x[k]);
+    const double* ck = c + k * np;
+    for (Eigen::Index p = 0; p < np; ++p) b[p] += ck[p] * xk;
+  }
+  for (Eigen::Index p = 0; p < np; ++p) b[p] = b[p] > 0 ? b[p] * (1 + 1e-12) + 1e-15 : b[p];
+}
+
 Vec3 FlexibleContactSurface::DeformVertex(int vertex, const Eigen::Ref<const Eigen::VectorXd>& q_f,
                                           std::vector<Vec3>* base_displacement,
                                           std::vector<long>* base_stamp, long epoch,

@@ -135,6 +135,11 @@ class FlexibleContactSurface {
   // flexible run (docs/performance.md), where the whole surface's c_k gave 37 %.
   const Eigen::MatrixXd& part_mode_bounds() const { return part_mode_bounds_; }
   double PartDeformationBound(int part, const Eigen::Ref<const Eigen::VectorXd>& x) const;
+  // PartDeformationBound(part, x) of every part into (*bounds)[part] (#parts entries): the same
+  // numbers (each part's sum takes its terms in the same order), a column of part_mode_bounds()
+  // at a time instead of a strided row per part.
+  void PartDeformationBounds(const Eigen::Ref<const Eigen::VectorXd>& x,
+                             std::vector<double>* bounds) const;
   // The points whose shapes DeformVertex forms (the FE nodes an embedded surface hangs on; the
   // vertices themselves otherwise).
   int num_bases() const { return static_cast<int>(BaseShapes().rows() / 3); }

@@ -442,6 +442,10 @@ TEST(FlexibleContactSurface, LazyVerticesAndPartBounds) {
       for (int k = 0; k < nf; ++k) x(k) = std::cos(2.3 * k * (trial + 1) + part) / surface.mode_bounds()(k);
       const double exact = largest(part, x), bound = surface.PartDeformationBound(part, x);
       EXPECT_GE(bound, exact);
+      // All parts at once: the same numbers (flexible_contact_surface.h).
+      std::vector<double> all(4, -1.0);
+      surface.PartDeformationBounds(x, &all);
+      EXPECT_EQ(all[part], bound);
       // Within the whole surface's bound sum_k |x_k| c_k, and below it where the part's vertices
       // move less than the surface's largest in some mode.
       const double whole = surface.DeformationBound(x);
@@ -455,6 +459,20 @@ TEST(FlexibleContactSurface, LazyVerticesAndPartBounds) {
   }
   EXPECT_GT(tighter, 0);
   EXPECT_EQ(surface.PartDeformationBound(0, Eigen::VectorXd::Zero(nf)), 0.0);
+  // Eigen's dot of a strided (column-major) row sums in index order, one term at a time: the
+  // order PartDeformationBounds sums each part's terms in, checked for 1 to 30 modes.
+  for (int n = 1; n <= 30; ++n) {
+    const Eigen::MatrixXd c = Eigen::MatrixXd::NullaryExpr(
+        7, n, [](Eigen::Index i, Eigen::Index j) { return std::exp(std::sin(1.1 * i + 2.3 * j)); });
+    Eigen::VectorXd x(n);
+    for (int k = 0; k < n; ++k) x(k) = std::cos(0.7 * k + n) * 1e-3 * (k % 2 ? -3 : 1);
+    for (int p = 0; p < 7; ++p) {
+      const double want = c.row(p).dot(x.cwiseAbs().transpose());
+      double got = c(p, 0) * std::abs(x(0));
+      for (int k = 1; k < n; ++k) got += c(p, k) * std::abs(x(k));
+      EXPECT_EQ(got, want) << n << " " << p;
+    }
+  }
 }
 
 // ThreeRowsTimes (flexible_contact_surface.h) gives the numbers of Eigen's product of a 3-row
