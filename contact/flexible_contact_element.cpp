@@ -300,6 +300,7 @@ void FlexibleContactElement::Evaluate(const ContactSideState& a, const ContactSi
     buf.node_force[i] += f_B;
   };
   // The force of a node acts on the node's side N, its reaction on the face's side F.
+  const bool flexible_a = spec_.a.flexible != nullptr, flexible_b = spec_.b.flexible != nullptr;
   ForEachContactPoint(a, b, ws, [&](const ContactPoint& c) {
     const NodeGap& g = *c.gap;
     const ContactSideState& N = c.node_on_a ? a : b;
@@ -309,13 +310,17 @@ void FlexibleContactElement::Evaluate(const ContactSideState& a, const ContactSi
     const double depth = -g.gap;
     const NodeForce f =
         EvaluateContactLaw(spec_.law, depth, -c.v_rel.dot(g.n_W), g.n_W, c.v_rel, c.area_weight);
-    // Spatial forces at the deformed node, and the vertex forces in the body frames.
+    // Spatial forces at the deformed node, and the vertex forces in the body frames of the
+    // flexible sides (their modal forces below; a rigid side's vertices take none).
     const Vec6 wrench = ForceAtPoint(g.p_W, f.f_W);
     bn.f_W += wrench;
     bf.f_W -= wrench;
-    add_vertex_force(bn, g.node, N.X_WB.R.transpose() * f.f_W);
-    const Vec3 f_F = F.X_WB.R.transpose() * f.f_W;
-    for (int k = 0; k < 3; ++k) add_vertex_force(bf, c.face_vertices[k], -c.face_weights(k) * f_F);
+    if (c.node_on_a ? flexible_a : flexible_b)
+      add_vertex_force(bn, g.node, N.X_WB.R.transpose() * f.f_W);
+    if (c.node_on_a ? flexible_b : flexible_a) {
+      const Vec3 f_F = F.X_WB.R.transpose() * f.f_W;
+      for (int k = 0; k < 3; ++k) add_vertex_force(bf, c.face_vertices[k], -c.face_weights(k) * f_F);
+    }
     ws.energy += f.energy;
     ws.power_dissipated += f.power_dissipated;
     ws.normal_force += f.normal;

@@ -24,8 +24,9 @@
 //   6. the node force F (world): on the node's body as a spatial force about the world origin at
 //      the deformed node position p_W, and -F on the face's body at the same point; in the body
 //      frames the node takes F_B = R_WN^T F and the face's three vertices take -w_k R_WF^T F
-//      (w_k the barycentric coordinates of the closest point on the deformed face); the modal
-//      forces are Q = sum_P Phi_P^T F_P,B over the vertices of each flexible side.
+//      (w_k the barycentric coordinates of the closest point on the deformed face), on the
+//      flexible sides; the modal forces are Q = sum_P Phi_P^T F_P,B over the vertices of each
+//      flexible side.
 // For a node whose closest point lies inside a face, g = (p - sum w_k x_k) . n with p - q
 // parallel to n, so dg/dx_P = n, dg/dx_k = -w_k n exactly (the rotation of n does not change g to
 // first order): the forces above are then minus the gradient of the penalty energy, in the
@@ -135,7 +136,8 @@ struct ContactSideBuffers {
   std::vector<Vec3> corner_normals;
   std::vector<long> corner_stamp;
   Eigen::VectorXd displacement; // 3 #V: Phi q_f (flexible, candidate pairs)
-  std::vector<Vec3> node_force; // #V: contact force on each vertex, body frame (N)
+  std::vector<Vec3> node_force; // #V: contact force on each vertex, body frame (N; a flexible
+                                // side's: a rigid side's vertices take none, zero)
   Vec6 f_W = Vec6::Zero();      // spatial force on the body, world origin
   Eigen::VectorXd modal_force;  // nf: sum_P Phi_P^T node_force_P
   double deformation_bound = 0; // m
@@ -230,9 +232,10 @@ class FlexibleContactElement final : public ExternalForceElement, public Element
   void AddTangents(const Model& model, const Data& data, ExternalForceWorkspace& workspace,
                    Eigen::Ref<Eigen::MatrixXd> K, Eigen::Ref<Eigen::MatrixXd> C) const override;
 
-  // Stages 1-6 for given states: fills ws.side_a / side_b (f_W, modal_force, node_force),
-  // ws.energy, ws.power_dissipated and the outputs; with outputs false the monitor's state and
-  // the recorded points are left to the next GetOutputs() (FlexibleContactWorkspace).
+  // Stages 1-6 for given states: fills ws.side_a / side_b (f_W; modal_force and node_force of
+  // the flexible sides), ws.energy, ws.power_dissipated and the outputs; with outputs false the
+  // monitor's state and the recorded points are left to the next GetOutputs()
+  // (FlexibleContactWorkspace).
   void Evaluate(const ContactSideState& a, const ContactSideState& b,
                 FlexibleContactWorkspace& ws, bool outputs = true) const;
 
