@@ -319,7 +319,8 @@ void FlexibleContactElement::Evaluate(const ContactSideState& a, const ContactSi
       add_vertex_force(bn, g.node, N.X_WB.R.transpose() * f.f_W);
     if (c.node_on_a ? flexible_b : flexible_a) {
       const Vec3 f_F = F.X_WB.R.transpose() * f.f_W;
-      for (int k = 0; k < 3; ++k) add_vertex_force(bf, c.face_vertices[k], -c.face_weights(k) * f_F);
+      for (int k = 0; k < 3; ++k)
+        add_vertex_force(bf, c.face_vertices[k], -c.face_weights(k) * f_F);
     }
     ws.energy += f.energy;
     ws.power_dissipated += f.power_dissipated;

@@ -136,8 +136,8 @@ struct ContactSideBuffers {
   std::vector<Vec3> corner_normals;
   std::vector<long> corner_stamp;
   Eigen::VectorXd displacement; // 3 #V: Phi q_f (flexible, candidate pairs)
-  std::vector<Vec3> node_force; // #V: contact force on each vertex, body frame (N; a flexible
-                                // side's: a rigid side's vertices take none, zero)
+  std::vector<Vec3> node_force;  // #V: contact force on each vertex, body frame (N; a flexible
+                                 // side's: a rigid side's vertices take none, zero)
   Vec6 f_W = Vec6::Zero();      // spatial force on the body, world origin
   Eigen::VectorXd modal_force;  // nf: sum_P Phi_P^T node_force_P
   double deformation_bound = 0; // m
@@ -236,8 +236,8 @@ class FlexibleContactElement final : public ExternalForceElement, public Element
   // the flexible sides), ws.energy, ws.power_dissipated and the outputs; with outputs false the
   // monitor's state and the recorded points are left to the next GetOutputs()
   // (FlexibleContactWorkspace).
-  void Evaluate(const ContactSideState& a, const ContactSideState& b,
-                FlexibleContactWorkspace& ws, bool outputs = true) const;
+  void Evaluate(const ContactSideState& a, const ContactSideState& b, FlexibleContactWorkspace& ws,
+                bool outputs = true) const;
 
  private:
   // A penetrating node of the last evaluation, with what its force and tangents need.

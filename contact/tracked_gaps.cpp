@@ -602,14 +602,13 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
       // The force normal for a node in contact only (signed_gap.h NodeGap::n_W): the others'
       // would read the corners' faces for nothing.
       const auto& ft = face_surface.triangles()[g.face];
-      g.n_W =
-          X_WF.R * (!InContact(g) ? faces.Normal(g.face)
-                                  : ForceNormal(
-                                        face_surface, g.face, best.point.point, faces.v[ft[0]],
-                                        faces.v[ft[1]], faces.v[ft[2]], faces.lazy_n != nullptr,
-                                        [&](int f) -> const Vec3& { return faces.Normal(f); },
-                                        [&](int f, int k) { return faces.CornerNormal(f, k); },
-                                        &pass.face_weights[v]));
+      g.n_W = X_WF.R * (!InContact(g) ? faces.Normal(g.face)
+                                      : ForceNormal(
+                                            face_surface, g.face, best.point.point, faces.v[ft[0]],
+                                            faces.v[ft[1]], faces.v[ft[2]], faces.lazy_n != nullptr,
+                                            [&](int f) -> const Vec3& { return faces.Normal(f); },
+                                            [&](int f, int k) { return faces.CornerNormal(f, k); },
+                                            &pass.face_weights[v]));
       gaps->push_back(g);
     };
     for (int block = pass.part_block_start[part], v0 = v_begin; v0 < v_end; ++block, v0 += kBlock) {

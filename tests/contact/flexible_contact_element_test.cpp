@@ -611,7 +611,8 @@ class SummingMonitor final : public ContactMonitor {
   std::unique_ptr<ContactMonitorState> MakeState() const override {
     return std::make_unique<Sums>();
   }
-  void Start(const Transform& X_WA, const Transform& X_WB, ContactMonitorState& state) const override {
+  void Start(const Transform& X_WA, const Transform& X_WB,
+             ContactMonitorState& state) const override {
     auto& s = static_cast<Sums&>(state).v;
     s.fill(0.0);
     s[0] = X_WA.p.z() - 3 * X_WB.p.x();
@@ -645,10 +646,11 @@ class SummingMonitor final : public ContactMonitor {
 TEST(FlexibleContactElement, OutputsMadeOnReadEqualThoseOfTheEvaluation) {
   const Block b = MakeBlock(8);
   auto block = std::make_shared<const FlexibleContactSurface>(
-      b.modes, FlexibleContactSurfaceSpec{.node_sets = {"ZMIN"}, .gap_margin_m = 30e-6,
-                                          .deformation_allowance_m = 20e-6});
+      b.modes, FlexibleContactSurfaceSpec{
+                   .node_sets = {"ZMIN"}, .gap_margin_m = 30e-6, .deformation_allowance_m = 20e-6});
   const auto monitor = std::make_shared<const SummingMonitor>();
-  const FlexibleContactElement e({.name = "block_on_plane", .a = {.body = 1, .flexible = block},
+  const FlexibleContactElement e({.name = "block_on_plane",
+                                  .a = {.body = 1, .flexible = block},
                                   .b = {.body = 0, .rigid = Plane()},
                                   .law = {.stiffness_per_area = 2.1e13,
                                           .hunt_crossley_s_per_m = 0.5,
@@ -671,7 +673,9 @@ TEST(FlexibleContactElement, OutputsMadeOnReadEqualThoseOfTheEvaluation) {
     V << 0, 0, 0.3, 2e-4, -1e-4 * step, -1e-3;
     const ContactSideState a{
         .X_WB = Transform::Translation(Vec3(1e-5 * step, 0, kL - 1e-6 * (1 + step % 4))),
-        .V_WB = V, .q_f = &q, .q_f_dot = &q_dot};
+        .V_WB = V,
+        .q_f = &q,
+        .q_f_dot = &q_dot};
     const ContactSideState plane{.X_WB = Transform()};
     e.Evaluate(a, plane, lazy, /*outputs=*/false);
     EXPECT_TRUE(lazy.outputs_pending) << "step " << step;
@@ -686,7 +690,8 @@ TEST(FlexibleContactElement, OutputsMadeOnReadEqualThoseOfTheEvaluation) {
     // Bit for bit (NaN where no point is recorded, in both).
     ASSERT_EQ(std::memcmp(lazy_out.data(), eager_out.data(), sizeof(double) * n), 0)
         << "step " << step;
-    ASSERT_EQ(std::memcmp(again.data(), eager_out.data(), sizeof(double) * n), 0) << "step " << step;
+    ASSERT_EQ(std::memcmp(again.data(), eager_out.data(), sizeof(double) * n), 0)
+        << "step " << step;
     pressed += lazy.contact_points > 5;
   }
   EXPECT_GT(pressed, 8);

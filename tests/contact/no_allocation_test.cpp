@@ -226,8 +226,9 @@ TEST(ContactNoAllocation, FlexibleContactEvaluation) {
                     .node_sets = {"ZMIN"}, .slack_m = 2e-6, .smooth_normals = true})},
       .b = {.body = kWorldBody,
             .rigid = std::make_shared<const ContactSurface>(std::vector{plane}, 30e-6)},
-      .law = {
-          .stiffness_per_area = 2e13, .hunt_crossley_s_per_m = 0.1, .friction_coefficient = 0.2},
+      .law = {.stiffness_per_area = 2e13,
+              .hunt_crossley_s_per_m = 0.1,
+              .friction_coefficient = 0.2},
       .record_points = 4}));
   const std::shared_ptr<const Model> model = std::move(b).Finalize();
   const Model& m = *model;
