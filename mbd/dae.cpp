@@ -11,6 +11,7 @@
 #include "mbd/constraints.h"
 #include "mbd/dynamics.h"
 #include "mbd/evaluate.h"
+#include "mbd/flexible_dynamics.h"
 #include "mbd/force_elements.h"
 #include "mbd/gear_mesh.h"
 #include "mbd/kinematics.h"
@@ -56,6 +57,22 @@ DaeSystem::DaeSystem(const Model& model)
   rlz_.setZero(nc_);
   tau_base_.setZero(nv_);
   GroupDifferences();
+  analytic_column_.assign(nv_, 0);
+  for (size_t i = 0; i < model.flexible_bodies.size(); ++i) {
+    const FlexibleBody& fb = model.flexible_bodies[i];
+    if (fb.nf == 0 || !ModalColumnsAreLocal(model, static_cast<int>(i))) continue;
+    analytic_modal_bodies_.push_back(static_cast<int>(i));
+    for (int k = 0; k < fb.nf; ++k) analytic_column_[fb.v_start + k] = 1;
+  }
+}
+
+int DaeSystem::differenced_columns() const {
+  if (!use_analytic_modal_ || analytic_modal_bodies_.empty() ||
+      !(use_element_tangents_ || model_.external_forces.empty()))
+    return nv_;
+  int n = 0;
+  for (const char analytic : analytic_column_) n += analytic ? 0 : 1;
+  return n;
 }
 
 void DaeSystem::GroupDifferences() {
@@ -209,6 +226,11 @@ void DaeSystem::Tangents(double t, const Eigen::Ref<const Eigen::VectorXd>& q,
                          Eigen::Ref<Eigen::MatrixXd> Kq, Eigen::Ref<Eigen::MatrixXd> Cv) {
   // Elements with analytic tangents are left out of the differences below.
   data_.skip_elements_with_tangents = use_element_tangents_ && any_element_tangents_;
+  // The modal columns of leaf flexible bodies from their equations (at the end), when every
+  // external element is left out of the differences (ModalColumnsAreLocal asks that they all have
+  // analytic tangents).
+  const bool modal = use_analytic_modal_ && !analytic_modal_bodies_.empty() &&
+                     (use_element_tangents_ || model_.external_forces.empty());
   // Positions: q <- q (+) h e_k, the whole pipeline per column (per group of uncoupled columns).
   const bool grouped = use_groups_ && data_.skip_elements_with_tangents && !class_of_row_.empty();
   DynamicRows(t, q, v, vdot, lambda, rv0_, rl0_);
@@ -216,6 +238,7 @@ void DaeSystem::Tangents(double t, const Eigen::Ref<const Eigen::VectorXd>& q,
     GroupedPositionColumns(t, q, v, vdot, lambda, Kq);
   } else {
     for (int k = 0; k < nv_; ++k) {
+      if (modal && analytic_column_[k]) continue;
       q_pert_ = q;
       dv_.setZero();
       dv_(k) = kFdStep;
@@ -238,6 +261,7 @@ void DaeSystem::Tangents(double t, const Eigen::Ref<const Eigen::VectorXd>& q,
     GroupedVelocityColumns(t, v, vdot, Cv);
   } else {
     for (int k = 0; k < nv_; ++k) {
+      if (modal && analytic_column_[k]) continue;
       v_pert_ = v;
       const double h = kFdStep * std::max(1.0, std::abs(v(k)));
       v_pert_(k) += h;
@@ -254,6 +278,9 @@ void DaeSystem::Tangents(double t, const Eigen::Ref<const Eigen::VectorXd>& q,
   CalcVelocityKinematics(model_, v, data_);
   CalcForceElements(model_, t, v, data_);
   CalcInverseDynamics(model_, vdot, data_);
+  if (modal)
+    for (const int i : analytic_modal_bodies_)
+      SetFlexibleModalTangents(model_, data_, i, vdot, Kq, Cv);
   if (add_element_tangents) {
     CalcBodyJacobians(model_, data_);
     AddGearMeshTangents(model_, data_, Kq.topRows(nv_), Cv, mesh_row_, mesh_phase_row_);

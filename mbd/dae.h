@@ -95,6 +95,14 @@ class DaeSystem {
   // Jacobians are the same to the last bit, GroupDifferences) or one column per evaluation (the
   // oracle in tests).
   void set_grouped_differences(bool use) { use_groups_ = use; }
+  // Whether Tangents() takes the modal columns of leaf flexible bodies from their equations
+  // (default; SetFlexibleModalTangents, when ModalColumnsAreLocal and the element tangents are
+  // used) or by differences like every other column (the oracle in tests).
+  void set_analytic_modal_columns(bool use) { use_analytic_modal_ = use; }
+  // Columns Tangents() takes by differences (with the analytic modal columns: nv less the modal
+  // coordinates of the bodies they serve).
+  int differenced_columns() const;
+
   // Pipeline evaluations per set of position (or velocity) differences when grouped: the number
   // of groups (0: the model's columns are not grouped).
   int difference_groups() const { return static_cast<int>(group_columns_.size()); }
@@ -138,6 +146,11 @@ class DaeSystem {
   bool any_element_tangents_ = false;  // lumped meshes or an external element with analytic tangents
   bool use_element_tangents_ = true;
   bool use_groups_ = true;
+  bool use_analytic_modal_ = true;
+  // Flexible bodies whose modal columns SetFlexibleModalTangents makes (ModalColumnsAreLocal),
+  // and per velocity coordinate whether it is one of theirs (nv).
+  std::vector<int> analytic_modal_bodies_;
+  std::vector<char> analytic_column_;
   std::vector<int> class_of_row_;                // nv + nc (empty: no grouping)
   std::vector<std::vector<int>> group_columns_;  // per group: the coordinates perturbed together
   Eigen::VectorXd rvz_, rlz_, tau_base_;         // grouped differences' scratch (nv, nc, nv)

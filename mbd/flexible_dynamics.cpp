@@ -77,6 +77,22 @@ __attribute__((always_inline)) inline void CombineColumns(int rows, int cols, co
   }
 }
 
+// B's angular velocity, angular acceleration and the acceleration of its origin, in B axes
+// (classical vectors from the spatial, world-origin, V_WB and A_WB).
+struct FrameMotion {
+  Vec3 w, alpha, a;
+};
+inline FrameMotion MotionInBodyAxes(const Data& data, BodyIndex b) {
+  const Transform& X = data.X_WB[b];
+  const Vec6& V = data.V_WB[b];
+  const Vec6& A = data.A_WB[b];
+  const Vec3 w_W = V.head<3>();
+  const Vec3 v_o = V.tail<3>() + w_W.cross(X.p);
+  const Vec3 a_o = A.tail<3>() + A.head<3>().cross(X.p) + w_W.cross(v_o);
+  const Mat3 RT = X.R.transpose();
+  return {RT * w_W, RT * A.head<3>(), RT * a_o};
+}
+
 }  // namespace
 
 void AddColumnCombinationBaseline(int rows, int cols, const double* A, long lda, const double* x,
@@ -227,15 +243,8 @@ Vec6 CalcFlexibleBodyForce(const Model& model, const FlexibleBody& fb,
   Data::FlexibleBodyTerms& T = data.flex[i];
   const int n = fb.nf;
   const Transform& X = data.X_WB[fb.body];
-  const Vec6& V = data.V_WB[fb.body];
-  const Vec6& A = data.A_WB[fb.body];
-  // Classical velocity and acceleration of B's origin from the spatial (world-origin) vectors,
-  // then B axes.
-  const Vec3 w_W = V.head<3>();
-  const Vec3 v_o = V.tail<3>() + w_W.cross(X.p);
-  const Vec3 a_o = A.tail<3>() + A.head<3>().cross(X.p) + w_W.cross(v_o);
-  const Mat3 RT = X.R.transpose();
-  const Vec3 w = RT * w_W, alpha = RT * A.head<3>(), a = RT * a_o;
+  const FrameMotion motion = MotionInBodyAxes(data, fb.body);
+  const Vec3 &w = motion.w, &alpha = motion.alpha, &a = motion.a;
   const auto qd = T.qf_dot.head(n);
   const auto qdd = vdot.segment(fb.v_start, n);
   const Vec3 Sw = w.cross(T.S);
@@ -308,6 +317,110 @@ double FlexibleKineticEnergy(const Model& model, const Data& data) {
     T += data.V_WB[fb.body].dot(h) + 0.5 * modal;
   }
   return T;
+}
+
+bool ModalColumnsAreLocal(const Model& model, int i) {
+  const BodyIndex body = model.flexible_bodies[i].body;
+  for (const Joint& jt : model.joints)
+    if (jt.spec.parent == body) return false;
+  for (const auto& element : model.external_forces)
+    if (!element->HasTangents()) return false;
+  // Every frame an element of the model reads (joints read none: their offsets are rigid in B).
+  auto on_node = [&](FrameIndex f) {
+    return f >= 0 && model.frames[f].body == body && model.frames[f].node >= 0;
+  };
+  for (const auto& l : model.applied_loads)
+    if (on_node(l.frame)) return false;
+  for (const auto& s : model.translational_springs)
+    if (on_node(s.frame_a) || on_node(s.frame_b)) return false;
+  for (const auto& s : model.rotational_springs)
+    if (on_node(s.frame_a) || on_node(s.frame_b)) return false;
+  for (const auto& s : model.bushings)
+    if (on_node(s.frame_a) || on_node(s.frame_b)) return false;
+  for (const auto& s : model.bearings)
+    if (on_node(s.frame_a) || on_node(s.frame_b)) return false;
+  for (const auto& c : model.loop_closures)
+    if (on_node(c.frame_a) || on_node(c.frame_b)) return false;
+  for (const auto& g : model.gear_meshes)
+    if (on_node(g.spec.gear_a) || on_node(g.spec.gear_b) || on_node(g.spec.reference)) return false;
+  for (const auto& g : model.gear_constraints)
+    if (on_node(g.spec.gear_a) || on_node(g.spec.gear_b) || on_node(g.spec.reference)) return false;
+  return true;
+}
+
+void SetFlexibleModalTangents(const Model& model, const Data& data, int i,
+                              const Eigen::Ref<const Eigen::VectorXd>& vdot,
+                              Eigen::Ref<Eigen::MatrixXd> Kq, Eigen::Ref<Eigen::MatrixXd> Cv) {
+  const FlexibleBody& fb = model.flexible_bodies[i];
+  const FlexibleBodyModes& m = *fb.modes;
+  const Data::FlexibleBodyTerms& T = data.flex[i];
+  const int n = fb.nf, N = m.nf, v0 = fb.v_start;
+  if (n == 0) return;
+  const Transform& X = data.X_WB[fb.body];
+  const FrameMotion motion = MotionInBodyAxes(data, fb.body);
+  const Vec3 &w = motion.w, &alpha = motion.alpha, &a = motion.a;
+  const auto qdd = vdot.segment(v0, n);
+  // The modal rows' q_f-dependent terms L_l . alpha + D_l : (w w^T - |w|^2 1) are linear in D_l
+  // (L_l = axial D_l): d/dq_k = vec(I5_kl) . z with z = vec(w w^T - |w|^2 1) plus alpha's part
+  // of the axial vector (ab(1,2) - ab(2,1), ab(2,0) - ab(0,2), ab(0,1) - ab(1,0); column-major
+  // vec indices 7 - 5, 2 - 6, 3 - 1).
+  Mat3 W = w * w.transpose();
+  W.diagonal().array() -= w.squaredNorm();
+  Nine z = Eigen::Map<const Nine>(W.data());
+  z(7) += alpha.x();
+  z(5) -= alpha.x();
+  z(2) += alpha.y();
+  z(6) -= alpha.y();
+  z(3) += alpha.z();
+  z(1) -= alpha.z();
+  // A column's spatial force (world origin, as CalcFlexibleBodyForce returns it) on the rows of
+  // the ancestors' coordinates.
+  auto set_ancestor_rows = [&](const Vec3& dN, const Vec3& dF, auto column) {
+    const Vec3 F_W = X.R * dF;
+    Vec6 f;
+    f << X.R * dN + X.p.cross(F_W), F_W;
+    for (JointIndex j = model.bodies[fb.body].parent_joint; j >= 0;
+         j = model.bodies[model.joints[j].spec.parent].parent_joint) {
+      const Joint& jt = model.joints[j];
+      for (int r = 0; r < jt.nv; ++r) column(jt.v_start + r) = data.S.col(jt.v_start + r).dot(f);
+    }
+  };
+  for (int k = 0; k < n; ++k) {
+    // The I5_kl of this k (l < n) as a 9 x n matrix; its combinations with q_f, q_f-dot and
+    // q_f-ddot: sum_l x_l I5_kl.
+    const double* I5k = m.I5[static_cast<size_t>(k) * N].data();
+    Nine Eq, Eqd, Eqdd;
+    AddColumnCombination(9, n, I5k, 9, T.qf.data(), nullptr, Eq.data());
+    AddColumnCombination(9, n, I5k, 9, T.qf_dot.data(), nullptr, Eqd.data());
+    AddColumnCombination(9, n, I5k, 9, qdd.data(), nullptr, Eqdd.data());
+    const Eigen::Map<const Mat3> D_k(T.D.data() + 9 * k);
+    const Vec3 I2_k = m.I2.col(k);
+
+    // Position column: dS = I2_k, dU = I4_k^T + D_k + sum_l q_l I5_kl, dJ = tr(dU) 1 - dU,
+    // dC = sum_l qd_l I5_kl, d(L qdd) = axial(sum_l qdd_l I5_kl); a, alpha, w do not move.
+    const Mat3 dU = m.I4[k].transpose() + D_k + Eigen::Map<const Mat3>(Eq.data());
+    Mat3 dJ = -dU;
+    dJ.diagonal().array() += dU.trace();
+    const Eigen::Map<const Mat3> dC(Eqd.data());
+    const Vec3 dF = alpha.cross(I2_k) + w.cross(w.cross(I2_k));
+    const Vec3 dN = I2_k.cross(a) + dJ * alpha + w.cross(dJ * w) +
+                    2 * (dC.trace() * w - dC.transpose() * w) +
+                    Axial(Eigen::Map<const Mat3>(Eqdd.data()));
+    auto kq = Kq.col(v0 + k);
+    kq.setZero();
+    set_ancestor_rows(dN, dF, kq);
+    for (int l = 0; l < n; ++l)
+      kq(v0 + l) = Eigen::Map<const Nine>(I5k + 9 * l).dot(z) + fb.stiffness(l, k);
+    if (fb.geometric_stiffening) kq.segment(v0, n) += T.K_geo.col(k);
+
+    // Rate column: the Coriolis terms 2 w x I2 q_f-dot, 2 (tr C 1 - C^T) w with C = sum_l qd_l D_l,
+    // the modal rows' 2 w . sum_m qd_m mode_cross_ml, and the damping.
+    auto cv = Cv.col(v0 + k);
+    cv.setZero();
+    set_ancestor_rows(2 * (D_k.trace() * w - D_k.transpose() * w), 2 * w.cross(I2_k), cv);
+    const Vec3* cross_k = fb.mode_cross.data() + static_cast<size_t>(k) * n;
+    for (int l = 0; l < n; ++l) cv(v0 + l) = 2 * w.dot(cross_k[l]) + fb.damping(l, k);
+  }
 }
 
 Vec6 CalcSpatialMomentum(const Model& model, const Data& data) {

@@ -31,6 +31,28 @@ std::pair<double, double> CalcFlexibleInternalForces(const Model& model, Data& d
 Vec6 CalcFlexibleBodyForce(const Model& model, const FlexibleBody& fb,
                            const Eigen::Ref<const Eigen::VectorXd>& vdot, Data& data);
 
+// Whether DaeSystem::Tangents may take flexible body i's modal columns from
+// SetFlexibleModalTangents instead of differences: the body is a leaf of the tree (no joint hangs
+// from it), no element of the model reads a frame on one of its nodes (such a frame moves with
+// q_f), and every external element has analytic tangents (external elements may read the deformed
+// body; they add their own tangents and are left out of the differences). Then q_f and q_f-dot
+// reach the dynamic rows only through the body's own terms: its modal rows and the spatial force it
+// hands to its ancestors. An element kind added to the model that can read a node frame must be
+// checked here.
+bool ModalColumnsAreLocal(const Model& model, int i);
+
+// Flexible body i's columns (its modal coordinates) of Tangents' Kq ((nv + nc) x nv: d(r_v,
+// r_lam)/d(dq)) and Cv (nv x nv: d r_v/d v) at data's state: the equations of flexible_body.h
+// differentiated in q_f and q_f-dot (the invariants are constant, D_l, L_l, S, U and C linear or
+// quadratic in q_f), the rows of its ancestors' coordinates by the joint subspaces, the modal rows
+// with K + K_g and D; every other row zero. data must hold a whole evaluation at the state
+// (kinematics, force elements, CalcInverseDynamics at vdot: A_WB). Valid when
+// ModalColumnsAreLocal(model, i) and the external elements are left out of the differences.
+// Allocation-free.
+void SetFlexibleModalTangents(const Model& model, const Data& data, int i,
+                              const Eigen::Ref<const Eigen::VectorXd>& vdot,
+                              Eigen::Ref<Eigen::MatrixXd> Kq, Eigen::Ref<Eigen::MatrixXd> Cv);
+
 // Mass-matrix stage: the rigid-modal coupling and modal blocks (the rigid block comes from the
 // composite-rigid-body pass with the deformed inertia).
 void AddFlexibleMassMatrix(const Model& model, Data& data);

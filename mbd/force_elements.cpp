@@ -38,7 +38,9 @@ RelativeMotion CalcRelativeMotion(const Data& data, FrameIndex fa, FrameIndex fb
 void CalcForceElements(const Model& model, double t, const Eigen::Ref<const Eigen::VectorXd>& v,
                        Data& data) {
   // An element kind added here that couples two bodies must also join their subtrees in
-  // DaeSystem::GroupDifferences (mbd/dae.cpp), or the grouped tangents would miss its coupling.
+  // DaeSystem::GroupDifferences (mbd/dae.cpp), or the grouped tangents would miss its coupling;
+  // one that can read a frame on a flexible body's node must be checked in ModalColumnsAreLocal
+  // (mbd/flexible_dynamics.cpp), or the analytic modal tangents would miss it.
   for (auto& f : data.f_ext) f.setZero();
   data.tau_applied.setZero();
   double energy = 0, applied = 0, dissipated = 0;

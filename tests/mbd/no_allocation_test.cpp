@@ -215,6 +215,26 @@ TEST(NoAllocation, GeneralizedAlphaStep) {
   }
 }
 
+// The analytic modal columns of a leaf flexible body (SetFlexibleModalTangents; the model above
+// differences them: a spring pulls one of its node frames).
+TEST(NoAllocation, AnalyticModalTangents) {
+  ModelBuilder b;
+  b.SetGravity(Vec3(0, -9.81, 0));
+  const BodyIndex flex = b.AddFlexibleBody(
+      "flex", PointMassModes(), {.damping_ratios = {0.02}, .geometric_stiffening = true});
+  const JointIndex pin = b.AddJoint(
+      Joint("flex", JointType::kRevolute, kWorldBody, flex, Transform::Translation(Vec3(2, 0, 0))));
+  b.SetJointVelocity(pin, Eigen::VectorXd::Constant(1, 3.0));
+  b.SetModalCoordinates(flex, Eigen::Vector3d(0.01, -0.02, 0.03), Eigen::Vector3d(0.1, 0.2, -0.3));
+  const std::shared_ptr<const Model> model = std::move(b).Finalize();
+  DaeSystem dae(*model);
+  ASSERT_EQ(dae.differenced_columns(), 1);
+  Eigen::VectorXd y(dae.size()), yp(dae.size());
+  Eigen::MatrixXd J(dae.size(), dae.size());
+  dae.ConsistentInitial(State::Initial(*model), y, yp);
+  EXPECT_EQ(AllocationsIn([&] { dae.Jacobian(0.0, 1e3, y, yp, J); }), 0);
+}
+
 // The paths the model above does not take (it has a flexible body and a loop closure): the
 // velocity projection by articulated solves and the grouped differences of the tangents, on a
 // spatial stage of free bodies with a speed driver (tests/common/spatial_stage.h). The first
