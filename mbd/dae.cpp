@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -271,8 +272,9 @@ void DaeSystem::Tangents(double t, const Eigen::Ref<const Eigen::VectorXd>& q,
       Cv.col(k) = (data_.tau_id - rv0_) / h;
     }
   }
-  // Leave data at the base point, every element applied; those with analytic tangents add them
-  // there.
+  // Leave data at the base point, every element applied (where the last evaluation was at this
+  // very state, a residual's at the iterate being refreshed, the external elements' results are
+  // added again, not computed: CalcExternalForces); those with analytic tangents add them there.
   const bool add_element_tangents = data_.skip_elements_with_tangents;
   data_.skip_elements_with_tangents = false;
   CalcVelocityKinematics(model_, v, data_);
@@ -289,6 +291,8 @@ void DaeSystem::Tangents(double t, const Eigen::Ref<const Eigen::VectorXd>& q,
       if (element.HasTangents())
         element.AddTangents(model_, data_, *data_.external[i], Kq.topRows(nv_), Cv);
     }
+    // AddTangents may use the workspaces as scratch: the next evaluation computes them again.
+    data_.tangent_elements_t = std::numeric_limits<double>::quiet_NaN();
   }
 }
 

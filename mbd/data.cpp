@@ -69,6 +69,8 @@ Data::Data(const Model& model) {
   }
   for (const auto& element : model.external_forces) external.push_back(element->MakeWorkspace(model));
   external_errors.resize(model.external_forces.size());
+  tangent_elements_q = Eigen::VectorXd::Zero(model.nq);
+  tangent_elements_v = Eigen::VectorXd::Zero(model.nv);
   sensor_values = Eigen::VectorXd::Zero(model.n_sensor_channels);
   int element_values = 0;
   for (const Sensor& s : model.sensors) element_values = std::max(element_values, s.element_values);

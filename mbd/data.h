@@ -3,6 +3,7 @@
 // Each field says which function fills it and its size; nothing here allocates after
 // construction.
 #include <exception>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -80,6 +81,15 @@ struct Data {
   // One per Model::external_forces element, made by the element (its caches and outputs); filled
   // by the element's Apply() at the end of CalcForceElements.
   std::vector<std::unique_ptr<ExternalForceWorkspace>> external;
+  // The state (t, q_normalized, v) whose results the workspaces of the external elements with
+  // analytic tangents and split Apply() hold (their last evaluation that did not skip them): an
+  // evaluation at that very state, bit for bit, adds those results again (AddTo) instead of
+  // computing them (Apply is a function of (t, q, v), external_force.h): DaeSystem::Tangents'
+  // last pass at the iterate a residual was just evaluated at. Filled by CalcExternalForces;
+  // t NaN: none (before the first evaluation, during one, after a failed one, a warm start or
+  // the elements' AddTangents).
+  double tangent_elements_t = std::numeric_limits<double>::quiet_NaN();
+  Eigen::VectorXd tangent_elements_q, tangent_elements_v;  // nq, nv
   // Set by DaeSystem::Tangents while it takes finite differences: CalcForceElements then leaves
   // out the elements with analytic tangents (the lumped gear meshes, and the external elements
   // whose ExternalForceElement::HasTangents() is true).

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <exception>
+#include <limits>
 #include <stdexcept>
 #include <utility>
 
@@ -31,6 +33,13 @@ RelativeMotion CalcRelativeMotion(const Data& data, FrameIndex fa, FrameIndex fb
   const Mat3 RaT = Xa.R.transpose();
   return {Xa, Xb, RaT * delta, RaT * (delta_dot - Va.head<3>().cross(delta)),
           RaT * (Vb.head<3>() - Va.head<3>()), RaT * Xb.R};
+}
+
+// The same numbers, bit for bit (a key: -0 and +0 differ).
+bool SameBits(const Eigen::Ref<const Eigen::VectorXd>& a, const Eigen::VectorXd& b) {
+  return a.size() == b.size() &&
+         (a.size() == 0 ||
+          std::memcmp(a.data(), b.data(), sizeof(double) * static_cast<size_t>(a.size())) == 0);
 }
 
 }  // namespace
@@ -177,16 +186,25 @@ void CalcForceElements(const Model& model, double t, const Eigen::Ref<const Eige
   data.potential_energy = energy + elastic;
   data.power_applied = applied;
   data.power_dissipated = dissipated + modal_dissipated;
-  CalcExternalForces(model, t, data);
+  CalcExternalForces(model, t, v, data);
 }
 
-void CalcExternalForces(const Model& model, double t, Data& data) {
+void CalcExternalForces(const Model& model, double t, const Eigen::Ref<const Eigen::VectorXd>& v,
+                        Data& data) {
   // Elements defined outside mbd/ (contact/) add to the same accumulators (those with analytic
   // tangents not while DaeSystem::Tangents takes differences).
   const int n = static_cast<int>(model.external_forces.size());
-  auto skipped = [&](int i) {
-    return data.skip_elements_with_tangents && model.external_forces[i]->HasTangents();
+  const bool skipping = data.skip_elements_with_tangents;
+  auto skipped = [&](int i) { return skipping && model.external_forces[i]->HasTangents(); };
+  // The elements with tangents whose workspaces hold this state: their results are added again.
+  const bool same_state = !skipping && data.tangent_elements_t == t &&
+                          SameBits(data.q_normalized, data.tangent_elements_q) &&
+                          SameBits(v, data.tangent_elements_v);
+  auto reused = [&](int i) {
+    const ExternalForceElement& element = *model.external_forces[i];
+    return same_state && element.HasTangents() && element.SplitsApply();
   };
+  if (!skipping) data.tangent_elements_t = std::numeric_limits<double>::quiet_NaN();
   // With threads: the elements that split their Apply() compute into their own workspaces in
   // parallel (dynamic schedule: a flexible contact costs several rigid ones).
   const int threads = std::min(data.threads, n);
@@ -195,7 +213,7 @@ void CalcExternalForces(const Model& model, double t, Data& data) {
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
     for (int i = 0; i < n; ++i) {
       const ExternalForceElement& element = *model.external_forces[i];
-      if (skipped(i) || !element.SplitsApply()) continue;
+      if (skipped(i) || reused(i) || !element.SplitsApply()) continue;
       try {
         element.Compute(model, t, input, *data.external[i]);
       } catch (...) {
@@ -213,14 +231,20 @@ void CalcExternalForces(const Model& model, double t, Data& data) {
   for (int i = 0; i < n; ++i) {
     if (skipped(i)) continue;
     const ExternalForceElement& element = *model.external_forces[i];
-    if (threads > 1 && element.SplitsApply())
+    if (reused(i) || (threads > 1 && element.SplitsApply()))
       element.AddTo(model, *data.external[i], data);
     else
       element.Apply(model, t, data, *data.external[i]);
   }
+  if (!skipping) {
+    data.tangent_elements_t = t;
+    data.tangent_elements_q = data.q_normalized;
+    data.tangent_elements_v = v;
+  }
 }
 
 void WarmStartExternalWorkspaces(const Model& model, const Data& source, Data& target) {
+  target.tangent_elements_t = std::numeric_limits<double>::quiet_NaN();
   for (size_t e = 0; e < model.external_forces.size(); ++e)
     model.external_forces[e]->WarmStart(*source.external[e], *target.external[e]);
 }

@@ -20,13 +20,17 @@ void CalcForceElements(const Model& model, double t, const Eigen::Ref<const Eige
 // a parallel loop over a handful of heavy elements per evaluation, with no task graph to
 // express), then every element's results are added to data on this thread in element order, so
 // the sums are bit-identical for any thread count. An exception thrown by an element on a worker
-// thread is rethrown here (the first in element order).
-void CalcExternalForces(const Model& model, double t, Data& data);
+// thread is rethrown here (the first in element order). An element with analytic tangents and
+// split Apply() whose workspace holds this very state (data.tangent_elements_*: t, q_normalized
+// and v bit for bit) is not computed again: its results are added (AddTo).
+void CalcExternalForces(const Model& model, double t, const Eigen::Ref<const Eigen::VectorXd>& v,
+                        Data& data);
 
 // ExternalForceElement::WarmStart of every external element from source's workspaces into
 // target's (two Data of the same model): the recorder's evaluation at an output row then
 // starts its tracking from the integrator's last evaluation, a step away, instead of from the
-// last row. Allocation-free.
+// last row. target's workspaces no longer hold its last state (data.tangent_elements_t).
+// Allocation-free.
 void WarmStartExternalWorkspaces(const Model& model, const Data& source, Data& target);
 
 }  // namespace orrery
