@@ -163,6 +163,24 @@ int FlagZoneParts(const PartRing& ring, double beta, double phi_min, double phi_
   return n;
 }
 
+// The same for the parts of the pairs `among` only (their first parts, or their second): the
+// same flags for those parts (others are left); returns how many of the pairs' parts are in,
+// counted once per pair.
+int FlagZoneParts(const PartRing& ring, double beta, double phi_min, double phi_max,
+                  double angular_reach, const std::vector<std::pair<int, int>>& among, bool first,
+                  std::vector<char>* flags) {
+  int n = 0;
+  const double h = ring.part_half_angle_rad + angular_reach;
+  for (const auto& pair : among) {
+    const int j = first ? pair.first : pair.second;
+    const double delta = std::abs(Wrap(ring.part_angles_rad[j] - beta));
+    const bool in = delta + h >= phi_min && delta - h <= phi_max;
+    (*flags)[j] = in;
+    n += in;
+  }
+  return n;
+}
+
 }  // namespace
 
 struct CandidateSearch::Impl {
@@ -211,7 +229,8 @@ double CandidateSearch::MotionBound(const Transform& X_AB0, const Transform& X_A
 void CandidateSearch::FlagZones(const Transform& X_WA, const Transform& X_WB, double reach,
                                 std::vector<char>* zone_a, std::vector<char>* zone_b,
                                 double reach_grown, std::vector<char>* zone_a_grown,
-                                std::vector<char>* zone_b_grown) {
+                                std::vector<char>* zone_b_grown,
+                                const std::vector<std::pair<int, int>>* among) {
   Impl& m = *impl_;
   const int na = a_.num_parts(), nb = b_.num_parts();
   const bool grown = zone_a_grown && zone_b_grown;
@@ -259,7 +278,14 @@ void CandidateSearch::FlagZones(const Transform& X_WA, const Transform& X_WB, do
   const double beta_a = std::atan2(o_b.y(), o_b.x()), beta_b = std::atan2(o_a.y(), o_a.x());
   auto flag = [&](const Impl::Window& w, double r_zone, std::vector<char>* za,
                   std::vector<char>* zb) {
-    if (w.meet) {
+    if (w.meet && among) {
+      stats_.zone_parts_a = FlagZoneParts(ra, beta_a, w.a_min, w.a_max,
+                                          r_zone / std::max(ra.inner_radius_m, 1e-12), *among,
+                                          /*first=*/true, za);
+      stats_.zone_parts_b = FlagZoneParts(rb, beta_b, w.b_min, w.b_max,
+                                          r_zone / std::max(rb.inner_radius_m, 1e-12), *among,
+                                          /*first=*/false, zb);
+    } else if (w.meet) {
       stats_.zone_parts_a = FlagZoneParts(ra, beta_a, w.a_min, w.a_max,
                                           r_zone / std::max(ra.inner_radius_m, 1e-12), za);
       stats_.zone_parts_b = FlagZoneParts(rb, beta_b, w.b_min, w.b_max,
@@ -319,6 +345,37 @@ void CandidateSearch::UpdateBroadPhase(const Transform& X_WA, const Transform& X
         grown->emplace_back(i, j);
       if (m.zone_a[i] && m.zone_b[j] && d2 <= r * r) m.part_pairs.emplace_back(i, j);
     }
+  }
+  stats_.part_pairs = static_cast<int>(m.part_pairs.size());
+}
+
+void CandidateSearch::UpdateBroadPhaseAmong(const Transform& X_WA, const Transform& X_WB,
+                                            double extra_reach_m, double grow_m,
+                                            const std::vector<std::pair<int, int>>& among,
+                                            std::vector<std::pair<int, int>>* grown) {
+  // UpdateBroadPhase's zones and sphere tests, expression for expression, over `among` only.
+  Impl& m = *impl_;
+  m.X_WA = X_WA;
+  m.X_WB = X_WB;
+  const Transform X_AB = X_WA.Inverse() * X_WB;
+  const double reach = search_distance_ + slack_ + extra_reach_m;
+  const double reach_grown = search_distance_ + slack_ + (extra_reach_m + grow_m);
+  FlagZones(X_WA, X_WB, reach, &m.zone_a, &m.zone_b, reach_grown, &m.zone_a_grown, &m.zone_b_grown,
+            &among);
+  m.part_pairs.clear();
+  grown->clear();
+  for (const auto& [i, j] : among) {
+    if (!(m.zone_a[i] || m.zone_a_grown[i]) || !(m.zone_b[j] || m.zone_b_grown[j])) continue;
+    const Vec3 center_b_A = X_AB * b_.part_centers()[j];
+    const Vec3& c_a = a_.part_centers()[i];
+    const double r_a = a_.part_radii()[i] + reach;
+    const double r_a_grown = a_.part_radii()[i] + reach_grown;
+    const double d2 = (center_b_A - c_a).squaredNorm();
+    const double r = r_a + b_.part_radii()[j];
+    const double r_grown = r_a_grown + b_.part_radii()[j];
+    if (m.zone_a_grown[i] && m.zone_b_grown[j] && d2 <= r_grown * r_grown)
+      grown->emplace_back(i, j);
+    if (m.zone_a[i] && m.zone_b[j] && d2 <= r * r) m.part_pairs.emplace_back(i, j);
   }
   stats_.part_pairs = static_cast<int>(m.part_pairs.size());
 }
@@ -469,6 +526,22 @@ bool PartBoxesWithin(const ContactSurface& a, int part_a, const ContactSurface& 
   const Mat3 R = box_a.axis.transpose() * X_AB.R * box_b.axis;
   const Vec3 T = box_a.axis.transpose() * (X_AB * Vec3(box_b.To) - box_a.To);
   return !fcl::obbDisjoint(R, T, e_a, e_b);
+}
+
+bool PartBoxesFacesWithin(const ContactSurface& a, int part_a, const ContactSurface& b, int part_b,
+                          const Transform& X_AB, double reach_m) {
+  const fcl::OBBd& box_a = a.culling().parts[part_a]->getBV(0).bv.obb;
+  const fcl::OBBd& box_b = b.culling().parts[part_b]->getBV(0).bv.obb;
+  const Vec3 e_a = (box_a.extent.array() - a.culling().inflate + reach_m).matrix();
+  const Vec3 e_b = (box_b.extent.array() - b.culling().inflate).matrix();
+  const Mat3 R = box_a.axis.transpose() * X_AB.R * box_b.axis;
+  const Vec3 T = box_a.axis.transpose() * (X_AB * Vec3(box_b.To) - box_a.To);
+  // fcl::obbDisjoint's tests of A's axes: |T_i| > a_i + (|R| + 1e-6)_i . b separates.
+  constexpr double kReps = 1e-6;
+  for (int i = 0; i < 3; ++i)
+    if (std::abs(T[i]) > e_a[i] + (R.row(i).cwiseAbs().array() + kReps).matrix().dot(e_b))
+      return false;
+  return true;
 }
 
 std::array<Vec3, 8> PartBoxCorners(const ContactSurface& surface, int part) {

@@ -117,6 +117,16 @@ void FindClosestFaceInPart(const ContactSurface& surface, int part, const Vec3& 
 bool PartBoxesWithin(const ContactSurface& a, int part_a, const ContactSurface& b, int part_b,
                      const Transform& X_AB, double reach_m);
 
+// The first three axes of PartBoxesWithin's separating-axis test (A's box's face normals,
+// with FCL's padding of the rotation terms): true when none of them separates the boxes, so
+// false only when PartBoxesWithin is. Along a fixed axis of A the test compares the distance
+// of the interval of B's box's projection from A's centre with a bound that does not depend
+// on the pose, and that distance changes by at most the largest motion of a point of B's box:
+// if B's box moves by at most mu in A's frame, PartBoxesWithin(reach) after the motion implies
+// PartBoxesFacesWithin(reach + mu) before it (tracked_gaps.h, the candidate pairs).
+bool PartBoxesFacesWithin(const ContactSurface& a, int part_a, const ContactSurface& b, int part_b,
+                          const Transform& X_AB, double reach_m);
+
 // The eight corners (body frame) of the oriented box at the root of a part's FCL hierarchy, as
 // inflated for the pair search: every vertex of the part lies inside their convex hull.
 std::array<Vec3, 8> PartBoxCorners(const ContactSurface& surface, int part);
@@ -145,6 +155,13 @@ class CandidateSearch {
   // UpdateBroadPhase(X_WA, X_WB, extra_reach_m + grow_m), sorted as part_pairs().
   void UpdateBroadPhase(const Transform& X_WA, const Transform& X_WB, double extra_reach_m,
                         double grow_m, std::vector<std::pair<int, int>>* grown);
+  // The same restricted to the pairs `among` (sorted as part_pairs()): the zone flags of both
+  // surfaces as above, the sphere tests for those pairs only, with the same arithmetic, so that
+  // part_pairs() and *grown are those of UpdateBroadPhase() less the pairs not in `among`
+  // (tracked_gaps.h: the pairs its boxes can still reach). Stats count those pairs only.
+  void UpdateBroadPhaseAmong(const Transform& X_WA, const Transform& X_WB, double extra_reach_m,
+                             double grow_m, const std::vector<std::pair<int, int>>& among,
+                             std::vector<std::pair<int, int>>* grown);
   // The part pairs (part of A, part of B) of the last UpdateBroadPhase().
   const std::vector<std::pair<int, int>>& part_pairs() const;
   // Stage 2: triangle pairs of the part pairs of the last UpdateBroadPhase(); clears *pairs.
@@ -161,11 +178,13 @@ class CandidateSearch {
   struct Impl;
   // The ring-zone flags (stage 1a) of both surfaces' parts at this reach (all set without
   // rings) and, with zone_a_grown and zone_b_grown, at reach_grown: the rings' relative pose
-  // and angles once for both.
+  // and angles once for both. With `among`, the parts of those pairs only (the others' flags
+  // are left set; UpdateBroadPhaseAmong reads the pairs' parts only).
   void FlagZones(const Transform& X_WA, const Transform& X_WB, double reach,
                  std::vector<char>* zone_a, std::vector<char>* zone_b, double reach_grown = 0,
                  std::vector<char>* zone_a_grown = nullptr,
-                 std::vector<char>* zone_b_grown = nullptr);
+                 std::vector<char>* zone_b_grown = nullptr,
+                 const std::vector<std::pair<int, int>>* among = nullptr);
   std::unique_ptr<Impl> impl_;
   const ContactSurface& a_;
   const ContactSurface& b_;

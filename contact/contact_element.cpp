@@ -16,7 +16,11 @@ bool SamePose(const Transform& X, const Transform& Y) { return X.R == Y.R && X.p
 
 ContactWorkspace::ContactWorkspace(const ContactSurface& a, const ContactSurface& b, int nv,
                                    const ContactMonitor* monitor)
-    : tracked(a, b), search(a, b), scratch_a(a), scratch_b(b), tangents(nullptr, nullptr, nv),
+    : tracked(a, b, /*keep_face_weights=*/false),
+      search(a, b),
+      scratch_a(a),
+      scratch_b(b),
+      tangents(nullptr, nullptr, nv),
       monitor(monitor ? monitor->MakeState() : nullptr),
       points(a.num_vertices() + b.num_vertices()) {
   pairs.reserve(search.suggested_capacity());

@@ -152,7 +152,7 @@ int FeatureEdge(TriangleFeature f) {
 
 }  // namespace
 
-TrackedGaps::Pass::Pass(const ContactSurface& node_surface)
+TrackedGaps::Pass::Pass(const ContactSurface& node_surface, bool keep_face_weights)
     : face(node_surface.num_vertices(), kUnseeded),
       reach(node_surface.num_vertices(), 0.0),
       distance(node_surface.num_vertices(), 0.0),
@@ -166,7 +166,7 @@ TrackedGaps::Pass::Pass(const ContactSurface& node_surface)
       walk_feature(node_surface.num_vertices(), TriangleFeature::kFace),
       walk_below(node_surface.num_vertices(), 0),
       walk_pair(node_surface.num_vertices(), {-1, -1}),
-      face_weights(node_surface.num_vertices(), Vec3::Zero()) {
+      face_weights(keep_face_weights ? node_surface.num_vertices() : 0, Vec3::Zero()) {
   const auto& start = node_surface.part_vertex_start();
   part_block_start.assign(start.size(), 0);
   for (size_t part = 0; part + 1 < start.size(); ++part)
@@ -175,9 +175,14 @@ TrackedGaps::Pass::Pass(const ContactSurface& node_surface)
   block_wake.assign(part_block_start.back(), -std::numeric_limits<double>::infinity());
 }
 
-TrackedGaps::TrackedGaps(const ContactSurface& surface_a, const ContactSurface& surface_b)
-    : a_(surface_a), b_(surface_b), search_(surface_a, surface_b), pass_a_(surface_a),
-      pass_b_(surface_b) {
+TrackedGaps::TrackedGaps(const ContactSurface& surface_a, const ContactSurface& surface_b,
+                         bool keep_face_weights)
+    : a_(surface_a),
+      b_(surface_b),
+      search_(surface_a, surface_b),
+      pass_a_(surface_a, keep_face_weights),
+      pass_b_(surface_b, keep_face_weights),
+      keep_face_weights_(keep_face_weights) {
   const size_t all_pairs = static_cast<size_t>(a_.num_parts()) * b_.num_parts();
   tracked_.reserve(all_pairs);
   next_.reserve(all_pairs);
@@ -193,6 +198,13 @@ TrackedGaps::TrackedGaps(const ContactSurface& surface_a, const ContactSurface& 
   motion_b_.assign(b_.num_parts(), 0.0);
   part_box_corners_b_.reserve(b_.num_parts());
   for (int j = 0; j < b_.num_parts(); ++j) part_box_corners_b_.push_back(PartBoxCorners(b_, j));
+  // The corners bound every point of the boxes (as inflated, which hold them as built); the
+  // part centres are the spheres' (TrackPairs moves both by at most mu).
+  for (const auto& corners : part_box_corners_b_)
+    for (const Vec3& x : corners) box_radius_b_ = std::max(box_radius_b_, x.norm());
+  for (const Vec3& c : b_.part_centers()) box_radius_b_ = std::max(box_radius_b_, c.norm());
+  centers_b_A_.resize(b_.num_parts());
+  candidates_.reserve(all_pairs);
 }
 
 void TrackedGaps::Reset() {
@@ -308,19 +320,62 @@ void TrackedGaps::TrackPairs(const Transform& X_WA, const Transform& X_WB, bool 
   // Deformed sides: the broad phase's reach holds deformations up to the surfaces' allowances
   // (their margins' share beyond the gap distance, flexible_contact_surface.h); beyond, it is
   // grown by the excess of the largest part bounds.
-  double excess = 0;
+  double excess = 0, deformation_sum = 0;
   if (deformed) {
     auto largest = [](const std::vector<double>* v) {
       return v ? *std::max_element(v->begin(), v->end()) : 0.0;
     };
-    excess = std::max(0.0, largest(deformed->a) + largest(deformed->b) -
-                               (search_.search_distance_m() - deformed->gap_distance_m));
+    deformation_sum = largest(deformed->a) + largest(deformed->b);
+    excess =
+        std::max(0.0, deformation_sum - (search_.search_distance_m() - deformed->gap_distance_m));
   }
-  search_.UpdateBroadPhase(X_WA, X_WB, excess, s, &keep_);
-  const auto& broad = search_.part_pairs();  // sorted: A's part, then B's
   // Deformed sides: a part's deformed vertices lie within its displacement bound of its own, so
   // its box is grown by it (DeformedParts).
   const double reach = (deformed ? deformed->gap_distance_m : search_.search_distance_m()) + s;
+  // Candidate pairs (header): made anew when the motion since they were made, plus the growth
+  // of the deformation sum, exceeds the margin (or for a pose that is not finite: the full
+  // broad phase).
+  // Deformed sides only (FlexibleContactElement): the rigid scene's elements moved their
+  // pairs past the margin at nearly every call (docs/performance.md, perf-flex8).
+  if (part_boxes && deformed && pair_candidates_ && X_AB.R.allFinite() && X_AB.p.allFinite()) {
+    const double mu =
+        (X_AB.R - X_AB_candidates_.R).norm() * box_radius_b_ + (X_AB.p - X_AB_candidates_.p).norm();
+    // The margin's last 1e-9 m covers the rounding of the tests and of mu.
+    constexpr double kRounding = 1e-9;
+    if (!have_candidates_ || candidates_reach_m_ != reach + s ||
+        !(mu + std::max(0.0, deformation_sum - candidates_deformation_m_) <=
+          kCandidateMargin - kRounding)) {
+      // A pair the broad phase lists has its part spheres within d + 2 s + excess (the kept
+      // pairs' reach) and its centres move by at most mu: the spheres within that + m now
+      // (excess grows by at most what G does); then A's face axes of the box test.
+      candidates_.clear();
+      const double r0 = reach + s + deformation_sum + kCandidateMargin;
+      const double r_spheres =
+          search_.search_distance_m() + 2 * s + excess + kCandidateMargin + kRounding;
+      for (int j = 0; j < b_.num_parts(); ++j) centers_b_A_[j] = X_AB * b_.part_centers()[j];
+      for (int i = 0; i < a_.num_parts(); ++i) {
+        const Vec3& c_a = a_.part_centers()[i];
+        const double r_a = a_.part_radii()[i] + r_spheres;
+        for (int j = 0; j < b_.num_parts(); ++j) {
+          const double r = r_a + b_.part_radii()[j];
+          if ((centers_b_A_[j] - c_a).squaredNorm() <= r * r &&
+              PartBoxesFacesWithin(a_, i, b_, j, X_AB, r0))
+            candidates_.emplace_back(i, j);
+        }
+      }
+      X_AB_candidates_ = X_AB;
+      candidates_deformation_m_ = deformation_sum;
+      candidates_reach_m_ = reach + s;
+      have_candidates_ = true;
+      ++stats_.candidate_builds;
+    }
+    stats_.candidate_pairs = static_cast<int>(candidates_.size());
+    search_.UpdateBroadPhaseAmong(X_WA, X_WB, excess, s, candidates_, &keep_);
+  } else {
+    have_candidates_ = false;
+    search_.UpdateBroadPhase(X_WA, X_WB, excess, s, &keep_);
+  }
+  const auto& broad = search_.part_pairs();  // sorted: A's part, then B's
   auto grown = [&](const std::pair<int, int>& pair) {
     if (!deformed) return 0.0;
     return (deformed->a ? (*deformed->a)[pair.first] : 0.0) + (deformed->b ? (*deformed->b)[pair.second] : 0.0);
@@ -608,7 +663,7 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
                                             faces.v[ft[1]], faces.v[ft[2]], faces.lazy_n != nullptr,
                                             [&](int f) -> const Vec3& { return faces.Normal(f); },
                                             [&](int f, int k) { return faces.CornerNormal(f, k); },
-                                            &pass.face_weights[v]));
+                                            keep_face_weights_ ? &pass.face_weights[v] : nullptr));
       gaps->push_back(g);
     };
     for (int block = pass.part_block_start[part], v0 = v_begin; v0 < v_end; ++block, v0 += kBlock) {

@@ -112,12 +112,18 @@ struct TrackedGapStats {
   double odometer_m = 0;        // sum of the per-call largest part motion bounds
   double max_motion_between_calls_m = 0;  // largest per-call motion bound (tracked parts of B)
   long odometer_restarts = 0;   // odometers started again (RestartIfSaturated), since construction
+  long candidate_builds = 0;    // candidate part pairs made (TrackPairs), since construction
+  int candidate_pairs = 0;      // candidate part pairs at the last TrackPairs()
 };
 
 class TrackedGaps {
  public:
-  // Keeps references to both surfaces, which must outlive it.
-  TrackedGaps(const ContactSurface& surface_a, const ContactSurface& surface_b);
+  // Keeps references to both surfaces, which must outlive it. keep_face_weights: whether the
+  // passes keep the force normals' barycentric coordinates (face_weights_a(); what
+  // FlexibleContactElement reads). ContactElement does not read them: without, the passes
+  // store none and the arrays stay empty.
+  TrackedGaps(const ContactSurface& surface_a, const ContactSurface& surface_b,
+              bool keep_face_weights = true);
 
   // The gaps at these poses: *gaps_a the nodes of A on B's faces, *gaps_b the nodes of B on A's
   // faces, each in increasing node order: every evaluated node within the search distance d and
@@ -177,6 +183,23 @@ class TrackedGaps {
     const std::vector<double>* b = nullptr;  // #parts of B
     double gap_distance_m = 0;
   };
+  // With part_boxes and deformed sides (`deformed` given) the broad phase and the box tests
+  // run over candidate pairs made for a
+  // motion margin m (kCandidateMargin): at the poses X_AB0 they were made at, the pairs whose
+  // spheres are within the kept pairs' reach of the broad phase + m and whose boxes pass A's
+  // three face axes of the box test (PartBoxesFacesWithin) at the largest reach of a tracked
+  // pair, d + 2 s + G0 + m, with G0 = max D_a + max D_b then. They are made anew
+  // unless mu + max(0, G - G0) <= m, where G is the same sum now and
+  //   mu = |R1 - R0|_F rho_B + |p1 - p0|,
+  // rho_B the largest distance of a corner of B's parts' boxes or of a part centre from B's
+  // origin, bounds the motion in A's frame of every point of B's boxes and of the centres since
+  // X_AB0. A pair the full broad phase would track has its spheres within the kept reach
+  // (the excess grown by at most G - G0) and passes the box test at d + 2 s + D_a + D_b or less
+  // now, hence the spheres' test and A's face axes at that reach + mu then
+  // (PartBoxesFacesWithin): it is a candidate. So the broad phase's zones
+  // and spheres and the box tests over the candidates only (UpdateBroadPhaseAmong) give the
+  // pairs of the full broad phase, to the bit (test TrackedGapsTest.
+  // CandidatePairsGiveTheFullBroadPhasesPairs).
   void TrackPairs(const Transform& X_WA, const Transform& X_WB, bool part_boxes = false,
                   const DeformedParts* deformed = nullptr);
   void ComputeGaps(const Transform& X_WA, const Transform& X_WB, const TrackedSide& a,
@@ -190,7 +213,7 @@ class TrackedGaps {
   // ComputeGaps() on B's (A's) faces with smoothed normals, the barycentric coordinates of its
   // closest point on its face, those its force normal n_W was interpolated with (signed_gap.h
   // ForceNormal); FlexibleContactElement takes them for the force's share of each face vertex.
-  // Other entries are not current.
+  // Other entries are not current; empty when constructed without keep_face_weights.
   const std::vector<Vec3>& face_weights_a() const { return pass_a_.face_weights; }
   const std::vector<Vec3>& face_weights_b() const { return pass_b_.face_weights; }
   // Forget every node's face and distance (the next Update() seeds them all).
@@ -249,12 +272,20 @@ class TrackedGaps {
   // Tests: whether walks of tied pairs may be skipped (default true; false walks them, which
   // must give the same faces, gaps and forces to the bit).
   void set_pair_skip(bool on) { pair_skip_ = on; }
+  // Tests: whether TrackPairs() may run over candidate pairs (default true; false runs the
+  // full broad phase at every call, which must give the same pairs).
+  void set_pair_candidates(bool on) {
+    pair_candidates_ = on;
+    have_candidates_ = false;
+  }
+  // The candidates' motion margin m (m; TrackPairs).
+  static constexpr double kCandidateMargin = 150e-6;
 
  private:
   // Nodes of one surface against the faces of the other; arrays over the node surface's
   // vertices.
   struct Pass {
-    explicit Pass(const ContactSurface& node_surface);
+    Pass(const ContactSurface& node_surface, bool keep_face_weights);
     std::vector<int> face;        // tracked closest face, or kUnseeded, or kFar
     std::vector<double> reach;    // D of the header (m)
     std::vector<double> distance; // to the closest face at the last evaluation (m)
@@ -272,7 +303,8 @@ class TrackedGaps {
     std::vector<char> walk_below;
     // A tied pair (header): the two faces, walk_margin then the pair's; {-1, -1}: none.
     std::vector<std::array<int, 2>> walk_pair;
-    // The force normal's barycentric coordinates of a node listed in contact (face_weights_a).
+    // The force normal's barycentric coordinates of a node listed in contact (face_weights_a;
+    // empty without keep_face_weights).
     std::vector<Vec3> face_weights;
     // Blocks of kBlock consecutive nodes of one part (a part's first block starts at its first
     // node): the smallest stamp + odometer_reach of the block's nodes (-inf while one has no
@@ -314,6 +346,16 @@ class TrackedGaps {
   std::vector<std::array<Vec3, 8>> part_box_corners_b_;  // #parts of B: PartBoxCorners
   TrackedGapStats stats_;
   bool pair_skip_ = true;
+  bool keep_face_weights_ = true;
+  // Candidate pairs (TrackPairs): sorted, made at relative pose X_AB_candidates_ with the
+  // deformation sum G0 and for the largest reach given; rho_B of B's part boxes.
+  std::vector<std::pair<int, int>> candidates_;
+  Transform X_AB_candidates_;
+  double candidates_deformation_m_ = 0, candidates_reach_m_ = 0;
+  bool have_candidates_ = false;
+  bool pair_candidates_ = true;
+  double box_radius_b_ = 0;        // rho_B: B's part boxes' corners and part centres
+  std::vector<Vec3> centers_b_A_;  // scratch, #parts of B: their centres in A's frame
 };
 
 }  // namespace orrery::contact

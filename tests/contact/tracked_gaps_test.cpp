@@ -209,6 +209,98 @@ TEST_F(TrackedGapsTest, TiedPairSkipGivesTheWalksFaces) {
               s.pair_walks_skipped, s.walks_skipped, walking.tracked.stats().walks_skipped);
 }
 
+// The candidate pairs of TrackPairs (tracked_gaps.h: the broad phase and the box tests over
+// pairs made for a motion margin, deformed sides) against the full broad phase at every call,
+// to the bit: the
+// tracked pairs, and every listed gap (face, gap, point, normal) and kept face weight. The roll
+// of EqualTheCandidatePairGapsWhileRolling (a Newton-like wobble per step, jumps, a reversal,
+// a shifted centre) with a diverging iterate, and the deformed parts' path (DeformedParts,
+// what FlexibleContactElement passes) with per-part bounds that grow and shrink at every call
+// and jump past the margin now and then.
+TEST_F(TrackedGapsTest, CandidatePairsGiveTheFullBroadPhasesPairs) {
+  Tracking candidates(*s1_, *s2_), full(*s1_, *s2_);
+  full.tracked.set_pair_candidates(false);
+  TrackedGaps deformed_candidates(*s1_, *s2_), deformed_full(*s1_, *s2_);
+  deformed_full.set_pair_candidates(false);
+  std::vector<Poses> poses;
+  const double period = 2 * kPi / 19;
+  for (int k = 0; k <= 400; ++k) {
+    const double theta = 2 * period * k / 400;
+    const double ahead = 15e-6 + 10e-6 * std::sin(0.07 * k);
+    poses.push_back(At(theta, ahead));
+    poses.push_back(At(theta + 1e-5, ahead - 2e-6));
+    poses.push_back(At(theta + 2e-7, ahead - 1e-7));
+    if (k == 200) {
+      const Poses p = At(theta, ahead);
+      poses.push_back({p.X_W1, Transform(p.X_W2.R, p.X_W2.p + Vec3(1e130, 0, 0))});
+      poses.push_back({p.X_W1, Transform(p.X_W2.R, p.X_W2.p + Vec3(std::nan(""), 0, 0))});
+    }
+  }
+  for (double theta : {0.9 * period, 0.3 * period, 1.7 * period, 0.0})
+    poses.push_back(At(theta, 20e-6));
+  for (int k = 0; k <= 40; ++k)
+    poses.push_back(At(-0.5 * period * k / 40, 12e-6, Vec3(-8e-6, 15e-6, 0)));
+  std::vector<double> d_a(s1_->num_parts()), d_b(s2_->num_parts());
+  const TrackedGaps::TrackedSide rigid_1{.vertices = &s1_->vertices(),
+                                         .normals = &s1_->face_normals()};
+  const TrackedGaps::TrackedSide rigid_2{.vertices = &s2_->vertices(),
+                                         .normals = &s2_->face_normals()};
+  long rows = 0, pair_sets = 0;
+  for (size_t k = 0; k < poses.size(); ++k) {
+    const Poses& p = poses[k];
+    // Update() in its two stages with deformed parts of bound 0 (the candidates serve deformed
+    // sides only): the rigid surfaces' pairs and gaps.
+    for (Tracking* t : {&candidates, &full}) {
+      const TrackedGaps::DeformedParts none{.gap_distance_m = t->tracked.search_distance_m()};
+      t->tracked.TrackPairs(p.X_W1, p.X_W2, true, &none);
+      t->tracked.ComputeGaps(p.X_W1, p.X_W2, rigid_1, rigid_2, t->tracked.search_distance_m(),
+                             &t->gaps_a, &t->gaps_b);
+    }
+    ASSERT_EQ(candidates.tracked.tracked_pairs(), full.tracked.tracked_pairs()) << "pose " << k;
+    pair_sets += !full.tracked.tracked_pairs().empty();
+    for (int dir = 0; dir < 2; ++dir) {
+      const auto& got = dir == 0 ? candidates.gaps_a : candidates.gaps_b;
+      const auto& want = dir == 0 ? full.gaps_a : full.gaps_b;
+      const auto& got_w =
+          dir == 0 ? candidates.tracked.face_weights_a() : candidates.tracked.face_weights_b();
+      const auto& want_w = dir == 0 ? full.tracked.face_weights_a() : full.tracked.face_weights_b();
+      ASSERT_EQ(got.size(), want.size()) << "pose " << k << " dir " << dir;
+      for (size_t i = 0; i < got.size(); ++i) {
+        ASSERT_EQ(got[i].node, want[i].node) << "pose " << k;
+        EXPECT_EQ(got[i].face, want[i].face) << "pose " << k << " node " << got[i].node;
+        EXPECT_EQ(got[i].gap, want[i].gap) << "pose " << k << " node " << got[i].node;
+        EXPECT_EQ(got[i].q_W, want[i].q_W) << "pose " << k << " node " << got[i].node;
+        EXPECT_EQ(got[i].n_W, want[i].n_W) << "pose " << k << " node " << got[i].node;
+        if (InContact(got[i])) {
+          EXPECT_EQ(got_w[got[i].node], want_w[got[i].node]) << "pose " << k;
+        }
+      }
+      rows += long(got.size());
+    }
+    // Deformed parts: bounds of 0 to 20 um varying by part and call, 80 um every 50th call.
+    for (size_t i = 0; i < d_a.size(); ++i)
+      d_a[i] = k % 50 == 7 ? 80e-6 : 10e-6 * (1 + std::sin(0.3 * k + i));
+    for (size_t j = 0; j < d_b.size(); ++j) d_b[j] = 5e-6 * (1 + std::cos(0.2 * k + 2 * j));
+    const TrackedGaps::DeformedParts parts{.a = &d_a, .b = &d_b, .gap_distance_m = 20e-6};
+    deformed_candidates.TrackPairs(p.X_W1, p.X_W2, true, &parts);
+    deformed_full.TrackPairs(p.X_W1, p.X_W2, true, &parts);
+    ASSERT_EQ(deformed_candidates.tracked_pairs(), deformed_full.tracked_pairs()) << "pose " << k;
+  }
+  EXPECT_GT(rows, 10000);
+  EXPECT_GT(pair_sets, 1000);
+  // The candidates were reused (the wobble is within the margin), and made again often.
+  for (const TrackedGaps* t : {&candidates.tracked, &deformed_candidates}) {
+    EXPECT_GT(t->stats().candidate_builds, 20);
+    EXPECT_LT(t->stats().candidate_builds, long(poses.size()) / 2);
+  }
+  EXPECT_EQ(full.tracked.stats().candidate_builds, 0);
+  EXPECT_GT(full.tracked.stats().pair_changes, 10);
+  std::printf("candidates: %ld and %ld (deformed) made for %zu calls, %d candidates at the end\n",
+              candidates.tracked.stats().candidate_builds,
+              deformed_candidates.stats().candidate_builds, poses.size(),
+              candidates.tracked.stats().candidate_pairs);
+}
+
 // Deformed surfaces (what FlexibleContactElement passes): gear 2's vertices carry a smooth
 // travelling displacement field of up to 8 um, changing at every call; the tracked gaps, given
 // its deformed vertices and normals, the bound and the change per call, against the
@@ -316,6 +408,38 @@ TEST_F(TrackedGapsTest, ContactWeightsAreThoseOfTheForceNormal) {
     }
   }
   EXPECT_GT(checked, 400);  // 483 points
+}
+
+// Without keep_face_weights (ContactElement's tracking) the passes store no weights and list
+// the same gaps to the bit: one mesh period rolled 2 um into the mesh with a wobble per step.
+TEST_F(TrackedGapsTest, GapsWithoutFaceWeightsAreTheSame) {
+  TrackedGaps kept(*s1_, *s2_), bare(*s1_, *s2_, /*keep_face_weights=*/false);
+  std::vector<NodeGap> kept_a, kept_b, bare_a, bare_b;
+  for (auto* g : {&kept_a, &bare_a}) g->reserve(s1_->num_vertices());
+  for (auto* g : {&kept_b, &bare_b}) g->reserve(s2_->num_vertices());
+  EXPECT_TRUE(bare.face_weights_a().empty() && bare.face_weights_b().empty());
+  const double period = 2 * kPi / 19;
+  long in_contact = 0;
+  for (int k = 0; k <= 120; ++k) {
+    for (const Poses& p : {At(period * k / 120, 2e-6), At(period * k / 120 + 1e-6, 2.5e-6)}) {
+      kept.Update(p.X_W1, p.X_W2, &kept_a, &kept_b);
+      bare.Update(p.X_W1, p.X_W2, &bare_a, &bare_b);
+      for (int dir = 0; dir < 2; ++dir) {
+        const auto& got = dir == 0 ? bare_a : bare_b;
+        const auto& want = dir == 0 ? kept_a : kept_b;
+        ASSERT_EQ(got.size(), want.size()) << k;
+        for (size_t i = 0; i < got.size(); ++i) {
+          ASSERT_EQ(got[i].node, want[i].node) << k;
+          EXPECT_EQ(got[i].face, want[i].face) << k;
+          EXPECT_EQ(got[i].gap, want[i].gap) << k;
+          EXPECT_EQ(got[i].q_W, want[i].q_W) << k;
+          EXPECT_EQ(got[i].n_W, want[i].n_W) << k;
+          in_contact += InContact(got[i]);
+        }
+      }
+    }
+  }
+  EXPECT_GT(in_contact, 400);
 }
 
 // A diverging Newton iterate (gear 2 thrown 1e130 m away, then a pose that is not finite) in
