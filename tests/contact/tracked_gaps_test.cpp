@@ -216,7 +216,7 @@ TEST_F(TrackedGapsTest, TiedPairSkipGivesTheWalksFaces) {
 // of EqualTheCandidatePairGapsWhileRolling (a Newton-like wobble per step, jumps, a reversal,
 // a shifted centre) with a diverging iterate, and the deformed parts' path (DeformedParts,
 // what FlexibleContactElement passes) with per-part bounds that grow and shrink at every call
-// and jump past the margin now and then.
+// and jump past the margin now and then, then grow at a fixed pose.
 TEST_F(TrackedGapsTest, CandidatePairsGiveTheFullBroadPhasesPairs) {
   Tracking candidates(*s1_, *s2_), full(*s1_, *s2_);
   full.tracked.set_pair_candidates(false);
@@ -286,6 +286,20 @@ TEST_F(TrackedGapsTest, CandidatePairsGiveTheFullBroadPhasesPairs) {
     deformed_full.TrackPairs(p.X_W1, p.X_W2, true, &parts);
     ASSERT_EQ(deformed_candidates.tracked_pairs(), deformed_full.tracked_pairs()) << "pose " << k;
   }
+  // At one pose, bounds that grow by 50 um a call to 3 mm: the deformation alone must make the
+  // candidates again (pairs join as the boxes grow).
+  const Poses still = At(0.3 * period, 15e-6);
+  size_t grown_pairs = 0;
+  for (int n = 0; n <= 60; ++n) {
+    std::fill(d_a.begin(), d_a.end(), 50e-6 * n);
+    std::fill(d_b.begin(), d_b.end(), 0.0);
+    const TrackedGaps::DeformedParts parts{.a = &d_a, .b = &d_b, .gap_distance_m = 20e-6};
+    deformed_candidates.TrackPairs(still.X_W1, still.X_W2, true, &parts);
+    deformed_full.TrackPairs(still.X_W1, still.X_W2, true, &parts);
+    ASSERT_EQ(deformed_candidates.tracked_pairs(), deformed_full.tracked_pairs()) << "n " << n;
+    if (n == 0) grown_pairs = deformed_full.tracked_pairs().size();
+  }
+  EXPECT_GT(deformed_full.tracked_pairs().size(), grown_pairs);
   EXPECT_GT(rows, 10000);
   EXPECT_GT(pair_sets, 1000);
   // The candidates were reused (the wobble is within the margin), and made again often.
