@@ -148,15 +148,21 @@ bool ZoneWindow(double a, double inner, double outer, double lo_other, double hi
   return true;
 }
 
-// Flags the parts of a ring inside the zone window, seen from the other ring's direction beta
-// (ring frame); returns how many.
+// Whether part j of a ring, of angular half-width h, reaches into the zone window seen from the
+// other ring's direction beta (ring frame).
+inline bool InZoneWindow(const PartRing& ring, double beta, double phi_min, double phi_max,
+                         double h, int j) {
+  const double delta = std::abs(Wrap(ring.part_angles_rad[j] - beta));
+  return delta + h >= phi_min && delta - h <= phi_max;
+}
+
+// Flags the parts of a ring inside the zone window; returns how many.
 int FlagZoneParts(const PartRing& ring, double beta, double phi_min, double phi_max,
                   double angular_reach, std::vector<char>* flags) {
   int n = 0;
   const double h = ring.part_half_angle_rad + angular_reach;
   for (size_t j = 0; j < ring.part_angles_rad.size(); ++j) {
-    const double delta = std::abs(Wrap(ring.part_angles_rad[j] - beta));
-    const bool in = delta + h >= phi_min && delta - h <= phi_max;
+    const bool in = InZoneWindow(ring, beta, phi_min, phi_max, h, static_cast<int>(j));
     (*flags)[j] = in;
     n += in;
   }
@@ -173,8 +179,7 @@ int FlagZoneParts(const PartRing& ring, double beta, double phi_min, double phi_
   const double h = ring.part_half_angle_rad + angular_reach;
   for (const auto& pair : among) {
     const int j = first ? pair.first : pair.second;
-    const double delta = std::abs(Wrap(ring.part_angles_rad[j] - beta));
-    const bool in = delta + h >= phi_min && delta - h <= phi_max;
+    const bool in = InZoneWindow(ring, beta, phi_min, phi_max, h, j);
     (*flags)[j] = in;
     n += in;
   }
@@ -202,6 +207,20 @@ struct CandidateSearch::Impl {
   int next_window = 0;
   fcl::CollisionRequestd request;
   fcl::CollisionResultd result;
+
+  // One pair's sphere tests (UpdateBroadPhase and UpdateBroadPhaseAmong, the same arithmetic):
+  // into part_pairs at reach where both parts are in its zone, into *grown (if given) at
+  // reach_grown where both are in the grown zone. center_b_A: B's part centre in A's frame.
+  void TestSpheres(const ContactSurface& a, const ContactSurface& b, int i, int j,
+                   const Vec3& center_b_A, double reach, double reach_grown,
+                   std::vector<std::pair<int, int>>* grown) {
+    const double d2 = (center_b_A - a.part_centers()[i]).squaredNorm();
+    const double r = a.part_radii()[i] + reach + b.part_radii()[j];
+    const double r_grown = a.part_radii()[i] + reach_grown + b.part_radii()[j];
+    if (grown && zone_a_grown[i] && zone_b_grown[j] && d2 <= r_grown * r_grown)
+      grown->emplace_back(i, j);
+    if (zone_a[i] && zone_b[j] && d2 <= r * r) part_pairs.emplace_back(i, j);
+  }
 };
 
 CandidateSearch::CandidateSearch(const ContactSurface& surface_a, const ContactSurface& surface_b)
@@ -333,18 +352,9 @@ void CandidateSearch::UpdateBroadPhase(const Transform& X_WA, const Transform& X
     if (in(m.zone_b, m.zone_b_grown, j)) m.centers_b_A[j] = X_AB * b_.part_centers()[j];
   for (int i = 0; i < na; ++i) {
     if (!in(m.zone_a, m.zone_a_grown, i)) continue;
-    const Vec3& c_a = a_.part_centers()[i];
-    const double r_a = a_.part_radii()[i] + reach;
-    const double r_a_grown = a_.part_radii()[i] + reach_grown;
-    for (int j = 0; j < nb; ++j) {
-      if (!in(m.zone_b, m.zone_b_grown, j)) continue;
-      const double d2 = (m.centers_b_A[j] - c_a).squaredNorm();
-      const double r = r_a + b_.part_radii()[j];
-      const double r_grown = r_a_grown + b_.part_radii()[j];
-      if (grown && m.zone_a_grown[i] && m.zone_b_grown[j] && d2 <= r_grown * r_grown)
-        grown->emplace_back(i, j);
-      if (m.zone_a[i] && m.zone_b[j] && d2 <= r * r) m.part_pairs.emplace_back(i, j);
-    }
+    for (int j = 0; j < nb; ++j)
+      if (in(m.zone_b, m.zone_b_grown, j))
+        m.TestSpheres(a_, b_, i, j, m.centers_b_A[j], reach, reach_grown, grown);
   }
   stats_.part_pairs = static_cast<int>(m.part_pairs.size());
 }
@@ -364,19 +374,9 @@ void CandidateSearch::UpdateBroadPhaseAmong(const Transform& X_WA, const Transfo
             &among);
   m.part_pairs.clear();
   grown->clear();
-  for (const auto& [i, j] : among) {
-    if (!(m.zone_a[i] || m.zone_a_grown[i]) || !(m.zone_b[j] || m.zone_b_grown[j])) continue;
-    const Vec3 center_b_A = X_AB * b_.part_centers()[j];
-    const Vec3& c_a = a_.part_centers()[i];
-    const double r_a = a_.part_radii()[i] + reach;
-    const double r_a_grown = a_.part_radii()[i] + reach_grown;
-    const double d2 = (center_b_A - c_a).squaredNorm();
-    const double r = r_a + b_.part_radii()[j];
-    const double r_grown = r_a_grown + b_.part_radii()[j];
-    if (m.zone_a_grown[i] && m.zone_b_grown[j] && d2 <= r_grown * r_grown)
-      grown->emplace_back(i, j);
-    if (m.zone_a[i] && m.zone_b[j] && d2 <= r * r) m.part_pairs.emplace_back(i, j);
-  }
+  for (const auto& [i, j] : among)
+    if ((m.zone_a[i] || m.zone_a_grown[i]) && (m.zone_b[j] || m.zone_b_grown[j]))
+      m.TestSpheres(a_, b_, i, j, X_AB * b_.part_centers()[j], reach, reach_grown, grown);
   stats_.part_pairs = static_cast<int>(m.part_pairs.size());
 }
 

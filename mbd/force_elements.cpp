@@ -194,6 +194,7 @@ void CalcExternalForces(const Model& model, double t, const Eigen::Ref<const Eig
   // Elements defined outside mbd/ (contact/) add to the same accumulators (those with analytic
   // tangents not while DaeSystem::Tangents takes differences).
   const int n = static_cast<int>(model.external_forces.size());
+  if (n == 0) return;  // nothing to apply, and no state to key (the lumped scenes)
   const bool skipping = data.skip_elements_with_tangents;
   auto skipped = [&](int i) { return skipping && model.external_forces[i]->HasTangents(); };
   // The elements with tangents whose workspaces hold this state: their results are added again.

@@ -25,16 +25,17 @@
 #include "mbd/data.h"
 #include "mbd/dynamics.h"
 #include "mbd/evaluate.h"
-#include "mbd/force_elements.h"
 #include "mbd/flexible_dynamics.h"
+#include "mbd/force_elements.h"
 #include "mbd/hdf5_reader.h"
-#include "mbd/result_file.h"
-#include "mbd/simulation.h"
-#include "mbd/xdmf_writer.h"
 #include "mbd/integrator.h"
 #include "mbd/kinematics.h"
 #include "mbd/model.h"
+#include "mbd/result_file.h"
+#include "mbd/simulation.h"
 #include "mbd/state.h"
+#include "mbd/xdmf_writer.h"
+#include "tests/common/particle_cloud.h"
 
 namespace orrery {
 namespace {
@@ -397,47 +398,7 @@ TEST(FlexibleBody, FrozenModesMoveLikeTheRigidBody) {
 // and Newton's law per particle gives the modal rows of inverse dynamics (no stiffness, gravity
 // or load): r_l = sum m_p Phi_pl . (a + alpha x y_p + w x (w x y_p) + 2 w x Phi_p qd + Phi_p qdd),
 // with a, alpha, w the acceleration of B's origin, B's angular acceleration and velocity, in B.
-struct ParticleCloud {
-  static constexpr int kModes = 7, kPoints = 11;
-  std::vector<double> mass;
-  std::vector<Vec3> x;
-  std::vector<Eigen::Matrix<double, 3, kModes>> phi;
-
-  ParticleCloud() {
-    std::srand(7);
-    auto uniform = [] { return 2.0 * std::rand() / RAND_MAX - 1.0; };
-    for (int p = 0; p < kPoints; ++p) {
-      mass.push_back(0.2 + 0.5 * (uniform() + 1));
-      x.push_back(0.3 * Vec3(uniform(), uniform(), uniform()));
-      Eigen::Matrix<double, 3, kModes> shapes;
-      for (int i = 0; i < 3; ++i)
-        for (int k = 0; k < kModes; ++k) shapes(i, k) = uniform();
-      phi.push_back(shapes);
-    }
-  }
-
-  std::shared_ptr<FlexibleBodyModes> Modes() const {
-    auto m = std::make_shared<FlexibleBodyModes>();
-    const int n = kModes;
-    m->nf = n;
-    m->I2 = Eigen::Matrix<double, 3, Eigen::Dynamic>::Zero(3, n);
-    m->I4.assign(n, Mat3::Zero());
-    m->I5.assign(n * n, Mat3::Zero());
-    for (int p = 0; p < kPoints; ++p) {
-      m->mass += mass[p];
-      m->I1 += mass[p] * x[p];
-      m->I3 += mass[p] * x[p] * x[p].transpose();
-      m->I2 += mass[p] * phi[p];
-      for (int k = 0; k < n; ++k) {
-        m->I4[k] += mass[p] * x[p] * phi[p].col(k).transpose();
-        for (int l = 0; l < n; ++l)
-          m->I5[k * n + l] += mass[p] * phi[p].col(k) * phi[p].col(l).transpose();
-      }
-    }
-    m->stiffness = Eigen::MatrixXd::Zero(n, n);
-    return m;
-  }
-};
+using test_support::ParticleCloud;
 
 TEST(FlexibleBody, ModalSumsMatchAParticleCloud) {
   const ParticleCloud cloud;

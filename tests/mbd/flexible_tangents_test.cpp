@@ -31,42 +31,26 @@
 #include "mbd/flexible_dynamics.h"
 #include "mbd/model.h"
 #include "mbd/state.h"
+#include "tests/common/particle_cloud.h"
 
 namespace orrery {
 namespace {
 
-constexpr int kModes = 7, kPoints = 11;
+constexpr int kModes = test_support::ParticleCloud::kModes;
 
+// The particle cloud of seed 11, with a node at its first particle (for a node frame), modal
+// stiffness and random symmetric geometric stiffness.
 std::shared_ptr<FlexibleBodyModes> CloudModes(bool with_node) {
-  std::srand(11);
+  const test_support::ParticleCloud cloud(11);
+  std::shared_ptr<FlexibleBodyModes> m = cloud.Modes();
   auto uniform = [] { return 2.0 * std::rand() / RAND_MAX - 1.0; };
-  auto m = std::make_shared<FlexibleBodyModes>();
   const int n = kModes;
-  m->nf = n;
-  m->I2 = Eigen::Matrix<double, 3, Eigen::Dynamic>::Zero(3, n);
-  m->I4.assign(n, Mat3::Zero());
-  m->I5.assign(n * n, Mat3::Zero());
-  for (int p = 0; p < kPoints; ++p) {
-    const double mass = 0.2 + 0.5 * (uniform() + 1);
-    const Vec3 x = 0.3 * Vec3(uniform(), uniform(), uniform());
-    Eigen::Matrix<double, 3, kModes> phi;
-    for (int i = 0; i < 3; ++i)
-      for (int k = 0; k < n; ++k) phi(i, k) = uniform();
-    m->mass += mass;
-    m->I1 += mass * x;
-    m->I3 += mass * x * x.transpose();
-    m->I2 += mass * phi;
-    for (int k = 0; k < n; ++k) {
-      m->I4[k] += mass * x * phi.col(k).transpose();
-      for (int l = 0; l < n; ++l) m->I5[k * n + l] += mass * phi.col(k) * phi.col(l).transpose();
-    }
-    if (with_node && p == 0) {
-      FlexibleBodyModes::Node node;
-      node.id = 1;
-      node.position = x;
-      node.translation_shapes = phi;
-      m->nodes.push_back(node);
-    }
+  if (with_node) {
+    FlexibleBodyModes::Node node;
+    node.id = 1;
+    node.position = cloud.x[0];
+    node.translation_shapes = cloud.phi[0];
+    m->nodes.push_back(node);
   }
   m->stiffness = Eigen::MatrixXd::Zero(n, n);
   for (int k = 0; k < n; ++k) m->stiffness(k, k) = 1e3 * (k + 1);
