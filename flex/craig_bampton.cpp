@@ -46,8 +46,8 @@ void FactorizeInterior(const FeMesh& mesh, const FeSystem& system, std::span<con
   // Interface coordinates q = [u_b | u_i]: K_q = T^T K T, M_q = T^T M T
   p.it = MakeInterfaceTransform(mesh, interfaces);
   p.Tt = p.it.T.transpose();
-  p.Kq = p.Tt * system.K * p.it.T;
-  p.Mq = p.Tt * system.M * p.it.T;
+  p.Kq = InterfaceCoordinatesMatrix(p.it, system.K);
+  p.Mq = InterfaceCoordinatesMatrix(p.it, system.M);
   p.nb = p.it.num_boundary;
   const int nq = static_cast<int>(p.Kq.rows());
   p.nI = nq - p.nb;

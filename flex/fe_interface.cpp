@@ -1,6 +1,7 @@
 #include "flex/fe_interface.h"
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 
@@ -147,6 +148,49 @@ InterfaceTransform MakeInterfaceTransform(const FeMesh& mesh, std::span<const Fe
   t.T.resize(n, t.num_boundary + static_cast<int>(t.interior_dofs.size()));
   t.T.setFromTriplets(trip.begin(), trip.end());
   return t;
+}
+
+Eigen::SparseMatrix<double> InterfaceCoordinatesMatrix(const InterfaceTransform& t, const Eigen::SparseMatrix<double>& A) {
+  using Sparse = Eigen::SparseMatrix<double>;
+  const Sparse& T = t.T;
+  if (A.rows() != T.rows() || A.cols() != T.rows())
+    throw std::invalid_argument("InterfaceCoordinatesMatrix: matrix of size " + std::to_string(A.rows()) + " x " +
+                                std::to_string(A.cols()) + " for " + std::to_string(T.rows()) + " FE DOFs");
+  // Column b of T^T A T is the sum over T's entries T(j, b) of T(j, b) T^T A(:, j); T^T A(:, j)
+  // gathers A(i, j) into the coordinates of FE DOF i, row i of T (Gustavson's column-by-column
+  // product with a dense accumulator).
+  const Eigen::SparseMatrix<double, Eigen::RowMajor> rows_of_T = T;
+  const Eigen::Index nq = T.cols();
+  std::vector<double> sum(nq, 0.0);
+  std::vector<char> touched(nq, 0);
+  std::vector<int> hit;
+  hit.reserve(static_cast<std::size_t>(std::min<Eigen::Index>(nq, 4096)));
+  Sparse B(nq, nq);
+  B.reserve(A.nonZeros() + 2 * T.nonZeros());
+  for (Eigen::Index b = 0; b < nq; ++b) {
+    B.startVec(b);
+    hit.clear();
+    for (Sparse::InnerIterator tj(T, b); tj; ++tj)
+      for (Sparse::InnerIterator ai(A, tj.row()); ai; ++ai) {
+        const double w = ai.value() * tj.value();
+        for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator ti(rows_of_T, ai.row()); ti; ++ti) {
+          const int a = static_cast<int>(ti.col());
+          if (!touched[a]) {
+            touched[a] = 1;
+            sum[a] = 0.0;
+            hit.push_back(a);
+          }
+          sum[a] += ti.value() * w;
+        }
+      }
+    if (!std::is_sorted(hit.begin(), hit.end())) std::sort(hit.begin(), hit.end());
+    for (int a : hit) {
+      B.insertBack(a, b) = sum[a];
+      touched[a] = 0;
+    }
+  }
+  B.finalize();
+  return B;
 }
 
 }  // namespace orrery::flex

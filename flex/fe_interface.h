@@ -29,7 +29,7 @@
 //   std::vector<FeInterface> ifs = {MakeInterface(mesh, "XMIN", InterfaceKind::kRbe2),
 //                                   MakeInterface(mesh, "XMAX", InterfaceKind::kRbe3)};
 //   InterfaceTransform t = MakeInterfaceTransform(mesh, ifs);  // u = t.T q
-//   Eigen::SparseMatrix<double> Kq = t.T.transpose() * sys.K * t.T;
+//   Eigen::SparseMatrix<double> Kq = InterfaceCoordinatesMatrix(t, sys.K);  // T^T K T
 #include <optional>
 #include <span>
 #include <string>
@@ -81,5 +81,12 @@ struct InterfaceTransform {
 // The coordinate change of the interfaces (header). Throws std::invalid_argument if interfaces
 // share a node or an RBE3 is degenerate (Rbe3AveragingMatrix).
 InterfaceTransform MakeInterfaceTransform(const FeMesh& mesh, std::span<const FeInterface> interfaces);
+
+// T^T A T: a symmetric FE matrix A (both triangles stored, 3 num_nodes square) in the coordinates q
+// of `t` (K_q, M_q; both triangles, sorted columns). One pass over A's entries, each multiplied by
+// the few entries of T's rows and columns that meet it (an interior coordinate is one FE DOF): the
+// same terms as Eigen's product T.transpose() * A * T, summed in another order. Throws
+// std::invalid_argument if A's size is not T's row count.
+Eigen::SparseMatrix<double> InterfaceCoordinatesMatrix(const InterfaceTransform& t, const Eigen::SparseMatrix<double>& A);
 
 }  // namespace orrery::flex

@@ -22,7 +22,9 @@
 
 #include <Eigen/Dense>
 #include <Eigen/SparseCholesky>
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "flex/box_mesher.h"
@@ -341,6 +343,56 @@ TEST(CraigBampton, SingleInterfaceGivesTheFixedInterfaceModes) {
 // solves (observed 5e-12 with RBE2, up to 1.3e-10 with RBE3 ends, relative) against a bound of
 // 1e-9 (a solve that ignores the free masters is off by 1.0); with three interfaces (the middle one
 // on a node set of the mid-plane) two masters are eliminated.
+// InterfaceCoordinatesMatrix against Eigen's sparse product T^T A T (the oracle: the same terms
+// summed in another order), K and M, with an RBE2, a weighted RBE3 and an RBE2 in the middle so
+// that RBE3 rows (a dependent DOF reads every independent slave DOF) meet RBE2 rows. Bound: two
+// sums of the same m products differ by at most 2 gamma_(m+2) = 2 (m + 2) eps / (1 - (m + 2) eps)
+// times the sum of the products' magnitudes, (|T|^T |A| |T|)(a, b) (Higham, Accuracy and
+// Stability of Numerical Algorithms, 2002, sec. 3.1; two roundings per product); m per entry is
+// the same product of the matrices' patterns with ones. Measured: 0.077 (K) and 0.095 (M) of the
+// bound at most (2.0e-17 and 1.5e-17 of the largest entry). The columns must come out sorted.
+TEST(CraigBamptonInterface, InterfaceCoordinatesMatrixIsTheProductTtAT) {
+  FeMesh mesh = Bar();
+  const FeSystem sys = AssembleFeSystem(mesh);
+  const Eigen::Vector3d mid = kOrigin + 0.5 * kSize;
+  std::vector<int> plane;
+  for (int i = 0; i < mesh.num_nodes(); ++i)
+    if (std::abs(mesh.positions()[i].x() - mid.x()) < 1e-9) plane.push_back(i);
+  mesh.AddToNodeSet("MID", plane);
+  FeInterface rbe3 = MakeInterface(mesh, "XMAX", InterfaceKind::kRbe3);
+  for (std::size_t k = 0; k < rbe3.nodes.size(); ++k) rbe3.weights.push_back(1.0 + 0.1 * double(k % 7));
+  const std::vector<FeInterface> ifs = {MakeInterface(mesh, "XMIN", InterfaceKind::kRbe2),
+                                        MakeInterface(mesh, "MID", InterfaceKind::kRbe2), rbe3};
+  const InterfaceTransform t = MakeInterfaceTransform(mesh, ifs);
+  auto ones = [](const Eigen::SparseMatrix<double>& A) { return A.unaryExpr([](double) { return 1.0; }); };
+  const Eigen::SparseMatrix<double> absT = t.T.cwiseAbs(), patT = ones(t.T);
+  const double eps = std::numeric_limits<double>::epsilon();
+  for (const Eigen::SparseMatrix<double>* A : {&sys.K, &sys.M}) {
+    const Eigen::MatrixXd fast = Eigen::MatrixXd(InterfaceCoordinatesMatrix(t, *A));
+    const Eigen::MatrixXd eigen = Eigen::MatrixXd(Eigen::SparseMatrix<double>(t.T.transpose() * *A * t.T));
+    const Eigen::ArrayXXd magnitude =
+        Eigen::MatrixXd(Eigen::SparseMatrix<double>(absT.transpose() * A->cwiseAbs() * absT)).array();
+    const Eigen::ArrayXXd m =
+        Eigen::MatrixXd(Eigen::SparseMatrix<double>(patT.transpose() * ones(*A) * patT)).array() + 2;
+    ASSERT_EQ(fast.rows(), eigen.rows());
+    ASSERT_EQ(fast.cols(), eigen.cols());
+    ASSERT_TRUE(fast.allFinite());
+    const Eigen::ArrayXXd bound = 2 * m * eps / (1 - m * eps) * magnitude;
+    const Eigen::ArrayXXd difference = (fast - eigen).cwiseAbs().array();
+    EXPECT_TRUE((difference <= bound).all()) << (A == &sys.K ? "K" : "M") << ": largest difference over its bound "
+                                             << (difference / bound.max(1e-300)).maxCoeff();
+  }
+  const Eigen::SparseMatrix<double> K = InterfaceCoordinatesMatrix(t, sys.K);
+  for (Eigen::Index j = 0; j < K.outerSize(); ++j) {
+    Eigen::Index previous = -1;
+    for (Eigen::SparseMatrix<double>::InnerIterator it(K, j); it; ++it) {
+      ASSERT_GT(it.row(), previous) << "column " << j << " not sorted";
+      previous = it.row();
+    }
+  }
+  EXPECT_THROW(InterfaceCoordinatesMatrix(t, Eigen::SparseMatrix<double>(3, 3)), std::invalid_argument);
+}
+
 TEST(CraigBampton, HeldInertialStaticsMatchAnIndependentSolve) {
   FeMesh mesh = Bar();
   const FeSystem sys = AssembleFeSystem(mesh);

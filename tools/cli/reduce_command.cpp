@@ -120,8 +120,8 @@ Job PartJob(const ReduceArgs& args) {
 flex::FeModes FullModel(const Job& job, const flex::FeSystem& system, int n) {
   const flex::InterfaceTransform t = flex::MakeInterfaceTransform(job.mesh, job.interfaces);
   flex::FeSystem q;
-  q.K = t.T.transpose() * system.K * t.T;
-  q.M = t.T.transpose() * system.M * t.T;
+  q.K = flex::InterfaceCoordinatesMatrix(t, system.K);
+  q.M = flex::InterfaceCoordinatesMatrix(t, system.M);
   std::vector<int> fixed(6);
   std::iota(fixed.begin(), fixed.end(), 6 * job.cb_options.reference_interface);
   return flex::CalcFeModes(q, fixed, {.num_modes = n, .tolerance = job.cb_options.tolerance});
