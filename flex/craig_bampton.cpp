@@ -69,6 +69,7 @@ Eigen::MatrixXd InteriorModes(const FeMesh& mesh, const FeSystem& system, const 
   Eigen::MatrixXd Phi(p.nI, 0);
   if (options.num_modes > 0) {
     const FeModes modes = SolveLowestModes(p.Kii, p.Mii, {.num_modes = options.num_modes, .tolerance = options.tolerance});
+    r.lanczos_operations = modes.operations;
     int keep = options.num_modes;
     if (options.cutoff_hz > 0) {
       keep = 0;

@@ -77,6 +77,7 @@ struct CraigBamptonModel {
   // SolveStaticsHeldAtInterface returns, from K_ii's factorization.
   Eigen::MatrixXd inertial_load_statics;
   bool cutoff_reached = false;       // cutoff_hz > 0 and a computed mode lay above it
+  int lanczos_operations = 0;        // operator applications of the normal modes' Lanczos (FeModes)
   // Rigid-body mass properties from the rigid 6 x 6 block of M:
   double mass_kg = 0;
   Eigen::Vector3d p_RoCm_m = Eigen::Vector3d::Zero();  // centre of mass from the reference master

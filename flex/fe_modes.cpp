@@ -15,6 +15,7 @@
 #include <utility>
 
 #include "flex/block_lanczos.h"
+#include "flex/thick_restart_lanczos.h"
 
 namespace orrery::flex {
 namespace {
@@ -95,21 +96,43 @@ void RunSpectra(Solver& eigs, const FeModesOptions& o, FeModes& r) {
   r.operations = r.block_solves = static_cast<int>(eigs.num_operations());
 }
 
-// Eigenpairs of S^-1 M by Spectra's implicitly restarted Lanczos on the standard form above; the
-// eigenvectors mapped back, x = P^T L^-T y (one solve of N columns), and M-normalized.
+// Eigenpairs (nu, y) of the standard form above mapped back: w^2 = sigma + 1 / nu,
+// x = P^T L^-T y (one solve of N columns), M-normalized.
+void MapStandardFormBack(const ShiftedFactor& f, const Eigen::SparseMatrix<double>& M, const Eigen::VectorXd& nu,
+                         const Eigen::MatrixXd& Y, FeModes& r) {
+  const Eigen::Index n = f.rows(), nev = nu.size();
+  r.eigenvalues = f.shift() + nu.cwiseInverse().array();
+  r.shapes.resize(n, nev);
+  f.SolveBackward(Y.data(), r.shapes.data(), static_cast<int>(nev));
+  const Eigen::MatrixXd MX = M.selfadjointView<Eigen::Upper>() * r.shapes;
+  for (Eigen::Index i = 0; i < nev; ++i) r.shapes.col(i) /= std::sqrt(r.shapes.col(i).dot(MX.col(i)));
+}
+
+// Eigenpairs of S^-1 M by Spectra's implicitly restarted Lanczos on the standard form.
 void SolveStandardFormWithSpectra(const ShiftedFactor& f, const Eigen::SparseMatrix<double>& M,
                                   const FeModesOptions& o, FeModes& r) {
   const int n = static_cast<int>(f.rows()), nev = o.num_modes;
   StandardFormOp op(f, M);
   Spectra::SymEigsSolver<StandardFormOp> eigs(op, nev, LanczosVectors(o, n));
   RunSpectra(eigs, o, r);
-  const Eigen::VectorXd nu = eigs.eigenvalues();
-  const Eigen::MatrixXd Y = eigs.eigenvectors();
-  r.eigenvalues = f.shift() + nu.cwiseInverse().array();
-  r.shapes.resize(n, nev);
-  f.SolveBackward(Y.data(), r.shapes.data(), nev);
-  const Eigen::MatrixXd MX = M.selfadjointView<Eigen::Upper>() * r.shapes;
-  for (int i = 0; i < nev; ++i) r.shapes.col(i) /= std::sqrt(r.shapes.col(i).dot(MX.col(i)));
+  MapStandardFormBack(f, M, eigs.eigenvalues(), eigs.eigenvectors(), r);
+}
+
+// The same by the thick-restart Lanczos (thick_restart_lanczos.h).
+void SolveStandardFormWithThickRestart(const ShiftedFactor& f, const Eigen::SparseMatrix<double>& M,
+                                       const FeModesOptions& o, FeModes& r) {
+  const StandardFormOp op(f, M);
+  const ThickRestartResult t = SolveThickRestartLanczos([&](const double* y, double* z) { op.perform_op(y, z); },
+                                                        f.rows(), o.num_modes,
+                                                        {.max_basis = o.lanczos_vectors, .tolerance = o.tolerance,
+                                                         .max_restarts = o.max_iterations});
+  if (!t.converged)
+    throw std::runtime_error("eigen solve did not converge: " + std::to_string(o.num_modes) + " modes after " +
+                             std::to_string(t.restarts) +
+                             " restarts (raise the number of Lanczos vectors or iterations)");
+  r.iterations = t.restarts;
+  r.operations = r.block_solves = t.operations;
+  MapStandardFormBack(f, M, t.theta, t.vectors, r);
 }
 
 // Eigenpairs (nu, x) of (K - sigma M)^-1 M by Spectra's implicitly restarted Lanczos in the
@@ -302,8 +325,14 @@ FeModes SolveLowestModes(const ShiftedFactor& factor, const Eigen::SparseMatrix<
   r.shift = factor.shift();
   r.factor_nonzeros = static_cast<long>(factor.factor_nonzeros());
   const Clock::time_point t0 = Clock::now();
-  if (options.solver == EigenSolver::kSpectra) SolveWithSpectra(factor, M, options, r);
-  else SolveWithBlockLanczos(factor, M, options, r);
+  switch (options.solver) {
+    case EigenSolver::kThickRestart:
+      if (factor.uses_cholesky()) SolveStandardFormWithThickRestart(factor, M, options, r);
+      else SolveWithSpectra(factor, M, options, r);  // LDL^T: the generalized form
+      break;
+    case EigenSolver::kSpectra: SolveWithSpectra(factor, M, options, r); break;
+    case EigenSolver::kBlockLanczos: SolveWithBlockLanczos(factor, M, options, r); break;
+  }
   r.solve_seconds = Seconds(t0, Clock::now());
   FinishModes(options, r);
   return r;

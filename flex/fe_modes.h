@@ -5,11 +5,14 @@
 // (K - sigma M)^-1 M, through one sparse factorization of K - sigma M (ShiftedFactor,
 // sparse_ldlt_shift_invert.h: CHOLMOD's supernodal Cholesky, or a sparse LDL^T where that matrix
 // is not positive definite), by
-//   - Spectra's implicitly restarted Lanczos (default), one solve per vector: with a Cholesky
-//     factor S = K - sigma M = P^T L L^T P on the symmetric standard form L^-1 P M P^T L^-T
-//     (Euclidean inner products: one M product per vector instead of 4 to 6 for the M-inner
-//     products of the generalized form), the eigenvectors mapped back by x = P^T L^-T y; with an
-//     LDL^T factor on the generalized form (SymGEigsShiftSolver, M-inner products);
+//   - a Lanczos with one solve per vector: with a Cholesky factor S = K - sigma M = P^T L L^T P
+//     on the symmetric standard form L^-1 P M P^T L^-T (Euclidean inner products: one M product
+//     per vector instead of 4 to 6 for the M-inner products of the generalized form), the
+//     eigenvectors mapped back by x = P^T L^-T y, by the thick-restart Lanczos of
+//     thick_restart_lanczos.h (default: two or three passes over the basis per vector against
+//     three to five in Spectra's, and the convergence test after every vector) or Spectra's
+//     implicitly restarted Lanczos; with an LDL^T factor by Spectra's on the generalized form
+//     (SymGEigsShiftSolver, M-inner products);
 //   - or the shifted block Lanczos of block_lanczos.h (FeModesOptions::solver): a block of b
 //     right-hand sides per solve (8 cost about 2.5 single solves on a 91k-DOF hex20 block), but
 //     it needs 2 to 3 times the vectors for 30 modes (clamped hex20 block 91k DOF: 224 against
@@ -48,7 +51,8 @@
 namespace orrery::flex {
 
 enum class EigenSolver {
-  kSpectra,       // Spectra's Lanczos (default): standard form over a Cholesky factor, else generalized
+  kThickRestart,  // thick_restart_lanczos.h on the standard form (default); Spectra's where no Cholesky
+  kSpectra,       // Spectra's Lanczos: standard form over a Cholesky factor, else generalized
   kBlockLanczos,  // block_lanczos.h, Ritz vectors purified (measured slower, see below)
 };
 
@@ -59,10 +63,10 @@ struct FeModesOptions {
   double tolerance = 1e-10;            // relative residual of the Ritz pairs (both solvers' test)
   int max_iterations = 1000;           // restarts
   // Block Lanczos: basis columns before a restart (0: BlockLanczosOptions' default);
-  // Spectra: its ncv (0: max(2 N + 1, N + 20)); at most n either way.
+  // thick restart and Spectra: the basis (Spectra's ncv; 0: max(2 N + 1, N + 20)); at most n.
   int lanczos_vectors = 0;
   int block_size = 0;                  // block Lanczos; 0: BlockLanczosOptions' default (8)
-  EigenSolver solver = EigenSolver::kSpectra;
+  EigenSolver solver = EigenSolver::kThickRestart;
   double rigid_body_tolerance = 1e-6;  // see above
 };
 
