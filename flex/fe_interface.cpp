@@ -150,12 +150,14 @@ InterfaceTransform MakeInterfaceTransform(const FeMesh& mesh, std::span<const Fe
   return t;
 }
 
-Eigen::SparseMatrix<double> InterfaceCoordinatesMatrix(const InterfaceTransform& t, const Eigen::SparseMatrix<double>& A) {
+Eigen::SparseMatrix<double> InterfaceCoordinatesMatrix(const InterfaceTransform& t,
+                                                       const Eigen::SparseMatrix<double>& A) {
   using Sparse = Eigen::SparseMatrix<double>;
   const Sparse& T = t.T;
   if (A.rows() != T.rows() || A.cols() != T.rows())
-    throw std::invalid_argument("InterfaceCoordinatesMatrix: matrix of size " + std::to_string(A.rows()) + " x " +
-                                std::to_string(A.cols()) + " for " + std::to_string(T.rows()) + " FE DOFs");
+    throw std::invalid_argument("InterfaceCoordinatesMatrix: matrix of size " +
+                                std::to_string(A.rows()) + " x " + std::to_string(A.cols()) +
+                                " for " + std::to_string(T.rows()) + " FE DOFs");
   // Column b of T^T A T is the sum over T's entries T(j, b) of T(j, b) T^T A(:, j); T^T A(:, j)
   // gathers A(i, j) into the coordinates of FE DOF i, row i of T (Gustavson's column-by-column
   // product with a dense accumulator).
@@ -173,7 +175,8 @@ Eigen::SparseMatrix<double> InterfaceCoordinatesMatrix(const InterfaceTransform&
     for (Sparse::InnerIterator tj(T, b); tj; ++tj)
       for (Sparse::InnerIterator ai(A, tj.row()); ai; ++ai) {
         const double w = ai.value() * tj.value();
-        for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator ti(rows_of_T, ai.row()); ti; ++ti) {
+        for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator ti(rows_of_T, ai.row());
+             ti; ++ti) {
           const int a = static_cast<int>(ti.col());
           if (!touched[a]) {
             touched[a] = 1;

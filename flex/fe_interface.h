@@ -87,6 +87,7 @@ InterfaceTransform MakeInterfaceTransform(const FeMesh& mesh, std::span<const Fe
 // the few entries of T's rows and columns that meet it (an interior coordinate is one FE DOF): the
 // same terms as Eigen's product T.transpose() * A * T, summed in another order. Throws
 // std::invalid_argument if A's size is not T's row count.
-Eigen::SparseMatrix<double> InterfaceCoordinatesMatrix(const InterfaceTransform& t, const Eigen::SparseMatrix<double>& A);
+Eigen::SparseMatrix<double> InterfaceCoordinatesMatrix(const InterfaceTransform& t,
+                                                       const Eigen::SparseMatrix<double>& A);
 
 }  // namespace orrery::flex

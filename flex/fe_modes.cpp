@@ -98,14 +98,15 @@ void RunSpectra(Solver& eigs, const FeModesOptions& o, FeModes& r) {
 
 // Eigenpairs (nu, y) of the standard form above mapped back: w^2 = sigma + 1 / nu,
 // x = P^T L^-T y (one solve of N columns), M-normalized.
-void MapStandardFormBack(const ShiftedFactor& f, const Eigen::SparseMatrix<double>& M, const Eigen::VectorXd& nu,
-                         const Eigen::MatrixXd& Y, FeModes& r) {
+void MapStandardFormBack(const ShiftedFactor& f, const Eigen::SparseMatrix<double>& M,
+                         const Eigen::VectorXd& nu, const Eigen::MatrixXd& Y, FeModes& r) {
   const Eigen::Index n = f.rows(), nev = nu.size();
   r.eigenvalues = f.shift() + nu.cwiseInverse().array();
   r.shapes.resize(n, nev);
   f.SolveBackward(Y.data(), r.shapes.data(), static_cast<int>(nev));
   const Eigen::MatrixXd MX = M.selfadjointView<Eigen::Upper>() * r.shapes;
-  for (Eigen::Index i = 0; i < nev; ++i) r.shapes.col(i) /= std::sqrt(r.shapes.col(i).dot(MX.col(i)));
+  for (Eigen::Index i = 0; i < nev; ++i)
+    r.shapes.col(i) /= std::sqrt(r.shapes.col(i).dot(MX.col(i)));
 }
 
 // Eigenpairs of S^-1 M by Spectra's implicitly restarted Lanczos on the standard form.
@@ -122,13 +123,12 @@ void SolveStandardFormWithSpectra(const ShiftedFactor& f, const Eigen::SparseMat
 void SolveStandardFormWithThickRestart(const ShiftedFactor& f, const Eigen::SparseMatrix<double>& M,
                                        const FeModesOptions& o, FeModes& r) {
   const StandardFormOp op(f, M);
-  const ThickRestartResult t = SolveThickRestartLanczos([&](const double* y, double* z) { op.perform_op(y, z); },
-                                                        f.rows(), o.num_modes,
-                                                        {.max_basis = o.lanczos_vectors, .tolerance = o.tolerance,
-                                                         .max_restarts = o.max_iterations});
+  const ThickRestartResult t = SolveThickRestartLanczos(
+      [&](const double* y, double* z) { op.perform_op(y, z); }, f.rows(), o.num_modes,
+      {.max_basis = o.lanczos_vectors, .tolerance = o.tolerance, .max_restarts = o.max_iterations});
   if (!t.converged)
-    throw std::runtime_error("eigen solve did not converge: " + std::to_string(o.num_modes) + " modes after " +
-                             std::to_string(t.restarts) +
+    throw std::runtime_error("eigen solve did not converge: " + std::to_string(o.num_modes) +
+                             " modes after " + std::to_string(t.restarts) +
                              " restarts (raise the number of Lanczos vectors or iterations)");
   r.iterations = t.restarts;
   r.operations = r.block_solves = t.operations;
@@ -327,8 +327,10 @@ FeModes SolveLowestModes(const ShiftedFactor& factor, const Eigen::SparseMatrix<
   const Clock::time_point t0 = Clock::now();
   switch (options.solver) {
     case EigenSolver::kThickRestart:
-      if (factor.uses_cholesky()) SolveStandardFormWithThickRestart(factor, M, options, r);
-      else SolveWithSpectra(factor, M, options, r);  // LDL^T: the generalized form
+      if (factor.uses_cholesky())
+        SolveStandardFormWithThickRestart(factor, M, options, r);
+      else
+        SolveWithSpectra(factor, M, options, r);  // LDL^T: the generalized form
       break;
     case EigenSolver::kSpectra: SolveWithSpectra(factor, M, options, r); break;
     case EigenSolver::kBlockLanczos: SolveWithBlockLanczos(factor, M, options, r); break;

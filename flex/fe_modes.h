@@ -51,7 +51,7 @@
 namespace orrery::flex {
 
 enum class EigenSolver {
-  kThickRestart,  // thick_restart_lanczos.h on the standard form (default); Spectra's where no Cholesky
+  kThickRestart,  // thick_restart_lanczos.h, standard form (default); no Cholesky: Spectra's
   kSpectra,       // Spectra's Lanczos: standard form over a Cholesky factor, else generalized
   kBlockLanczos,  // block_lanczos.h, Ritz vectors purified (measured slower, see below)
 };

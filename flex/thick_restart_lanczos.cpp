@@ -24,8 +24,17 @@ constexpr Eigen::Index kRowChunk = 512;
 class ThickRestart {
  public:
   ThickRestart(const SymmetricOperator& op, Eigen::Index n, int nev, int max_basis, double tol)
-      : op_(op), n_(n), nev_(nev), mmax_(max_basis), tol_(tol), V_(n, max_basis), T_(Mat::Zero(max_basis, max_basis)),
-        w_(n), h_(max_basis), h2_(max_basis), rng_(20261128) {}
+      : op_(op),
+        n_(n),
+        nev_(nev),
+        mmax_(max_basis),
+        tol_(tol),
+        V_(n, max_basis),
+        T_(Mat::Zero(max_basis, max_basis)),
+        w_(n),
+        h_(max_basis),
+        h2_(max_basis),
+        rng_(20261128) {}
 
   ThickRestartResult Run(int max_restarts);
 
@@ -47,9 +56,9 @@ class ThickRestart {
   const Eigen::Index n_;
   const int nev_, mmax_;
   const double tol_;
-  Mat V_, T_;    // basis (n x mmax), projection V^T A V (mmax x mmax)
-  Vec w_;        // the image of the newest column, then the remainder
-  Vec h_, h2_;   // projections on the basis
+  Mat V_, T_;   // basis (n x mmax), projection V^T A V (mmax x mmax)
+  Vec w_;       // the image of the newest column, then the remainder
+  Vec h_, h2_;  // projections on the basis
   std::mt19937_64 rng_;
 };
 
@@ -90,7 +99,8 @@ void ThickRestart::Ritz(int m, Vec& theta, Mat& S) const {
   std::vector<int> order(m);
   std::iota(order.begin(), order.end(), 0);
   const Vec& ev = es.eigenvalues();
-  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return std::abs(ev(a)) > std::abs(ev(b)); });
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int a, int b) { return std::abs(ev(a)) > std::abs(ev(b)); });
   theta.resize(m);
   S.resize(m, m);
   for (int i = 0; i < m; ++i) {
@@ -153,12 +163,14 @@ ThickRestartResult ThickRestart::Run(int max_restarts) {
 ThickRestartResult SolveThickRestartLanczos(const SymmetricOperator& op, Eigen::Index n, int nev,
                                             const ThickRestartOptions& options) {
   if (nev < 1 || nev >= n)
-    throw std::invalid_argument("SolveThickRestartLanczos: need 1 <= nev < n, got nev = " + std::to_string(nev) +
-                                ", n = " + std::to_string(n));
-  const Eigen::Index wanted = options.max_basis > 0 ? options.max_basis : std::max(2 * nev + 1, nev + 20);
+    throw std::invalid_argument("SolveThickRestartLanczos: need 1 <= nev < n, got nev = " +
+                                std::to_string(nev) + ", n = " + std::to_string(n));
+  const Eigen::Index wanted =
+      options.max_basis > 0 ? options.max_basis : std::max(2 * nev + 1, nev + 20);
   const int max_basis = static_cast<int>(std::min(wanted, n));
   if (max_basis <= nev)
-    throw std::invalid_argument("SolveThickRestartLanczos: the basis (" + std::to_string(max_basis) +
+    throw std::invalid_argument("SolveThickRestartLanczos: the basis (" +
+                                std::to_string(max_basis) +
                                 " columns) must exceed nev = " + std::to_string(nev));
   ThickRestart solver(op, n, nev, max_basis, options.tolerance);
   return solver.Run(options.max_restarts);

@@ -29,7 +29,7 @@
 // Memory: V (n x max_basis) and two vectors of n.
 //
 // Usage (fe_modes.cpp):
-//   ThickRestartResult r = SolveThickRestartLanczos([&](const double* x, double* y) { ... }, n, 30, {});
+//   ThickRestartResult r = SolveThickRestartLanczos(apply_A, n, 30, {});
 //   r.theta(i), r.vectors.col(i): largest |theta| first.
 #include <functional>
 
@@ -38,7 +38,7 @@
 namespace orrery::flex {
 
 struct ThickRestartOptions {
-  int max_basis = 0;         // columns of V before a restart; 0: max(2 nev + 1, nev + 20), at most n
+  int max_basis = 0;  // columns of V before a restart; 0: max(2 nev + 1, nev + 20), at most n
   double tolerance = 1e-10;  // relative residual of the Ritz pairs (above)
   int max_restarts = 1000;
 };
@@ -48,7 +48,7 @@ struct ThickRestartResult {
   Eigen::VectorXd theta;    // (nev) eigenvalues of A, largest |theta| first
   Eigen::MatrixXd vectors;  // (n x nev) orthonormal eigenvectors, in theta's order
   int restarts = 0;
-  int operations = 0;       // applications of A
+  int operations = 0;  // applications of A
   bool converged = false;
 };
 

@@ -360,27 +360,34 @@ TEST(CraigBamptonInterface, InterfaceCoordinatesMatrixIsTheProductTtAT) {
     if (std::abs(mesh.positions()[i].x() - mid.x()) < 1e-9) plane.push_back(i);
   mesh.AddToNodeSet("MID", plane);
   FeInterface rbe3 = MakeInterface(mesh, "XMAX", InterfaceKind::kRbe3);
-  for (std::size_t k = 0; k < rbe3.nodes.size(); ++k) rbe3.weights.push_back(1.0 + 0.1 * double(k % 7));
+  for (std::size_t k = 0; k < rbe3.nodes.size(); ++k)
+    rbe3.weights.push_back(1.0 + 0.1 * double(k % 7));
   const std::vector<FeInterface> ifs = {MakeInterface(mesh, "XMIN", InterfaceKind::kRbe2),
                                         MakeInterface(mesh, "MID", InterfaceKind::kRbe2), rbe3};
   const InterfaceTransform t = MakeInterfaceTransform(mesh, ifs);
-  auto ones = [](const Eigen::SparseMatrix<double>& A) { return A.unaryExpr([](double) { return 1.0; }); };
+  auto ones = [](const Eigen::SparseMatrix<double>& A) {
+    return A.unaryExpr([](double) { return 1.0; });
+  };
   const Eigen::SparseMatrix<double> absT = t.T.cwiseAbs(), patT = ones(t.T);
   const double eps = std::numeric_limits<double>::epsilon();
   for (const Eigen::SparseMatrix<double>* A : {&sys.K, &sys.M}) {
     const Eigen::MatrixXd fast = Eigen::MatrixXd(InterfaceCoordinatesMatrix(t, *A));
-    const Eigen::MatrixXd eigen = Eigen::MatrixXd(Eigen::SparseMatrix<double>(t.T.transpose() * *A * t.T));
+    const Eigen::MatrixXd eigen =
+        Eigen::MatrixXd(Eigen::SparseMatrix<double>(t.T.transpose() * *A * t.T));
     const Eigen::ArrayXXd magnitude =
-        Eigen::MatrixXd(Eigen::SparseMatrix<double>(absT.transpose() * A->cwiseAbs() * absT)).array();
+        Eigen::MatrixXd(Eigen::SparseMatrix<double>(absT.transpose() * A->cwiseAbs() * absT))
+            .array();
     const Eigen::ArrayXXd m =
-        Eigen::MatrixXd(Eigen::SparseMatrix<double>(patT.transpose() * ones(*A) * patT)).array() + 2;
+        Eigen::MatrixXd(Eigen::SparseMatrix<double>(patT.transpose() * ones(*A) * patT)).array() +
+        2;
     ASSERT_EQ(fast.rows(), eigen.rows());
     ASSERT_EQ(fast.cols(), eigen.cols());
     ASSERT_TRUE(fast.allFinite());
     const Eigen::ArrayXXd bound = 2 * m * eps / (1 - m * eps) * magnitude;
     const Eigen::ArrayXXd difference = (fast - eigen).cwiseAbs().array();
-    EXPECT_TRUE((difference <= bound).all()) << (A == &sys.K ? "K" : "M") << ": largest difference over its bound "
-                                             << (difference / bound.max(1e-300)).maxCoeff();
+    EXPECT_TRUE((difference <= bound).all())
+        << (A == &sys.K ? "K" : "M") << ": largest difference over its bound "
+        << (difference / bound.max(1e-300)).maxCoeff();
   }
   const Eigen::SparseMatrix<double> K = InterfaceCoordinatesMatrix(t, sys.K);
   for (Eigen::Index j = 0; j < K.outerSize(); ++j) {
@@ -390,7 +397,8 @@ TEST(CraigBamptonInterface, InterfaceCoordinatesMatrixIsTheProductTtAT) {
       previous = it.row();
     }
   }
-  EXPECT_THROW(InterfaceCoordinatesMatrix(t, Eigen::SparseMatrix<double>(3, 3)), std::invalid_argument);
+  EXPECT_THROW(InterfaceCoordinatesMatrix(t, Eigen::SparseMatrix<double>(3, 3)),
+               std::invalid_argument);
 }
 
 TEST(CraigBampton, HeldInertialStaticsMatchAnIndependentSolve) {

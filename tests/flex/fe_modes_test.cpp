@@ -47,9 +47,12 @@ constexpr double kE = 210e9, kRho = 7850, kL = 1.0, kA = 0.1;
 // up to 3.7x here.
 TEST(FeModesTest, LanczosMatchesDenseSolverOnFreeMesh) {
   const std::vector<std::pair<ElementType, EigenSolver>> cases = {
-      {ElementType::kHex20, EigenSolver::kThickRestart}, {ElementType::kTet10, EigenSolver::kThickRestart},
-      {ElementType::kHex20, EigenSolver::kSpectra},      {ElementType::kTet10, EigenSolver::kSpectra},
-      {ElementType::kHex20, EigenSolver::kBlockLanczos}, {ElementType::kTet10, EigenSolver::kBlockLanczos}};
+      {ElementType::kHex20, EigenSolver::kThickRestart},
+      {ElementType::kTet10, EigenSolver::kThickRestart},
+      {ElementType::kHex20, EigenSolver::kSpectra},
+      {ElementType::kTet10, EigenSolver::kSpectra},
+      {ElementType::kHex20, EigenSolver::kBlockLanczos},
+      {ElementType::kTet10, EigenSolver::kBlockLanczos}};
   for (const auto& [t, solver] : cases) {
     FeMesh mesh = MakeBoxMesh({.size_m = {0.3, 0.1, 0.05}, .divisions = {3, 1, 1}, .type = t});
     mesh.AssignMaterialToAll({.name = "STEEL", .youngs_modulus_pa = kE, .poissons_ratio = 0.3, .density_kg_m3 = kRho});

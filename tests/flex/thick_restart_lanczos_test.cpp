@@ -38,22 +38,28 @@ Eigen::MatrixXd RotatedDiagonal(const Eigen::VectorXd& d, unsigned seed) {
 }
 
 ThickRestartResult Solve(const Eigen::MatrixXd& A, int nev, const ThickRestartOptions& options) {
-  return SolveThickRestartLanczos([&](const double* x, double* y) {
-    Eigen::Map<Eigen::VectorXd>(y, A.rows()).noalias() = A * Eigen::Map<const Eigen::VectorXd>(x, A.rows());
-  }, A.rows(), nev, options);
+  return SolveThickRestartLanczos(
+      [&](const double* x, double* y) {
+        Eigen::Map<Eigen::VectorXd>(y, A.rows()).noalias() =
+            A * Eigen::Map<const Eigen::VectorXd>(x, A.rows());
+      },
+      A.rows(), nev, options);
 }
 
-void ExpectEigenpairs(const Eigen::MatrixXd& A, const ThickRestartResult& r, const Eigen::VectorXd& expected,
-                      double tolerance) {
+void ExpectEigenpairs(const Eigen::MatrixXd& A, const ThickRestartResult& r,
+                      const Eigen::VectorXd& expected, double tolerance) {
   ASSERT_TRUE(r.converged);
   ASSERT_EQ(r.theta.size(), expected.size());
   for (Eigen::Index i = 0; i < expected.size(); ++i) {
     EXPECT_NEAR(r.theta(i), expected(i), 1e-12 * std::abs(expected(i))) << "pair " << i;
-    EXPECT_LE((A * r.vectors.col(i) - r.theta(i) * r.vectors.col(i)).norm(), 2 * tolerance * std::abs(r.theta(i)))
+    EXPECT_LE((A * r.vectors.col(i) - r.theta(i) * r.vectors.col(i)).norm(),
+              2 * tolerance * std::abs(r.theta(i)))
         << "pair " << i;
   }
   const Eigen::Index k = expected.size();
-  EXPECT_LT((r.vectors.transpose() * r.vectors - Eigen::MatrixXd::Identity(k, k)).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_LT(
+      (r.vectors.transpose() * r.vectors - Eigen::MatrixXd::Identity(k, k)).cwiseAbs().maxCoeff(),
+      1e-12);
 }
 
 // The shift-invert spectrum of a clamped structure: nu = 1 / lambda for lambda = 1, 1 (a double
@@ -62,7 +68,8 @@ void ExpectEigenpairs(const Eigen::MatrixXd& A, const ThickRestartResult& r, con
 TEST(ThickRestartLanczos, LargestEigenvaluesOfAClusteredSpectrumWithDoublePairs) {
   const int n = 400, nev = 20;
   Eigen::VectorXd lambda(n);
-  for (int i = 0; i < n; ++i) lambda(i) = 1.0 + 0.5 * (i / 2) + 1e-3 * (i % 2) * (i >= 8) + 1e3 * (i >= 200) * i;
+  for (int i = 0; i < n; ++i)
+    lambda(i) = 1.0 + 0.5 * (i / 2) + 1e-3 * (i % 2) * (i >= 8) + 1e3 * (i >= 200) * i;
   const Eigen::VectorXd nu = lambda.cwiseInverse();
   Eigen::VectorXd sorted = nu;
   std::sort(sorted.data(), sorted.data() + n, [](double a, double b) { return a > b; });
@@ -116,7 +123,8 @@ TEST(ThickRestartLanczos, NoConvergenceIsReported) {
   const int n = 300;
   const Eigen::VectorXd d = Eigen::VectorXd::LinSpaced(n, 1.0, 1.001);
   const Eigen::MatrixXd A = RotatedDiagonal(d, 5);
-  const ThickRestartResult r = Solve(A, 10, {.max_basis = 14, .tolerance = 1e-14, .max_restarts = 2});
+  const ThickRestartResult r =
+      Solve(A, 10, {.max_basis = 14, .tolerance = 1e-14, .max_restarts = 2});
   EXPECT_FALSE(r.converged);
   EXPECT_EQ(r.restarts, 2);
   EXPECT_EQ(r.theta.size(), 10);

@@ -257,8 +257,9 @@ void ReducePlanet(int modes, std::FILE* out, const std::filesystem::path& dump) 
   std::fprintf(out, "  %d nodes, %d DOF; first elastic %.6f Hz, last %.6f Hz; |G| %.9g\n", mesh.num_nodes(),
                3 * mesh.num_nodes(), cb.frequencies_hz[cb.num_rigid], cb.frequencies_hz.back(), std::sqrt(g_norm));
   std::fprintf(out, "  mesh + assembly      wall %7.2f s  cpu %7.2f s\n", t_setup, c_setup);
-  std::fprintf(out, "  ReduceCraigBampton   wall %7.2f s  cpu %7.2f s  (%d Lanczos operator applications)\n", t_cb, c_cb,
-               cb.lanczos_operations);
+  std::fprintf(
+      out, "  ReduceCraigBampton   wall %7.2f s  cpu %7.2f s  (%d Lanczos operator applications)\n",
+      t_cb, c_cb, cb.lanczos_operations);
   std::fprintf(out, "  MakeFlexibleBodyModes (stress modes, geometric stiffness) wall %7.2f s  cpu %7.2f s\n", t_body,
                c_body);
   if (!dump.empty()) DumpReduction(cb, body, dump);
