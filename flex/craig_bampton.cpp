@@ -22,7 +22,7 @@ Eigen::MatrixXd Symmetrized(const Eigen::MatrixXd& A) { return 0.5 * (A + A.tran
 // The interface coordinates' matrices and K_ii's factorization (sigma = 0), shared by the stages.
 struct InterfaceProblem {
   InterfaceTransform it;
-  Eigen::SparseMatrix<double> Tt, Kq, Mq;  // T^T, T^T K T, T^T M T (both triangles)
+  Eigen::SparseMatrix<double> Tt, Kq, Mq;  // T^T, T^T K T, T^T M T (upper triangles)
   Eigen::SparseMatrix<double> Mii;         // interior block of M_q, upper triangle
   ShiftedFactor Kii;                       // Cholesky of the interior block of K_q
   int nb = 0, nI = 0;
@@ -46,8 +46,8 @@ void FactorizeInterior(const FeMesh& mesh, const FeSystem& system, std::span<con
   // Interface coordinates q = [u_b | u_i]: K_q = T^T K T, M_q = T^T M T
   p.it = MakeInterfaceTransform(mesh, interfaces);
   p.Tt = p.it.T.transpose();
-  p.Kq = InterfaceCoordinatesMatrix(p.it, system.K);
-  p.Mq = InterfaceCoordinatesMatrix(p.it, system.M);
+  p.Kq = InterfaceCoordinatesMatrix(p.it, system.K, /*upper_only=*/true);
+  p.Mq = InterfaceCoordinatesMatrix(p.it, system.M, /*upper_only=*/true);
   p.nb = p.it.num_boundary;
   const int nq = static_cast<int>(p.Kq.rows());
   p.nI = nq - p.nb;
@@ -166,7 +166,8 @@ CraigBamptonModel ReduceCraigBampton(const FeMesh& mesh, const FeSystem& system,
   const InterfaceTransform& it = p.it;
 
   // Static constraint modes Psi = -K_ii^-1 K_ib: one solve of all nb columns
-  const Eigen::MatrixXd Psi = -p.Solve(Eigen::MatrixXd(p.Kq.block(nb, 0, nI, nb)));
+  // (K_ib = K_bi^T: the upper triangle holds K_bi)
+  const Eigen::MatrixXd Psi = -p.Solve(Eigen::MatrixXd(p.Kq.block(0, nb, nb, nI)).transpose());
   CraigBamptonModel r;
   const Eigen::MatrixXd Phi = InteriorModes(mesh, system, p, options, r);
   const int nm = static_cast<int>(Phi.cols());
@@ -177,8 +178,10 @@ CraigBamptonModel ReduceCraigBampton(const FeMesh& mesh, const FeSystem& system,
   Tcb.topLeftCorner(nb, nb).setIdentity();
   Tcb.bottomLeftCorner(nI, nb) = Psi;
   Tcb.bottomRightCorner(nI, nm) = Phi;
-  const Eigen::MatrixXd Kcb = Symmetrized(Tcb.transpose() * (p.Kq * Tcb));
-  const Eigen::MatrixXd Mcb = Symmetrized(Tcb.transpose() * (p.Mq * Tcb));
+  const Eigen::MatrixXd Kcb =
+      Symmetrized(Tcb.transpose() * (p.Kq.selfadjointView<Eigen::Upper>() * Tcb));
+  const Eigen::MatrixXd Mcb =
+      Symmetrized(Tcb.transpose() * (p.Mq.selfadjointView<Eigen::Upper>() * Tcb));
   r.inertial_load_statics = HeldInertialStatics(mesh, system, p, ref, Psi, Kcb);
 
   // Rigid motions of the body about the reference master, in CB coordinates

@@ -151,7 +151,8 @@ InterfaceTransform MakeInterfaceTransform(const FeMesh& mesh, std::span<const Fe
 }
 
 Eigen::SparseMatrix<double> InterfaceCoordinatesMatrix(const InterfaceTransform& t,
-                                                       const Eigen::SparseMatrix<double>& A) {
+                                                       const Eigen::SparseMatrix<double>& A,
+                                                       bool upper_only) {
   using Sparse = Eigen::SparseMatrix<double>;
   const Sparse& T = t.T;
   if (A.rows() != T.rows() || A.cols() != T.rows())
@@ -168,7 +169,7 @@ Eigen::SparseMatrix<double> InterfaceCoordinatesMatrix(const InterfaceTransform&
   std::vector<int> hit;
   hit.reserve(static_cast<std::size_t>(std::min<Eigen::Index>(nq, 4096)));
   Sparse B(nq, nq);
-  B.reserve(A.nonZeros() + 2 * T.nonZeros());
+  B.reserve((upper_only ? A.nonZeros() / 2 + A.rows() : A.nonZeros()) + 2 * T.nonZeros());
   for (Eigen::Index b = 0; b < nq; ++b) {
     B.startVec(b);
     hit.clear();
@@ -178,6 +179,7 @@ Eigen::SparseMatrix<double> InterfaceCoordinatesMatrix(const InterfaceTransform&
         for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator ti(rows_of_T, ai.row());
              ti; ++ti) {
           const int a = static_cast<int>(ti.col());
+          if (upper_only && a > b) continue;
           if (!touched[a]) {
             touched[a] = 1;
             sum[a] = 0.0;

@@ -83,11 +83,13 @@ struct InterfaceTransform {
 InterfaceTransform MakeInterfaceTransform(const FeMesh& mesh, std::span<const FeInterface> interfaces);
 
 // T^T A T: a symmetric FE matrix A (both triangles stored, 3 num_nodes square) in the coordinates q
-// of `t` (K_q, M_q; both triangles, sorted columns). One pass over A's entries, each multiplied by
-// the few entries of T's rows and columns that meet it (an interior coordinate is one FE DOF): the
-// same terms as Eigen's product T.transpose() * A * T, summed in another order. Throws
-// std::invalid_argument if A's size is not T's row count.
+// of `t` (K_q, M_q; sorted columns), both triangles or (`upper_only`) the upper one, which is half
+// the work and the storage. One pass over A's entries, each multiplied by the few entries of T's
+// rows and columns that meet it (an interior coordinate is one FE DOF): the same terms as Eigen's
+// product T.transpose() * A * T, summed in another order. Throws std::invalid_argument if A's
+// size is not T's row count.
 Eigen::SparseMatrix<double> InterfaceCoordinatesMatrix(const InterfaceTransform& t,
-                                                       const Eigen::SparseMatrix<double>& A);
+                                                       const Eigen::SparseMatrix<double>& A,
+                                                       bool upper_only = false);
 
 }  // namespace orrery::flex
