@@ -161,33 +161,54 @@ Eigen::SparseMatrix<double> InterfaceCoordinatesMatrix(const InterfaceTransform&
                                 " for " + std::to_string(T.rows()) + " FE DOFs");
   // Column b of T^T A T is the sum over T's entries T(j, b) of T(j, b) T^T A(:, j); T^T A(:, j)
   // gathers A(i, j) into the coordinates of FE DOF i, row i of T (Gustavson's column-by-column
-  // product with a dense accumulator).
-  const Eigen::SparseMatrix<double, Eigen::RowMajor> rows_of_T = T;
+  // product with a dense accumulator). Most rows of T are one coordinate with the factor 1 (the
+  // interior DOFs): `single` holds that coordinate (-1 for the other rows), read instead of the
+  // row; 1 * w is w, so the sums are the same to the bit.
+  using RowMajor = Eigen::SparseMatrix<double, Eigen::RowMajor>;
+  RowMajor rows_of_T = T;
+  rows_of_T.makeCompressed();
   const Eigen::Index nq = T.cols();
+  std::vector<int> single(static_cast<std::size_t>(T.rows()), -1);
+  const int* Tp = rows_of_T.outerIndexPtr();
+  for (Eigen::Index i = 0; i < rows_of_T.outerSize(); ++i)
+    if (Tp[i + 1] - Tp[i] == 1 && rows_of_T.valuePtr()[Tp[i]] == 1.0)
+      single[static_cast<std::size_t>(i)] = rows_of_T.innerIndexPtr()[Tp[i]];
   std::vector<double> sum(nq, 0.0);
   std::vector<char> touched(nq, 0);
   std::vector<int> hit;
   hit.reserve(static_cast<std::size_t>(std::min<Eigen::Index>(nq, 4096)));
+  const int* Ap = A.outerIndexPtr();
+  const int* An = A.innerNonZeroPtr();  // null when A is compressed
+  const int* Ai = A.innerIndexPtr();
+  const double* Ax = A.valuePtr();
   Sparse B(nq, nq);
   B.reserve((upper_only ? A.nonZeros() / 2 + A.rows() : A.nonZeros()) + 2 * T.nonZeros());
   for (Eigen::Index b = 0; b < nq; ++b) {
     B.startVec(b);
     hit.clear();
-    for (Sparse::InnerIterator tj(T, b); tj; ++tj)
-      for (Sparse::InnerIterator ai(A, tj.row()); ai; ++ai) {
-        const double w = ai.value() * tj.value();
-        for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator ti(rows_of_T, ai.row());
-             ti; ++ti) {
-          const int a = static_cast<int>(ti.col());
-          if (upper_only && a > b) continue;
-          if (!touched[a]) {
-            touched[a] = 1;
-            sum[a] = 0.0;
-            hit.push_back(a);
-          }
-          sum[a] += ti.value() * w;
-        }
+    auto add = [&](int a, double value) {
+      if (upper_only && a > b) return;
+      if (!touched[a]) {
+        touched[a] = 1;
+        sum[a] = 0.0;
+        hit.push_back(a);
       }
+      sum[a] += value;
+    };
+    for (Sparse::InnerIterator tj(T, b); tj; ++tj) {
+      const int j = static_cast<int>(tj.row());
+      const int end = An ? Ap[j] + An[j] : Ap[j + 1];
+      for (int k = Ap[j]; k < end; ++k) {
+        const double w = Ax[k] * tj.value();
+        const int a = single[static_cast<std::size_t>(Ai[k])];
+        if (a >= 0) {
+          add(a, w);
+          continue;
+        }
+        for (RowMajor::InnerIterator ti(rows_of_T, Ai[k]); ti; ++ti)
+          add(static_cast<int>(ti.col()), ti.value() * w);
+      }
+    }
     if (!std::is_sorted(hit.begin(), hit.end())) std::sort(hit.begin(), hit.end());
     for (int a : hit) {
       B.insertBack(a, b) = sum[a];
