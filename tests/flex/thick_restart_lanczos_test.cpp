@@ -8,7 +8,7 @@
 //     are found twice.
 //   - Residuals ||A y - theta y|| at most the tolerance times |theta| (the convergence test, with
 //     the basis' rounding: a bound of 2x), vectors orthonormal to 1e-12.
-//   - An operator with an eigenvalue of multiplicity n - 3 exhausts the Krylov space of its start
+//   - An operator with an eigenvalue of multiplicity n - 2 exhausts the Krylov space of its start
 //     vector after a few columns: the vanished remainder is replaced by a random vector.
 #include <gtest/gtest.h>
 
