@@ -10,8 +10,8 @@
 //     per vector instead of 4 to 6 for the M-inner products of the generalized form), the
 //     eigenvectors mapped back by x = P^T L^-T y, by the thick-restart Lanczos of
 //     thick_restart_lanczos.h (default: two or three passes over the basis per vector against
-//     three to five in Spectra's, and the convergence test after every vector) or Spectra's
-//     implicitly restarted Lanczos; with an LDL^T factor by Spectra's on the generalized form
+//     three to five in Spectra's, the same number of vectors) or Spectra's implicitly restarted
+//     Lanczos; with an LDL^T factor by Spectra's on the generalized form
 //     (SymGEigsShiftSolver, M-inner products);
 //   - or the shifted block Lanczos of block_lanczos.h (FeModesOptions::solver): a block of b
 //     right-hand sides per solve (8 cost about 2.5 single solves on a 91k-DOF hex20 block), but
