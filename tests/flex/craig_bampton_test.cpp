@@ -47,6 +47,17 @@ FeMesh Bar() {
   return mesh;
 }
 
+// The bar with the node set "MID": the nodes of its middle cross-section (an interior interface).
+FeMesh BarWithMidPlane() {
+  FeMesh mesh = Bar();
+  const Eigen::Vector3d mid = kOrigin + 0.5 * kSize;
+  std::vector<int> plane;
+  for (int i = 0; i < mesh.num_nodes(); ++i)
+    if (std::abs(mesh.positions()[i].x() - mid.x()) < 1e-9) plane.push_back(i);
+  mesh.AddToNodeSet("MID", plane);
+  return mesh;
+}
+
 std::vector<FeInterface> Ends(InterfaceKind xmin, InterfaceKind xmax, const FeMesh& mesh) {
   return {MakeInterface(mesh, "XMIN", xmin), MakeInterface(mesh, "XMAX", xmax)};
 }
@@ -353,13 +364,8 @@ TEST(CraigBampton, SingleInterfaceGivesTheFixedInterfaceModes) {
 // bound at most (2.0e-17 and 1.5e-17 of the largest entry). The columns must come out sorted, and
 // the upper triangle alone (upper_only) is the full result's to the bit.
 TEST(CraigBamptonInterface, InterfaceCoordinatesMatrixIsTheProductTtAT) {
-  FeMesh mesh = Bar();
+  const FeMesh mesh = BarWithMidPlane();
   const FeSystem sys = AssembleFeSystem(mesh);
-  const Eigen::Vector3d mid = kOrigin + 0.5 * kSize;
-  std::vector<int> plane;
-  for (int i = 0; i < mesh.num_nodes(); ++i)
-    if (std::abs(mesh.positions()[i].x() - mid.x()) < 1e-9) plane.push_back(i);
-  mesh.AddToNodeSet("MID", plane);
   FeInterface rbe3 = MakeInterface(mesh, "XMAX", InterfaceKind::kRbe3);
   for (std::size_t k = 0; k < rbe3.nodes.size(); ++k)
     rbe3.weights.push_back(1.0 + 0.1 * double(k % 7));
@@ -408,13 +414,8 @@ TEST(CraigBamptonInterface, InterfaceCoordinatesMatrixIsTheProductTtAT) {
 }
 
 TEST(CraigBampton, HeldInertialStaticsMatchAnIndependentSolve) {
-  FeMesh mesh = Bar();
+  const FeMesh mesh = BarWithMidPlane();
   const FeSystem sys = AssembleFeSystem(mesh);
-  const Eigen::Vector3d mid = kOrigin + 0.5 * kSize;
-  std::vector<int> plane;
-  for (int i = 0; i < mesh.num_nodes(); ++i)
-    if (std::abs(mesh.positions()[i].x() - mid.x()) < 1e-9) plane.push_back(i);
-  mesh.AddToNodeSet("MID", plane);
   for (InterfaceKind kind : {InterfaceKind::kRbe2, InterfaceKind::kRbe3}) {
     const std::vector<FeInterface> ifs = {MakeInterface(mesh, "XMIN", InterfaceKind::kRbe2),
                                           MakeInterface(mesh, "MID", kind), MakeInterface(mesh, "XMAX", kind)};
