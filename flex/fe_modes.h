@@ -60,7 +60,7 @@ struct FeModesOptions {
   int num_modes = 10;
   double shift = 0;                    // (rad/s)^2; used when use_shift is set
   bool use_shift = false;              // false: the default negative shift above
-  double tolerance = 1e-10;            // relative residual of the Ritz pairs (both solvers' test)
+  double tolerance = 1e-10;            // relative residual of the Ritz pairs (every solver's test)
   int max_iterations = 1000;           // restarts
   // Block Lanczos: basis columns before a restart (0: BlockLanczosOptions' default);
   // thick restart and Spectra: the basis (Spectra's ncv; 0: max(2 N + 1, N + 20)); at most n.
