@@ -22,6 +22,11 @@ constexpr double kFarReaches = 5;
 // Ordinary runs reach it after some 1e5 evaluations (a restart then costs one seeding).
 constexpr double kOdometerRestart = 1.0;
 
+// The share of the slack s by which B may move from its pose at the last broad phase before
+// TrackPairs runs it again (rigid sides; header). A Newton correction moves the teeth by
+// nanometres to a micrometre; a step by tens of micrometres.
+constexpr double kBroadPhaseReuse = 1.0 / 16;
+
 using Geometry = TrackedGaps::Geometry;
 
 ClosestFace OnFace(const Geometry& g, int face, const Vec3& p) {
@@ -228,6 +233,8 @@ void TrackedGaps::WarmStartFrom(const TrackedGaps& source) {
   tracked_parts_a_.assign(source.tracked_parts_a_.begin(), source.tracked_parts_a_.end());
   tracked_parts_b_.assign(source.tracked_parts_b_.begin(), source.tracked_parts_b_.end());
   std::copy(source.active_b_.begin(), source.active_b_.end(), active_b_.begin());
+  X_AB_broad_phase_ = source.X_AB_broad_phase_;
+  have_broad_phase_pose_ = source.have_broad_phase_pose_;
   // The nodes of the tracked parts, per pass.
   auto copy_parts = [](const ContactSurface& surface, const std::vector<int>& parts,
                        const Pass& from, Pass& to) {
@@ -309,11 +316,10 @@ void TrackedGaps::Update(const Transform& X_WA, const Transform& X_WB, const Tra
   ComputeGaps(X_WA, X_WB, side_a, side_b, gap_distance_m, gaps_a, gaps_b);
 }
 
-void TrackedGaps::TrackPairs(const Transform& X_WA, const Transform& X_WB, bool part_boxes,
-                             const DeformedParts* deformed) {
-  const Transform X_AB = X_WA.Inverse() * X_WB;
+void TrackedGaps::UpdateTrackedSet(const Transform& X_WA, const Transform& X_WB,
+                                   const Transform& X_AB, bool part_boxes,
+                                   const DeformedParts* deformed) {
   const double s = search_.slack_m();
-
   // Tracked pairs: the broad phase's, plus tracked pairs still in the broad phase grown by s;
   // with the parts' boxes (rigid surfaces), a new pair's boxes within d + s, a tracked pair's
   // within d + 2 s (one box test per pair).
@@ -413,6 +419,22 @@ void TrackedGaps::TrackPairs(const Transform& X_WA, const Transform& X_WB, bool 
       tracked_parts_a_.push_back(pair.first);
   for (int j = 0; j < b_.num_parts(); ++j)
     if (active_b_[j]) tracked_parts_b_.push_back(j);
+}
+
+void TrackedGaps::TrackPairs(const Transform& X_WA, const Transform& X_WB, bool part_boxes,
+                             const DeformedParts* deformed) {
+  const Transform X_AB = X_WA.Inverse() * X_WB;
+  // Rigid sides: the tracked set of the last broad phase stands while no point of B has moved
+  // by more than kBroadPhaseReuse s from its place then (header): a Newton iterate's correction.
+  const bool finite = X_AB.R.allFinite() && X_AB.p.allFinite();
+  if (part_boxes && !deformed && broad_phase_reuse_ && have_broad_phase_pose_ && finite &&
+      search_.MotionBound(X_AB_broad_phase_, X_AB) <= kBroadPhaseReuse * search_.slack_m()) {
+    ++stats_.broad_phase_reuses;
+  } else {
+    UpdateTrackedSet(X_WA, X_WB, X_AB, part_boxes, deformed);
+    X_AB_broad_phase_ = X_AB;
+    have_broad_phase_pose_ = finite;
+  }
 
   // Odometers: each tracked part of B adds its motion since the last call, each part of A the
   // largest motion of its partners.
@@ -587,7 +609,13 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
       if (search) {
         // A node without a face (not seeded, or far at its last search) is searched only
         // within the far distance: beyond it the descent stops at the hierarchies' top boxes.
-        if (pass.face[v] < 0) best.d2 = far_m * far_m;
+        // So is a node now farther than that from its face and above it: the face would only
+        // widen the descent, down to a face millimetres away (a flank node of a tooth rolling
+        // out of the mesh). Below its face (inside the other body, or a Newton iterate thrown
+        // through it) the face stays the bound, and the search finds the closest however deep.
+        if (pass.face[v] < 0 ||
+            (best.d2 > far_m * far_m && (p - best.point.point).dot(faces.Normal(best.face)) >= 0))
+          best = ClosestFace{.d2 = far_m * far_m};
         unseen_d2 = std::numeric_limits<double>::infinity();
         for (const int part_f : partners_)
           FindClosestFaceInPart(

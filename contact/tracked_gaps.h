@@ -16,8 +16,8 @@
 //     PartBoxesWithin: the spheres of two 40 mm wide teeth overlap for every tooth pair in the
 //     zone, the boxes for the two or three a tooth can touch), plus pairs already tracked that
 //     stay in the broad phase grown by s (so a
-//     pair at the edge of the zone does not come and go between Newton iterations). A node is tracked
-//     while its part is in a tracked pair; its faces are searched in the paired parts only;
+//     pair at the edge of the zone does not come and go between Newton iterations). A node is
+//     tracked while its part is in a tracked pair; its faces are searched in the paired parts only;
 //   - per node: its closest face at its last evaluation, its distance to it then, the reach D
 //     (that distance; 0 when it penetrated; beyond the rim, off the surface, its sideways
 //     distance s less the face's rim fade, signed_gap.h),
@@ -46,11 +46,13 @@
 //     when the node lies outside it (checked against the candidate-pair gaps,
 //     tests/contact/tracked_gaps_test.cpp), and another part can be closer only near the
 //     part's rim (teeth are millimetres apart elsewhere),
-//   - search: a node without a face, or that was farther than d + s from its face, or whose walk runs long or
-//     ends on a rim edge next to another part (contact_surface.h), or that lies below its face deeper than the face's inner reach
-//     (contact_surface.h; inside the other body the distance has a local minimum on every face
-//     the node lies under, such as flank and tip at a tip corner), is searched exactly in the paired parts' FCL hierarchies
-//     (FindClosestFaceInPart), the face it had giving the first bound.
+//   - search: a node without a face, or that was farther than d + s from its face, or whose walk
+//   runs long or
+//     ends on a rim edge next to another part (contact_surface.h), or that lies below its face
+//     deeper than the face's inner reach (contact_surface.h; inside the other body the distance has
+//     a local minimum on every face the node lies under, such as flank and tip at a tip corner), is
+//     searched exactly in the paired parts' FCL hierarchies (FindClosestFaceInPart), the face it
+//     had giving the first bound.
 // A walk that settled records its margin (the smallest distance of the faces it tried at the
 // end less the face's own); the next evaluations keep the face without walking while twice the
 // node's motion in the face frame plus the faces' deformation since stays below the margin
@@ -72,7 +74,9 @@
 // nodes of a tooth entering the mesh zone far from the other tooth's flanks (its back flank,
 // tip and root) are not searched down to a face millimetres away, nor searched again after
 // every millimetre. Only a node already deeper than the far distance inside the other body when
-// its tooth enters would be missed.
+// its tooth enters would be missed. A node searched when farther than the far distance from its
+// face and above it is searched in the same way (a flank node of a tooth rolling out of the
+// mesh: its face would only widen the descent).
 // The gap then follows signed_gap.h (NodeGapFromClosest), and the node is listed when its
 // distance is within d (as the candidate-pair path lists it) or when it penetrates, however
 // deep: the search is exact, so unlike candidate pairs a penetration beyond the margin (a step
@@ -114,6 +118,7 @@ struct TrackedGapStats {
   long odometer_restarts = 0;   // odometers started again (RestartIfSaturated), since construction
   long candidate_builds = 0;    // candidate part pairs made (TrackPairs), since construction
   int candidate_pairs = 0;      // candidate part pairs at the last TrackPairs()
+  long broad_phase_reuses = 0;  // TrackPairs() calls that kept the tracked set (rigid sides)
 };
 
 class TrackedGaps {
@@ -200,6 +205,17 @@ class TrackedGaps {
   // and spheres and the box tests over the candidates only (UpdateBroadPhaseAmong) give the
   // pairs of the full broad phase, to the bit (test TrackedGapsTest.
   // CandidatePairsGiveTheFullBroadPhasesPairs).
+  // Rigid sides (part_boxes, no deformed parts): the tracked set of the last broad phase stands,
+  // and only the odometers advance, while B has moved from its relative pose then by
+  //   mu = |R1 - R0|_F r_B + |p1 - p0| <= s / 16
+  // (r_B the largest distance of a vertex of B from its origin: mu bounds every point's motion
+  // in A's frame): a Newton iterate's correction. The set then differs from the one a broad
+  // phase would give only by pairs whose boxes are within mu of the d + s and d + 2 s
+  // thresholds, so every pair whose parts are within d + s - mu > d of each other is tracked:
+  // no node that can be listed is left out, and a pair that joins at the next broad phase
+  // (at the next step) resets its parts' nodes as before. What it saves: the zones, spheres
+  // and box tests at every Newton iterate (a quarter of the rigid scene's corrector
+  // evaluations, docs/performance.md "perf-rigid8").
   void TrackPairs(const Transform& X_WA, const Transform& X_WB, bool part_boxes = false,
                   const DeformedParts* deformed = nullptr);
   void ComputeGaps(const Transform& X_WA, const Transform& X_WB, const TrackedSide& a,
@@ -221,15 +237,15 @@ class TrackedGaps {
   // Takes over the tracking state of `source`, a TrackedGaps of the same two surfaces (another
   // workspace of the same element): its tracked pairs, the faces, reaches, stamps, walk margins
   // (with the position, face deformation, feature, side and tied pair they were measured at)
-  // and block wake-ups of the nodes of its tracked parts, its odometers and last relative pose,
-  // so that the next Update() continues from source's last one (a workspace a step behind
-  // instead of an output interval: ExternalForceElement::WarmStart). The gaps that Update() then lists
-  // are those the tracking finds from any start (the header: sleeping nodes cannot have reached
-  // the other surface, the others are walked or searched exactly); only the work differs.
-  // Nodes of parts source does not track are left: a pair that joins the tracked set resets
-  // its parts' nodes before they are read. Not copied: the statistics and the broad phase's
-  // windows (a cache checked against the poses). Allocation-free; throws std::invalid_argument
-  // when source tracks other surfaces.
+  // and block wake-ups of the nodes of its tracked parts, its odometers, last relative pose and
+  // that of its last broad phase, so that the next Update() continues from source's last one (a
+  // workspace a step behind instead of an output interval: ExternalForceElement::WarmStart). The
+  // gaps that Update() then lists are those the tracking finds from any start (the header: sleeping
+  // nodes cannot have reached the other surface, the others are walked or searched exactly); only
+  // the work differs. Nodes of parts source does not track are left: a pair that joins the tracked
+  // set resets its parts' nodes before they are read. Not copied: the statistics and the broad
+  // phase's windows (a cache checked against the poses). Allocation-free; throws
+  // std::invalid_argument when source tracks other surfaces.
   void WarmStartFrom(const TrackedGaps& source);
 
   // A surface as the passes use it: its topology, and its vertices and normals (own or deformed;
@@ -278,6 +294,12 @@ class TrackedGaps {
     pair_candidates_ = on;
     have_candidates_ = false;
   }
+  // Tests: whether TrackPairs() may keep the last broad phase's pairs for a small motion
+  // (default true; false runs the broad phase at every call).
+  void set_broad_phase_reuse(bool on) {
+    broad_phase_reuse_ = on;
+    have_broad_phase_pose_ = false;
+  }
   // The candidates' motion margin m (m; TrackPairs).
   static constexpr double kCandidateMargin = 150e-6;
 
@@ -317,6 +339,10 @@ class TrackedGaps {
   // from every face of the node's partners at its last search (sleeps on that reach).
   static constexpr int kUnseeded = -1, kFar = -2;
   void ResetPart(Pass& pass, const ContactSurface& node_surface, int part);
+  // TrackPairs' broad phase: the tracked pairs and parts at X_AB, their parts' nodes reset
+  // where a pair joined or left.
+  void UpdateTrackedSet(const Transform& X_WA, const Transform& X_WB, const Transform& X_AB,
+                        bool part_boxes, const DeformedParts* deformed);
   void RunPass(const ContactSurface& node_surface, const SurfaceVertices& nodes,
                const Geometry& faces, double face_deformation_m,
                const std::vector<double>* face_part_deformation_m,
@@ -354,6 +380,10 @@ class TrackedGaps {
   double candidates_deformation_m_ = 0, candidates_reach_m_ = 0;
   bool have_candidates_ = false;
   bool pair_candidates_ = true;
+  // The relative pose of the last broad phase (TrackPairs; rigid sides).
+  Transform X_AB_broad_phase_;
+  bool have_broad_phase_pose_ = false;
+  bool broad_phase_reuse_ = true;
   double box_radius_b_ = 0;        // rho_B: B's part boxes' corners and part centres
   std::vector<Vec3> centers_b_A_;  // scratch, #parts of B: their centres in A's frame
 };
