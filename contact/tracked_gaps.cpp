@@ -210,6 +210,8 @@ TrackedGaps::TrackedGaps(const ContactSurface& surface_a, const ContactSurface& 
   for (const Vec3& c : b_.part_centers()) box_radius_b_ = std::max(box_radius_b_, c.norm());
   centers_b_A_.resize(b_.num_parts());
   candidates_.reserve(all_pairs);
+  broad_phase_d_a_.reserve(a_.num_parts());
+  broad_phase_d_b_.reserve(b_.num_parts());
 }
 
 void TrackedGaps::Reset() {
@@ -235,6 +237,10 @@ void TrackedGaps::WarmStartFrom(const TrackedGaps& source) {
   std::copy(source.active_b_.begin(), source.active_b_.end(), active_b_.begin());
   X_AB_broad_phase_ = source.X_AB_broad_phase_;
   have_broad_phase_pose_ = source.have_broad_phase_pose_;
+  broad_phase_deformed_ = source.broad_phase_deformed_;
+  broad_phase_gap_distance_m_ = source.broad_phase_gap_distance_m_;
+  broad_phase_d_a_.assign(source.broad_phase_d_a_.begin(), source.broad_phase_d_a_.end());
+  broad_phase_d_b_.assign(source.broad_phase_d_b_.begin(), source.broad_phase_d_b_.end());
   // The nodes of the tracked parts, per pass.
   auto copy_parts = [](const ContactSurface& surface, const std::vector<int>& parts,
                        const Pass& from, Pass& to) {
@@ -421,33 +427,66 @@ void TrackedGaps::UpdateTrackedSet(const Transform& X_WA, const Transform& X_WB,
     if (active_b_[j]) tracked_parts_b_.push_back(j);
 }
 
+double TrackedGaps::BoundsChange(const DeformedParts* deformed) const {
+  const double never = std::numeric_limits<double>::infinity();
+  if ((deformed != nullptr) != broad_phase_deformed_) return never;
+  if (!deformed) return 0;
+  if (deformed->gap_distance_m != broad_phase_gap_distance_m_) return never;
+  // A side's parts' vertices lie within its bounds of their own: since the broad phase, a part
+  // may have come closer by the growth of its bound (a side whose bounds came or went: never).
+  auto change = [never](const std::vector<double>* now, const std::vector<double>& then) {
+    if (!now) return then.empty() ? 0.0 : never;
+    if (now->size() != then.size()) return never;
+    double largest = 0;
+    for (size_t i = 0; i < then.size(); ++i) {
+      const double c = std::abs((*now)[i] - then[i]);
+      if (!(c <= largest)) largest = c;  // a NaN too
+    }
+    return std::isfinite(largest) ? largest : never;
+  };
+  return change(deformed->a, broad_phase_d_a_) + change(deformed->b, broad_phase_d_b_);
+}
+
 void TrackedGaps::TrackPairs(const Transform& X_WA, const Transform& X_WB, bool part_boxes,
                              const DeformedParts* deformed) {
   const Transform X_AB = X_WA.Inverse() * X_WB;
-  // Rigid sides: the tracked set of the last broad phase stands while no point of B has moved
-  // by more than kBroadPhaseReuse s from its place then (header): a Newton iterate's correction.
+  // The tracked set of the last broad phase stands while no point of B has moved by more than
+  // kBroadPhaseReuse s from its place then, the deformed parts' bounds counted (header): a
+  // Newton iterate's correction.
   const bool finite = X_AB.R.allFinite() && X_AB.p.allFinite();
-  if (part_boxes && !deformed && broad_phase_reuse_ && have_broad_phase_pose_ && finite &&
-      search_.MotionBound(X_AB_broad_phase_, X_AB) <= kBroadPhaseReuse * search_.slack_m()) {
+  if (part_boxes && broad_phase_reuse_ && have_broad_phase_pose_ && finite &&
+      search_.MotionBound(X_AB_broad_phase_, X_AB) + BoundsChange(deformed) <=
+          kBroadPhaseReuse * search_.slack_m()) {
     ++stats_.broad_phase_reuses;
   } else {
     UpdateTrackedSet(X_WA, X_WB, X_AB, part_boxes, deformed);
     X_AB_broad_phase_ = X_AB;
     have_broad_phase_pose_ = finite;
+    // The bounds it was made for (none: rigid sides).
+    broad_phase_deformed_ = deformed != nullptr;
+    if (deformed) {
+      broad_phase_gap_distance_m_ = deformed->gap_distance_m;
+      broad_phase_d_a_.assign(deformed->a ? deformed->a->begin() : broad_phase_d_a_.end(),
+                              deformed->a ? deformed->a->end() : broad_phase_d_a_.end());
+      broad_phase_d_b_.assign(deformed->b ? deformed->b->begin() : broad_phase_d_b_.end(),
+                              deformed->b ? deformed->b->end() : broad_phase_d_b_.end());
+    }
   }
 
   // Odometers: each tracked part of B adds its motion since the last call, each part of A the
   // largest motion of its partners.
   if (have_previous_) {
     double largest = 0;
-    for (int j = 0; j < b_.num_parts(); ++j) {
-      motion_b_[j] = active_b_[j] ? PartMotion(j, X_AB_previous_, X_AB) : 0.0;
+    // Parts in no tracked pair add nothing (their nodes are not read, and are reset when their
+    // part joins): only the tracked parts are passed.
+    for (const int j : tracked_parts_b_) {
+      motion_b_[j] = PartMotion(j, X_AB_previous_, X_AB);
       odometer_b_[j] += motion_b_[j];
       largest = std::max(largest, motion_b_[j]);
     }
-    std::fill(motion_a_.begin(), motion_a_.end(), 0.0);
+    for (const int i : tracked_parts_a_) motion_a_[i] = 0;
     for (const auto& [pa, pb] : tracked_) motion_a_[pa] = std::max(motion_a_[pa], motion_b_[pb]);
-    for (int i = 0; i < a_.num_parts(); ++i) odometer_a_[i] += motion_a_[i];
+    for (const int i : tracked_parts_a_) odometer_a_[i] += motion_a_[i];
     odometer_ += largest;
     stats_.max_motion_between_calls_m = std::max(stats_.max_motion_between_calls_m, largest);
   }

@@ -205,13 +205,16 @@ class TrackedGaps {
   // and spheres and the box tests over the candidates only (UpdateBroadPhaseAmong) give the
   // pairs of the full broad phase, to the bit (test TrackedGapsTest.
   // CandidatePairsGiveTheFullBroadPhasesPairs).
-  // Rigid sides (part_boxes, no deformed parts): the tracked set of the last broad phase stands,
-  // and only the odometers advance, while B has moved from its relative pose then by
-  //   mu = |R1 - R0|_F r_B + |p1 - p0| <= s / 16
-  // (r_B the largest distance of a vertex of B from its origin: mu bounds every point's motion
-  // in A's frame): a Newton iterate's correction. The set then differs from the one a broad
-  // phase would give only by pairs whose boxes are within mu of the d + s and d + 2 s
-  // thresholds, so every pair whose parts are within d + s - mu > d of each other is tracked:
+  // With part_boxes, the tracked set of the last broad phase stands, and only the odometers
+  // advance, while
+  //   mu = |R1 - R0|_F r_B + |p1 - p0| + max_i |D_a,i - D0_a,i| + max_j |D_b,j - D0_b,j|
+  //      <= s / 16
+  // (B's relative pose then R0, p0; r_B the largest distance of a vertex of B from its origin:
+  // the first two terms bound every point's rigid motion in A's frame; deformed sides: the
+  // parts' bounds then D0, at the same gap distance): a Newton iterate's correction. The set
+  // then differs from the one a broad phase would give only by pairs whose (grown) boxes are
+  // within mu of the d + s and d + 2 s thresholds, and the excess of the deformed reach moves
+  // by less, so every pair whose parts are within d + s - mu > d of each other is tracked:
   // no node that can be listed is left out, and a pair that joins at the next broad phase
   // (at the next step) resets its parts' nodes as before. What it saves: the zones, spheres
   // and box tests at every Newton iterate (a quarter of the rigid scene's corrector
@@ -343,6 +346,10 @@ class TrackedGaps {
   // where a pair joined or left.
   void UpdateTrackedSet(const Transform& X_WA, const Transform& X_WB, const Transform& X_AB,
                         bool part_boxes, const DeformedParts* deformed);
+  // How much closer the parts may have come by their deformation since the last broad phase:
+  // the largest change of a part's bound, per side, summed (infinite when the gap distance or
+  // the sides' bounds are not comparable).
+  double BoundsChange(const DeformedParts* deformed) const;
   void RunPass(const ContactSurface& node_surface, const SurfaceVertices& nodes,
                const Geometry& faces, double face_deformation_m,
                const std::vector<double>* face_part_deformation_m,
@@ -380,10 +387,14 @@ class TrackedGaps {
   double candidates_deformation_m_ = 0, candidates_reach_m_ = 0;
   bool have_candidates_ = false;
   bool pair_candidates_ = true;
-  // The relative pose of the last broad phase (TrackPairs; rigid sides).
+  // The last broad phase (TrackPairs): its relative pose, whether it had deformed parts, and
+  // their gap distance and bounds then (#parts of A and of B, or empty for a rigid side).
   Transform X_AB_broad_phase_;
   bool have_broad_phase_pose_ = false;
   bool broad_phase_reuse_ = true;
+  bool broad_phase_deformed_ = false;
+  double broad_phase_gap_distance_m_ = 0;
+  std::vector<double> broad_phase_d_a_, broad_phase_d_b_;
   double box_radius_b_ = 0;        // rho_B: B's part boxes' corners and part centres
   std::vector<Vec3> centers_b_A_;  // scratch, #parts of B: their centres in A's frame
 };

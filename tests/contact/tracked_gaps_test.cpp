@@ -209,17 +209,23 @@ TEST_F(TrackedGapsTest, TiedPairSkipGivesTheWalksFaces) {
               s.pair_walks_skipped, s.walks_skipped, walking.tracked.stats().walks_skipped);
 }
 
-// The broad phase kept for small motions (tracked_gaps.h TrackPairs, rigid sides) against the
-// broad phase at every call, to the bit: the tracked pairs and every listed gap (face, gap,
-// point, normal). Each step of the roll is followed by Newton-like iterates (corrections of
-// 1e-9 to 3e-7 rad and up to 0.3 um, within s / 16 of the step's pose: kept), with a backlash
-// drift, a reversal, jumps, a shifted centre, and a diverging iterate (1e130 m, then NaN).
-// Iterates that move B by more than s / 16 (here 6.25 um at the tips: 2e-4 rad) run the broad
-// phase: a tracked set kept for them would miss the pairs that join (test: always keeping it
-// fails here).
+// The broad phase kept for small motions (tracked_gaps.h TrackPairs) against the broad phase
+// at every call, to the bit: the tracked pairs and every listed gap (face, gap, point, normal)
+// of rigid sides, and the tracked pairs of deformed ones (part bounds that change by 1e-9 m at
+// the iterates, by micrometres at the steps; then growing by 50 um a call at a fixed pose). Each
+// step of the roll is followed by Newton-like iterates (corrections of 1e-9 to 3e-7 rad and up to
+// 0.3 um, within s / 16 of the step's pose: kept), with a backlash drift, a reversal, jumps, a
+// shifted centre, and a diverging iterate (1e130 m, then NaN). Iterates that move B by more than s
+// / 16 (here 6.25 um at the tips: 2e-4 rad) run the broad phase: a tracked set kept for them would
+// miss the pairs that join (test: always keeping it fails here).
 TEST_F(TrackedGapsTest, BroadPhaseKeptForNewtonIteratesGivesTheSamePairsAndGaps) {
   Tracking kept(*s1_, *s2_), full(*s1_, *s2_);
   full.tracked.set_broad_phase_reuse(false);
+  // Deformed parts (FlexibleContactElement's path): bounds of up to 20 um per part, changing by
+  // 1e-9 m at the iterates and by micrometres at the steps.
+  TrackedGaps deformed_kept(*s1_, *s2_), deformed_full(*s1_, *s2_);
+  deformed_full.set_broad_phase_reuse(false);
+  std::vector<double> d_a(s1_->num_parts()), d_b(s2_->num_parts());
   std::vector<Poses> poses;
   const double period = 2 * kPi / 19;
   for (int k = 0; k <= 400; ++k) {
@@ -247,6 +253,14 @@ TEST_F(TrackedGapsTest, BroadPhaseKeptForNewtonIteratesGivesTheSamePairsAndGaps)
     const Poses& p = poses[k];
     for (Tracking* t : {&kept, &full}) t->tracked.Update(p.X_W1, p.X_W2, &t->gaps_a, &t->gaps_b);
     ASSERT_EQ(kept.tracked.tracked_pairs(), full.tracked.tracked_pairs()) << "pose " << k;
+    const double step = double(k / 3);
+    for (size_t i = 0; i < d_a.size(); ++i)
+      d_a[i] = 10e-6 * (1 + std::sin(0.3 * step + i)) + 1e-9 * double(k % 3);
+    for (size_t j = 0; j < d_b.size(); ++j) d_b[j] = 5e-6 * (1 + std::cos(0.2 * step + 2 * j));
+    const TrackedGaps::DeformedParts parts{.a = &d_a, .b = &d_b, .gap_distance_m = 20e-6};
+    deformed_kept.TrackPairs(p.X_W1, p.X_W2, true, &parts);
+    deformed_full.TrackPairs(p.X_W1, p.X_W2, true, &parts);
+    ASSERT_EQ(deformed_kept.tracked_pairs(), deformed_full.tracked_pairs()) << "pose " << k;
     for (int dir = 0; dir < 2; ++dir) {
       const auto& got = dir == 0 ? kept.gaps_a : kept.gaps_b;
       const auto& want = dir == 0 ? full.gaps_a : full.gaps_b;
@@ -270,7 +284,25 @@ TEST_F(TrackedGapsTest, BroadPhaseKeptForNewtonIteratesGivesTheSamePairsAndGaps)
   EXPECT_LT(reuses, long(poses.size()) * 3 / 4);
   EXPECT_EQ(full.tracked.stats().broad_phase_reuses, 0);
   EXPECT_GT(full.tracked.stats().pair_changes, 10);
-  std::printf("broad phase kept at %ld of %zu calls\n", reuses, poses.size());
+  // At one pose, bounds that grow by 50 um a call (more than s / 16): the broad phase runs at
+  // every call and pairs join as the boxes grow (kept for the pose alone, they would not).
+  const Poses still = At(0.3 * period, 15e-6);
+  size_t grown_from = 0;
+  for (int n = 0; n <= 60; ++n) {
+    std::fill(d_a.begin(), d_a.end(), 50e-6 * n);
+    std::fill(d_b.begin(), d_b.end(), 0.0);
+    const TrackedGaps::DeformedParts parts{.a = &d_a, .b = &d_b, .gap_distance_m = 20e-6};
+    deformed_kept.TrackPairs(still.X_W1, still.X_W2, true, &parts);
+    deformed_full.TrackPairs(still.X_W1, still.X_W2, true, &parts);
+    ASSERT_EQ(deformed_kept.tracked_pairs(), deformed_full.tracked_pairs()) << "n " << n;
+    if (n == 0) grown_from = deformed_full.tracked_pairs().size();
+  }
+  EXPECT_GT(deformed_full.tracked_pairs().size(), grown_from);
+  const long deformed_reuses = deformed_kept.stats().broad_phase_reuses;
+  EXPECT_GT(deformed_reuses, 400);
+  EXPECT_EQ(deformed_full.stats().broad_phase_reuses, 0);
+  std::printf("broad phase kept at %ld of %zu calls (deformed: %ld)\n", reuses, poses.size(),
+              deformed_reuses);
 }
 
 // The candidate pairs of TrackPairs (tracked_gaps.h: the broad phase and the box tests over
