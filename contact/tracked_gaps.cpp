@@ -22,9 +22,9 @@ constexpr double kFarReaches = 5;
 // Ordinary runs reach it after some 1e5 evaluations (a restart then costs one seeding).
 constexpr double kOdometerRestart = 1.0;
 
-// The share of the slack s by which B may move from its pose at the last broad phase before
-// TrackPairs runs it again (rigid sides; header). A Newton correction moves the teeth by
-// nanometres to a micrometre; a step by tens of micrometres.
+// The share of the slack s by which B may move from its pose at the last broad phase (with
+// the deformed parts' bounds' change) before TrackPairs runs it again (header). A Newton
+// correction moves the teeth by nanometres to a micrometre; a step by tens of micrometres.
 constexpr double kBroadPhaseReuse = 1.0 / 16;
 
 using Geometry = TrackedGaps::Geometry;

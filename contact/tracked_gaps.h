@@ -46,13 +46,12 @@
 //     when the node lies outside it (checked against the candidate-pair gaps,
 //     tests/contact/tracked_gaps_test.cpp), and another part can be closer only near the
 //     part's rim (teeth are millimetres apart elsewhere),
-//   - search: a node without a face, or that was farther than d + s from its face, or whose walk
-//   runs long or
-//     ends on a rim edge next to another part (contact_surface.h), or that lies below its face
-//     deeper than the face's inner reach (contact_surface.h; inside the other body the distance has
-//     a local minimum on every face the node lies under, such as flank and tip at a tip corner), is
-//     searched exactly in the paired parts' FCL hierarchies (FindClosestFaceInPart), the face it
-//     had giving the first bound.
+//   - search: a node without a face, or that was farther than d + s from its face, or whose
+//     walk runs long or ends on a rim edge next to another part (contact_surface.h), or that
+//     lies below its face deeper than the face's inner reach (contact_surface.h; inside the
+//     other body the distance has a local minimum on every face the node lies under, such as
+//     flank and tip at a tip corner), is searched exactly in the paired parts' FCL
+//     hierarchies (FindClosestFaceInPart), the face it had giving the first bound.
 // A walk that settled records its margin (the smallest distance of the faces it tried at the
 // end less the face's own); the next evaluations keep the face without walking while twice the
 // node's motion in the face frame plus the faces' deformation since stays below the margin
@@ -118,7 +117,7 @@ struct TrackedGapStats {
   long odometer_restarts = 0;   // odometers started again (RestartIfSaturated), since construction
   long candidate_builds = 0;    // candidate part pairs made (TrackPairs), since construction
   int candidate_pairs = 0;      // candidate part pairs at the last TrackPairs()
-  long broad_phase_reuses = 0;  // TrackPairs() calls that kept the tracked set (rigid sides)
+  long broad_phase_reuses = 0;  // TrackPairs() calls that kept the last broad phase's pairs
 };
 
 class TrackedGaps {
@@ -217,8 +216,8 @@ class TrackedGaps {
   // by less, so every pair whose parts are within d + s - mu > d of each other is tracked:
   // no node that can be listed is left out, and a pair that joins at the next broad phase
   // (at the next step) resets its parts' nodes as before. What it saves: the zones, spheres
-  // and box tests at every Newton iterate (a quarter of the rigid scene's corrector
-  // evaluations, docs/performance.md "perf-rigid8").
+  // and box tests at every Newton iterate (about a fifth of an iterate's instructions in the
+  // rigid scene, docs/performance.md "perf-rigid8").
   void TrackPairs(const Transform& X_WA, const Transform& X_WB, bool part_boxes = false,
                   const DeformedParts* deformed = nullptr);
   void ComputeGaps(const Transform& X_WA, const Transform& X_WB, const TrackedSide& a,
