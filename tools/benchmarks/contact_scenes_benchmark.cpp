@@ -1,11 +1,11 @@
 // The tooth-contact rows of the performance table (docs/performance.md, issue 15): seed 003's
-// stage run as `orrery run` runs it (generalized-alpha at 5 us, the result recorder and the
-// sensors writing to an in-memory result file, the run's health checks) for 20 ms of simulated
-// time after a 5 ms start-up (the meshes taking up the load; run once, not timed).
-//   ContactScene/0: rigid tooth contact on all 6 meshes (seed003_contact_healthy.yaml);
+// stage run as `orrery run` runs it (generalized-alpha at the scene's step, the result recorder
+// and the sensors writing to an in-memory result file, the run's health checks) for 20 ms of
+// simulated time after a 5 ms start-up (the meshes taking up the load; run once, not timed).
+//   ContactScene/0: rigid tooth contact on all 6 meshes (seed003_contact_healthy.yaml, 10 us);
 //   ContactScene/1: planet 1 flexible (24 modes) with contact on its two meshes, planets 2 and 3
-//                   on lumped TVMS meshes (seed003_flexible_healthy.yaml; its reduced body is
-//                   made on the first run).
+//                   on lumped TVMS meshes (seed003_flexible_healthy.yaml, 5 us; its reduced
+//                   body is made on the first run).
 // Counters: cpu_per_sim_s and wall_per_sim_s (process CPU and wall seconds per simulated second:
 // the table's figures; CPU over all threads), steps, residuals, jacobians (the integrator's
 // statistics), newton_failures (steps retried with a halved step), us_per_step, threads (the
