@@ -466,10 +466,14 @@ void TrackedGaps::TrackPairs(const Transform& X_WA, const Transform& X_WB, bool 
     broad_phase_deformed_ = deformed != nullptr;
     if (deformed) {
       broad_phase_gap_distance_m_ = deformed->gap_distance_m;
-      broad_phase_d_a_.assign(deformed->a ? deformed->a->begin() : broad_phase_d_a_.end(),
-                              deformed->a ? deformed->a->end() : broad_phase_d_a_.end());
-      broad_phase_d_b_.assign(deformed->b ? deformed->b->begin() : broad_phase_d_b_.end(),
-                              deformed->b ? deformed->b->end() : broad_phase_d_b_.end());
+      auto keep = [](const std::vector<double>* now, std::vector<double>& then) {
+        if (now)
+          then.assign(now->begin(), now->end());  // #parts: within the reserved capacity
+        else
+          then.clear();
+      };
+      keep(deformed->a, broad_phase_d_a_);
+      keep(deformed->b, broad_phase_d_b_);
     }
   }
 
