@@ -649,16 +649,19 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
                            -face_surface.face_inner_reach()[best.face])
           search = true;
       }
+      // The search's bound (header): a node not seeded yet (its pair has just joined) is
+      // searched within the far distance, so that one already deep inside the other body is
+      // still found; a node below its face (inside the other body, or a Newton iterate thrown
+      // through it) within its face's distance, however deep; any other node (far at its last
+      // search, or above its face and farther than d + s from it) within d + s, beyond which it
+      // would not be listed, and it then sleeps on the descent's bound (unseen_d2).
+      double bound_m = walk_reach;
       if (search) {
-        // A node without a face (not seeded, or far at its last search) is searched only
-        // within the far distance: beyond it the descent stops at the hierarchies' top boxes.
-        // So is a node now farther than that from its face and above it: the face would only
-        // widen the descent, down to a face millimetres away (a flank node of a tooth rolling
-        // out of the mesh). Below its face (inside the other body, or a Newton iterate thrown
-        // through it) the face stays the bound, and the search finds the closest however deep.
-        if (pass.face[v] < 0 ||
-            (best.d2 > far_m * far_m && (p - best.point.point).dot(faces.Normal(best.face)) >= 0))
-          best = ClosestFace{.d2 = far_m * far_m};
+        const bool below =
+            pass.face[v] >= 0 && (p - best.point.point).dot(faces.Normal(best.face)) < 0;
+        if (pass.face[v] == kUnseeded) bound_m = far_m;
+        if (pass.face[v] < 0 || (!below && best.d2 > bound_m * bound_m))
+          best = ClosestFace{.d2 = bound_m * bound_m};
         unseen_d2 = std::numeric_limits<double>::infinity();
         for (const int part_f : partners_)
           FindClosestFaceInPart(
@@ -669,12 +672,12 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
         ++stats_.seeds;
       }
       // No face: the node's position is not finite (a diverging Newton iterate), and it
-      // starts again at the next evaluation; or it is farther than the far distance from
+      // starts again at the next evaluation; or it is farther than the search's bound from
       // every face of its partners, and sleeps until it may have come within it.
       if (best.face < 0) {
         const bool far = p.allFinite();
-        // The descent's bound on every face it passed by (at least the far distance).
-        const double reach = std::max(far_m, std::sqrt(unseen_d2));
+        // The descent's bound on every face it passed by (at least the search's bound).
+        const double reach = std::max(bound_m, std::sqrt(unseen_d2));
         pass.face[v] = far ? kFar : kUnseeded;
         pass.reach[v] = pass.odometer_reach[v] = far ? reach : 0.0;
         pass.distance[v] = reach;

@@ -65,17 +65,22 @@
 // point is on a vertex, a walk from either face can only end on f or g: the two triangle
 // distances decide it as the walk would (the lower distance, then the lower index).
 // The sleep test is also taken for blocks of 16 consecutive nodes of a part at once (the
-// block's smallest wake-up reading), which passes a sleeping block in one comparison. A node
-// without a face (not seeded yet, or far) is searched only within the far distance
-// 5 (d + s): a node farther than that from every face of its partners keeps no face and sleeps
-// on the smallest bound the descent passed by (the distance of a box it pruned or of a triangle
-// it did not take, at least the far distance: FindClosestFaceInPart's unseen_d2), so that the
-// nodes of a tooth entering the mesh zone far from the other tooth's flanks (its back flank,
-// tip and root) are not searched down to a face millimetres away, nor searched again after
+// block's smallest wake-up reading), which passes a sleeping block in one comparison.
+// A search is bounded. A node of a pair that has just joined the tracked set (not seeded yet)
+// is searched within the far distance 5 (d + s); a node below its face within the face's
+// distance, however deep; any other node (far at its last search, or above its face and
+// farther than d + s from it) within d + s, beyond which it would not be listed. A node with no
+// face within the bound keeps none and sleeps on the smallest bound the descent passed by (the
+// distance of a box it pruned or of a triangle it did not take, at least the search's bound:
+// FindClosestFaceInPart's unseen_d2), so that the nodes of a tooth entering the mesh zone far
+// from the other tooth's flanks (its back flank, tip and root), and the flank nodes of a tooth
+// rolling out of it, are not searched down to a face millimetres away, nor searched again after
 // every millimetre. Only a node already deeper than the far distance inside the other body when
-// its tooth enters would be missed. A node searched when farther than the far distance from its
-// face and above it is searched in the same way (a flank node of a tooth rolling out of the
-// mesh: its face would only widen the descent).
+// its pair joins would be missed (the run stops well before, at contact_outputs.h's default
+// penetration limit d + s). A node that sleeps without a face wakes once it may have reached
+// the surface, and is then at most one call's motion deep: it is missed only after a call that
+// moved the teeth by more than d + s, far beyond the slack s the steps are made for (a
+// diverging Newton iterate; the return to the step's states wakes it again).
 // The gap then follows signed_gap.h (NodeGapFromClosest), and the node is listed when its
 // distance is within d (as the candidate-pair path lists it) or when it penetrates, however
 // deep: the search is exact, so unlike candidate pairs a penetration beyond the margin (a step

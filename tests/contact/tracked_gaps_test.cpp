@@ -551,5 +551,52 @@ TEST_F(TrackedGapsTest, ComeBackExactAfterADivergingIterate) {
   EXPECT_GE(w.tracked.stats().odometer_restarts, 2);
 }
 
+// The search's bound (tracked_gaps.h): the nodes of a tooth pair that joins the tracked set are
+// searched within the far distance 5 (d + s), the others within d + s. Gear 1 is put straight
+// into gear 2 by 150 to 450 um along the line of action (the first Update: every pair joins,
+// every node is searched), then drawn back out in steps of 10 um to 200 um of backlash, so that
+// nodes leave d + s above their faces and are searched within it (keeping no face). Against the
+// candidate-pair gaps over pairs searched 1 mm far and listed 1 mm far (the oracle of the other
+// tests lists within d only): every listed node has the oracle's gap, every penetrating node
+// of the oracle is listed, however deep. Fails when the joining nodes are searched within d + s
+// too (nodes deeper than 130 um are not listed).
+TEST_F(TrackedGapsTest, NodesOfAPairThatJoinsDeepInsideAreFound) {
+  GearContactOptions o;
+  o.involute_intervals = 16;
+  o.margin_m = 1e-3;
+  const auto far1 = MakeGearContactSurface(*g1_, o, {}, Transform());
+  const auto far2 = MakeGearContactSurface(*g2_, o, {}, Transform());
+  ASSERT_EQ(far1->triangles(), s1_->triangles());
+  ASSERT_EQ(far2->triangles(), s2_->triangles());
+  CandidateSearch search(*far1, *far2);
+  std::vector<TrianglePair> pairs;
+  const double period = 2 * kPi / 19;
+  for (const double depth : {150e-6, 300e-6, 450e-6}) {
+    Tracking w(*s1_, *s2_);
+    int compared = 0, penetrating = 0;
+    double deepest = 0;
+    for (int k = 0; depth - 10e-6 * k >= -200e-6; ++k) {
+      const Poses p = At(0.3 * period, 15e-6 + depth - 10e-6 * k);
+      w.tracked.Update(p.X_W1, p.X_W2, &w.gaps_a, &w.gaps_b);
+      search.UpdateBroadPhase(p.X_W1, p.X_W2);
+      search.FindPairs(&pairs);
+      for (int dir = 0; dir < 2; ++dir) {
+        const std::vector<NodeGap>& got = dir == 0 ? w.gaps_a : w.gaps_b;
+        const std::vector<NodeGap> want =
+            dir == 0 ? OracleGaps(*s1_, p.X_W1, *s2_, p.X_W2, true, pairs, 1e-3)
+                     : OracleGaps(*s2_, p.X_W2, *s1_, p.X_W1, false, pairs, 1e-3);
+        ASSERT_NO_FATAL_FAILURE(ExpectOracleGaps(got, want,
+                                                 "depth " + std::to_string(depth) + " pose " +
+                                                     std::to_string(k) + " dir " + std::to_string(dir),
+                                                 &compared, &penetrating));
+        for (const NodeGap& g : got) deepest = std::max(deepest, -g.gap);
+      }
+    }
+    std::printf("joined %.0f um deep: deepest listed %.1f um, %d penetrating, %d compared\n",
+                depth * 1e6, deepest * 1e6, penetrating, compared);
+    EXPECT_GT(deepest, depth - 20e-6);
+  }
+}
+
 }  // namespace
 }  // namespace orrery::contact
