@@ -206,8 +206,17 @@ void ContactElement::Compute(const Model& /*model*/, double /*t*/, const Data& d
 void ContactElement::WarmStart(const ExternalForceWorkspace& source,
                                ExternalForceWorkspace& target) const {
   if (spec_.gap_method != ContactGapMethod::kTracked) return;
-  static_cast<ContactWorkspace&>(target).tracked.WarmStartFrom(
-      static_cast<const ContactWorkspace&>(source).tracked);
+  const auto& from = static_cast<const ContactWorkspace&>(source);
+  auto& to = static_cast<ContactWorkspace&>(target);
+  to.tracked.WarmStartFrom(from.tracked);
+  // The last gaps with their poses: an evaluation at those very poses (a row at the step's
+  // accepted positions) keeps them as the source would (UpdateGaps), the lists an Update of the
+  // state just copied gives there. Within the capacity reserved at construction.
+  to.gaps_a.assign(from.gaps_a.begin(), from.gaps_a.end());
+  to.gaps_b.assign(from.gaps_b.begin(), from.gaps_b.end());
+  to.X_WA = from.X_WA;
+  to.X_WB = from.X_WB;
+  to.have_gaps = from.have_gaps;
 }
 
 void ContactElement::AddTo(const Model& /*model*/, const ExternalForceWorkspace& workspace,

@@ -144,9 +144,9 @@ class ContactElement final : public ExternalForceElement, public ElementHealthRe
   void AddTo(const Model& model, const ExternalForceWorkspace& workspace,
              Data& data) const override;
   // The tracking state of `source` into `target` (external_force.h; TrackedGaps::
-  // WarmStartFrom). Not copied: the last gaps and their poses (target's own, which it keeps
-  // while the poses do not change), the monitor's state, the outputs. Nothing with candidate
-  // pairs.
+  // WarmStartFrom), with source's last gaps and their poses (which target keeps while its poses
+  // do not change: a row at the positions of the integrator's last evaluation computes no
+  // gaps). Not copied: the monitor's state, the outputs. Nothing with candidate pairs.
   void WarmStart(const ExternalForceWorkspace& source,
                  ExternalForceWorkspace& target) const override;
   const std::vector<OutputDescription>& outputs() const override { return outputs_; }

@@ -147,6 +147,40 @@ TEST(WarmStart, WarmedWorkspaceWorksLikeItsSource) {
   EXPECT_GT(skipped, 0);
 }
 
+// A row at the positions of the integrator's last evaluation (with constraints the velocity
+// projection changes only the velocities): the warmed workspace takes the source's gaps with
+// their poses and computes none (no node evaluated), and its forces at the row's velocities
+// equal a cold workspace's to the bit. Fails when WarmStart leaves the gaps or their poses out
+// (the warm row then evaluates nodes).
+TEST(WarmStart, RowAtTheSourcesPositionsComputesNoGaps) {
+  const std::shared_ptr<const Model> model = TwoMeshModel();
+  const Model& m = *model;
+  Data stepping(m), warm(m), cold(m);
+  State s = State::Initial(m);
+  const Eigen::VectorXd vdot = Eigen::VectorXd::Zero(m.nv);
+  int pressed = 0;
+  for (int k = 0; k <= 200; ++k) {
+    PressedPose(2e-3 * k, k, s);
+    EvaluateDynamics(m, 0.0, s.q, s.v, vdot, stepping);
+    if (k % 10 != 0) continue;
+    s.v *= 1 + 1e-9;  // the row's velocities, projected
+    WarmStartExternalWorkspaces(m, stepping, warm);
+    long before[2];
+    for (size_t e = 0; e < 2; ++e) before[e] = NodeEvaluations(warm, e);
+    EvaluateDynamics(m, 0.0, s.q, s.v, vdot, warm);
+    EvaluateDynamics(m, 0.0, s.q, s.v, vdot, cold);
+    ExpectSameEvaluation(m, warm, cold, k / 10);
+    for (size_t e = 0; e < 2; ++e) {
+      const auto& ws = static_cast<const ContactWorkspace&>(*warm.external[e]);
+      EXPECT_FALSE(ws.gaps_recomputed) << "row " << k / 10 << ", mesh " << e;
+      EXPECT_EQ(NodeEvaluations(warm, e), before[e]) << "row " << k / 10 << ", mesh " << e;
+    }
+    pressed += static_cast<const ContactWorkspace&>(*cold.external[0]).contact_points > 0 &&
+               static_cast<const ContactWorkspace&>(*cold.external[1]).contact_points > 0;
+  }
+  EXPECT_GT(pressed, 15);
+}
+
 // A flexible block (hex8, 6 modes) over a rigid plane, sliding across it while its modes press
 // its bottom face into the plane and release it: rows of a warmed workspace equal the rows of a
 // cold one to the last bit (tracked gaps, lazy vertices and normals, the deformation-change
