@@ -13,7 +13,8 @@ namespace {
 // Face changes a walk may take before the node is searched exactly instead.
 constexpr int kMaxWalkSteps = 32;
 
-// The far distance of a search, in walk reaches d + s (header).
+// The far distance, the search's bound for the nodes of a pair that has just joined, in walk
+// reaches d + s (header; the other searches are bounded by d + s).
 constexpr double kFarReaches = 5;
 
 // Odometer reading (m) at which the odometers start again from zero with every node seeded

@@ -342,8 +342,8 @@ class TrackedGaps {
     std::vector<double> block_wake;     // per block (m)
   };
   static constexpr int kBlock = 16;
-  // Pass::face without a face: not seeded yet (always evaluated); farther than the far distance
-  // from every face of the node's partners at its last search (sleeps on that reach).
+  // Pass::face without a face: not seeded yet (always evaluated); farther than its search's
+  // bound from every face of the node's partners at its last search (sleeps on that reach).
   static constexpr int kUnseeded = -1, kFar = -2;
   void ResetPart(Pass& pass, const ContactSurface& node_surface, int part);
   // TrackPairs' broad phase: the tracked pairs and parts at X_AB, their parts' nodes reset
