@@ -69,6 +69,26 @@ long NodeEvaluations(const Data& d, size_t e) {
   return static_cast<const ContactWorkspace&>(*d.external[e]).tracked.stats().node_evaluations;
 }
 
+// Whether both meshes of an evaluation carried load.
+bool BothPressed(const Data& d) {
+  return static_cast<const ContactWorkspace&>(*d.external[0]).contact_points > 0 &&
+         static_cast<const ContactWorkspace&>(*d.external[1]).contact_points > 0;
+}
+
+// The gears rolled by `steps` small steps (PressedPose, 2 mrad of the pinion apart), each
+// evaluated in `stepping` (an integrator's evaluations); every 10th is followed by `row(k, s)`
+// at its state.
+template <class Row>
+void RollWithRows(const Model& m, int steps, Data& stepping, Row&& row) {
+  State s = State::Initial(m);
+  const Eigen::VectorXd vdot = Eigen::VectorXd::Zero(m.nv);
+  for (int k = 0; k <= steps; ++k) {
+    PressedPose(2e-3 * k, k, s);
+    EvaluateDynamics(m, 0.0, s.q, s.v, vdot, stepping);
+    if (k % 10 == 0) row(k, s);
+  }
+}
+
 // The gears roll through two and a half pinion pitches in 400 small steps (an integrator's
 // evaluations in `stepping`), the pinion pressed a little ahead (a few micrometres at the
 // flanks, varying) so that teeth come in and out of contact on both meshes. Every 10th state is
@@ -77,13 +97,9 @@ TEST(WarmStart, RigidGearRowsEqualColdRows) {
   const std::shared_ptr<const Model> model = TwoMeshModel();
   const Model& m = *model;
   Data stepping(m), warm(m), cold(m);
-  State s = State::Initial(m);
   const Eigen::VectorXd vdot = Eigen::VectorXd::Zero(m.nv);
   int pressed = 0;
-  for (int k = 0; k <= 400; ++k) {
-    PressedPose(2e-3 * k, k, s);
-    EvaluateDynamics(m, 0.0, s.q, s.v, vdot, stepping);
-    if (k % 10 != 0) continue;
+  RollWithRows(m, 400, stepping, [&](int k, State& s) {
     // The row, a step after the integrator's evaluation of a slightly different state.
     s.q(0) += 1e-4;
     s.q(1) -= 0.5e-4;
@@ -91,9 +107,8 @@ TEST(WarmStart, RigidGearRowsEqualColdRows) {
     EvaluateDynamics(m, 0.0, s.q, s.v, vdot, warm);
     EvaluateDynamics(m, 0.0, s.q, s.v, vdot, cold);
     ExpectSameEvaluation(m, warm, cold, k / 10);
-    pressed += static_cast<const ContactWorkspace&>(*cold.external[0]).contact_points > 0 &&
-               static_cast<const ContactWorkspace&>(*cold.external[1]).contact_points > 0;
-  }
+    pressed += BothPressed(cold);
+  });
   // Both meshes carried load at most rows (the comparison is not of zeros), and the warm rows
   // evaluated fewer nodes than the cold ones (they started from the step before).
   EXPECT_GT(pressed, 30);
@@ -156,13 +171,9 @@ TEST(WarmStart, RowAtTheSourcesPositionsComputesNoGaps) {
   const std::shared_ptr<const Model> model = TwoMeshModel();
   const Model& m = *model;
   Data stepping(m), warm(m), cold(m);
-  State s = State::Initial(m);
   const Eigen::VectorXd vdot = Eigen::VectorXd::Zero(m.nv);
   int pressed = 0;
-  for (int k = 0; k <= 200; ++k) {
-    PressedPose(2e-3 * k, k, s);
-    EvaluateDynamics(m, 0.0, s.q, s.v, vdot, stepping);
-    if (k % 10 != 0) continue;
+  RollWithRows(m, 200, stepping, [&](int k, State& s) {
     s.v *= 1 + 1e-9;  // the row's velocities, projected
     WarmStartExternalWorkspaces(m, stepping, warm);
     long before[2];
@@ -175,9 +186,8 @@ TEST(WarmStart, RowAtTheSourcesPositionsComputesNoGaps) {
       EXPECT_FALSE(ws.gaps_recomputed) << "row " << k / 10 << ", mesh " << e;
       EXPECT_EQ(NodeEvaluations(warm, e), before[e]) << "row " << k / 10 << ", mesh " << e;
     }
-    pressed += static_cast<const ContactWorkspace&>(*cold.external[0]).contact_points > 0 &&
-               static_cast<const ContactWorkspace&>(*cold.external[1]).contact_points > 0;
-  }
+    pressed += BothPressed(cold);
+  });
   EXPECT_GT(pressed, 15);
 }
 
