@@ -84,8 +84,9 @@ class ExternalForceElement {
   // (a contact's tracked closest faces, sleeping nodes and odometers, tracked_gaps.h) into
   // `target`, a workspace of the same element in another Data, so that target's next evaluation
   // starts from where source's last one stood instead of from its own older one. It must not
-  // change what that evaluation computes (only how much work it takes), nor copy caches whose
-  // validity `target` tracks itself, nor addresses; it must not allocate. Default: nothing.
+  // change what that evaluation computes (only how much work it takes), nor copy a cache whose
+  // validity `target` tracks itself without what its validity is tracked by (a contact's last
+  // gaps go with their poses), nor addresses; it must not allocate. Default: nothing.
   // The result recorder calls it before each row with the integrator's workspace as source
   // (WarmStartExternalWorkspaces, mbd/force_elements.h).
   virtual void WarmStart(const ExternalForceWorkspace& /*source*/,
