@@ -51,7 +51,8 @@
 //     lies below its face deeper than the face's inner reach (contact_surface.h; inside the
 //     other body the distance has a local minimum on every face the node lies under, such as
 //     flank and tip at a tip corner), is searched exactly in the paired parts' FCL
-//     hierarchies (FindClosestFaceInPart), the face it had giving the first bound.
+//     hierarchies (FindClosestFaceInPart) within the search's bound (below: the face it had,
+//     d + s, or the far distance).
 // A walk that settled records its margin (the smallest distance of the faces it tried at the
 // end less the face's own); the next evaluations keep the face without walking while twice the
 // node's motion in the face frame plus the faces' deformation since stays below the margin

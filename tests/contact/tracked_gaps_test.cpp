@@ -575,6 +575,7 @@ TEST_F(TrackedGapsTest, NodesOfAPairThatJoinsDeepInsideAreFound) {
     Tracking w(*s1_, *s2_);
     int compared = 0, penetrating = 0;
     double deepest = 0;
+    long first_seeds = 0;
     for (int k = 0; depth - 10e-6 * k >= -200e-6; ++k) {
       const Poses p = At(0.3 * period, 15e-6 + depth - 10e-6 * k);
       w.tracked.Update(p.X_W1, p.X_W2, &w.gaps_a, &w.gaps_b);
@@ -591,10 +592,13 @@ TEST_F(TrackedGapsTest, NodesOfAPairThatJoinsDeepInsideAreFound) {
                                                  &compared, &penetrating));
         for (const NodeGap& g : got) deepest = std::max(deepest, -g.gap);
       }
+      if (k == 0) first_seeds = w.tracked.stats().seeds;
     }
     std::printf("joined %.0f um deep: deepest listed %.1f um, %d penetrating, %d compared\n",
                 depth * 1e6, deepest * 1e6, penetrating, compared);
     EXPECT_GT(deepest, depth - 20e-6);
+    // Nodes were searched again on the way out (the bounded searches ran, not only the seeding).
+    EXPECT_GT(w.tracked.stats().seeds, first_seeds);
   }
 }
 
