@@ -39,6 +39,118 @@ ContactSurface::ContactSurface(const std::vector<TriangleMesh>& parts, double ma
   SetStiffnessScales(std::move(part_stiffness_scale));
   culling_ = BuildCullingGeometry(*this);
   CalcSharedRimEdges();
+  FindExtrudedParts();
+}
+
+void ContactSurface::FindExtrudedParts() {
+  part_rows_.assign(num_parts(), 0);
+  part_row_length_.assign(num_parts(), 0);
+  face_cell_.assign(triangles_.size(), -1);
+  face_missing_corner_.assign(triangles_.size(), -1);
+  part_cell_start_.assign(num_parts() + 1, 0);
+  for (int j = 0; j < num_parts(); ++j) {
+    const int first = part_vertex_start_[j], nv = part_vertex_start_[j + 1] - first;
+    // Row 0: the vertices from the part's first at its height.
+    int n = 0;
+    while (n < nv && vertices_[first + n].z() == vertices_[first].z()) ++n;
+    if (n >= 2 && nv % n == 0 && nv / n >= 2 && ExtrudedPart(j, nv / n, n)) {
+      part_rows_[j] = nv / n;
+      part_row_length_[j] = n;
+    } else {
+      for (int t = part_triangle_start_[j]; t < part_triangle_start_[j + 1]; ++t) {
+        face_cell_[t] = -1;
+        face_missing_corner_[t] = -1;
+      }
+    }
+    part_cell_start_[j + 1] = static_cast<int>(cell_faces_.size());
+  }
+}
+
+bool ContactSurface::ExtrudedPart(int j, int rows, int n) {
+  const int first = part_vertex_start_[j];
+  const int t0 = part_triangle_start_[j], t1 = part_triangle_start_[j + 1];
+  const int cells = (rows - 1) * (n - 1);
+  if (t1 - t0 != 2 * cells) return false;
+  for (int k = 0; k < rows; ++k) {
+    const double z = vertices_[first + k * n].z();
+    if (k > 0 && !(z > vertices_[first + (k - 1) * n].z())) return false;
+    for (int i = 0; i < n; ++i) {
+      const Vec3& v = vertices_[first + k * n + i];
+      const Vec3& v0 = vertices_[first + i];
+      if (v.x() != v0.x() || v.y() != v0.y() || v.z() != z) return false;
+    }
+  }
+  for (int i = 0; i + 1 < n; ++i)
+    if (vertices_[first + i].x() == vertices_[first + i + 1].x() &&
+        vertices_[first + i].y() == vertices_[first + i + 1].y())
+      return false;
+  // Every face a half of one rectangle, each rectangle split along one diagonal into two.
+  const size_t start = cell_faces_.size();
+  cell_faces_.resize(start + 2 * cells, -1);
+  for (int t = t0; t < t1; ++t) {
+    int k_lo = rows, k_hi = -1, i_lo = n, i_hi = -1;
+    for (int c = 0; c < 3; ++c) {
+      const int l = triangles_[t][c] - first;
+      k_lo = std::min(k_lo, l / n);
+      k_hi = std::max(k_hi, l / n);
+      i_lo = std::min(i_lo, l % n);
+      i_hi = std::max(i_hi, l % n);
+    }
+    if (k_hi != k_lo + 1 || i_hi != i_lo + 1) {
+      cell_faces_.resize(start);
+      return false;
+    }
+    // The corners (i, k), (i + 1, k), (i + 1, k + 1), (i, k + 1) as 0..3; the one not used.
+    const int corner_vertex[4] = {first + k_lo * n + i_lo, first + k_lo * n + i_lo + 1,
+                                  first + (k_lo + 1) * n + i_lo + 1, first + (k_lo + 1) * n + i_lo};
+    int missing = -1;
+    for (int c = 0; c < 4; ++c)
+      if (std::find(triangles_[t].begin(), triangles_[t].end(), corner_vertex[c]) ==
+          triangles_[t].end())
+        missing = c;
+    const int cell = k_lo * (n - 1) + i_lo;
+    int* slot = &cell_faces_[start + 2 * cell];
+    if (slot[0] >= 0 && slot[1] >= 0) {
+      cell_faces_.resize(start);
+      return false;
+    }
+    // The second half must leave out the opposite corner (the same diagonal).
+    if (slot[0] >= 0 && (face_missing_corner_[slot[0]] + 2) % 4 != missing) {
+      cell_faces_.resize(start);
+      return false;
+    }
+    (slot[0] < 0 ? slot[0] : slot[1]) = t;
+    face_cell_[t] = cell;
+    face_missing_corner_[t] = static_cast<std::int8_t>(missing);
+  }
+  return true;
+}
+
+int ContactSurface::ExtrudedFaceAt(int part, int column, const Vec3& x_B) const {
+  const int n = part_row_length_[part], rows = part_rows_[part];
+  const int first = part_vertex_start_[part];
+  // The row interval of the height (the last one holds z_{R-1}).
+  int k = 0;
+  while (k + 2 < rows && x_B.z() >= vertices_[first + (k + 1) * n].z()) ++k;
+  const double z0 = vertices_[first + k * n].z(), z1 = vertices_[first + (k + 1) * n].z();
+  const double u = std::clamp((x_B.z() - z0) / (z1 - z0), 0.0, 1.0);
+  // The fraction along the column's profile segment (in xy).
+  const Vec3& a = vertices_[first + column];
+  const Vec3& b = vertices_[first + column + 1];
+  const double ex = b.x() - a.x(), ey = b.y() - a.y();
+  const double t =
+      std::clamp(((x_B.x() - a.x()) * ex + (x_B.y() - a.y()) * ey) / (ex * ex + ey * ey), 0.0, 1.0);
+  const int* faces = &cell_faces_[part_cell_start_[part] + 2 * (k * (n - 1) + column)];
+  // The half that leaves out corner m holds the points on the other side of the diagonal.
+  auto holds = [&](int face) {
+    switch (face_missing_corner_[face]) {
+      case 3: return u <= t;       // (i, k), (i + 1, k), (i + 1, k + 1)
+      case 1: return u >= t;       // (i, k), (i + 1, k + 1), (i, k + 1)
+      case 2: return t + u <= 1;   // (i, k), (i + 1, k), (i, k + 1)
+      default: return t + u >= 1;  // (i + 1, k), (i + 1, k + 1), (i, k + 1)
+    }
+  };
+  return holds(faces[0]) ? faces[0] : faces[1];
 }
 
 void ContactSurface::SetStiffnessScales(std::vector<double> part_scale) {

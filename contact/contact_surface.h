@@ -33,6 +33,15 @@
 // face of part j of the other carries s_i s_j times its law's force, stiffness and damping (the
 // contact elements scale the node's area weight by it); e.g. a softer part (the gear layer's
 // cracked tooth, models/gear_contact.h).
+// Extruded parts (found here, whatever made the part): a part whose vertices are R >= 2 rows of
+// one open profile of n >= 2 points, row k at height z_k along B's z (strictly increasing;
+// vertex part_vertex_start + k n + i at the x and y of vertex part_vertex_start + i, to the
+// bit), and whose faces are the rectangles between neighbouring profile points i, i + 1 and
+// neighbouring rows k, k + 1, each split into two triangles along a diagonal: the profile's
+// polyline swept along z from z_0 to z_{R-1} (a spur gear's tooth, models/gear_contact.h). The
+// distance from such a surface to a point whose z lies in [z_0, z_{R-1}] is the distance in the
+// xy plane to the polyline, whatever that z: tracked_gaps.h evaluates one row of a part's nodes
+// against extruded parts and gives the other rows the same gaps.
 // smooth_normals: the facets stand for a smooth surface (a gear's involute flanks, fillets and
 // tips), and the contact force at a closest point q acts along the surface normal interpolated
 // at q instead of q's facet normal (signed_gap.h ForceNormal). The corner normals are made here:
@@ -173,6 +182,21 @@ class ContactSurface {
   const std::vector<double>& vertex_stiffness_scale() const { return vertex_stiffness_scale_; }
   const std::vector<double>& face_stiffness_scale() const { return face_stiffness_scale_; }
 
+  // Extruded parts (header), #parts: the rows R (0: the part is not extruded) and the row
+  // length n; its row k is at z = vertices()[part_vertex_start()[j] + k n].z().
+  const std::vector<int>& part_rows() const { return part_rows_; }
+  const std::vector<int>& part_row_length() const { return part_row_length_; }
+  // #T: for a face of an extruded part, its rectangle k (n - 1) + i (profile points i, i + 1,
+  // rows k, k + 1) and the corner of the rectangle it leaves out (0: (i, k), 1: (i + 1, k),
+  // 2: (i + 1, k + 1), 3: (i, k + 1)); -1 for the faces of other parts.
+  const std::vector<int>& face_cell() const { return face_cell_; }
+  const std::vector<std::int8_t>& face_missing_corner() const { return face_missing_corner_; }
+  // The face of an extruded part that holds the point of B at x_B, which must lie on the part's
+  // surface in its rectangles' column `column` (profile points i, i + 1) at a height in
+  // [z_0, z_{R-1}] (clamped): the two faces of the rectangle of that height, the one whose half
+  // holds the point (on the diagonal: either).
+  int ExtrudedFaceAt(int part, int column, const Vec3& x_B) const;
+
   const CullingGeometry& culling() const { return *culling_; }
 
  private:
@@ -187,6 +211,8 @@ class ContactSurface {
   void CheckPartRing() const;
   void SetStiffnessScales(std::vector<double> part_scale);  // vertex and face stiffness scales
   void CalcSharedRimEdges();       // after the culling geometry
+  void FindExtrudedParts();        // part rows and face cells (header: extruded parts)
+  bool ExtrudedPart(int part, int rows, int n);  // checks part j as R x n rows, fills its cells
 
   std::vector<Vec3> vertices_;
   std::vector<std::array<int, 3>> triangles_;
@@ -212,6 +238,11 @@ class ContactSurface {
   std::vector<Vec3> triangle_centers_;
   std::vector<double> triangle_radii_;
   std::vector<double> vertex_stiffness_scale_, face_stiffness_scale_;
+  std::vector<int> part_rows_, part_row_length_, face_cell_;
+  std::vector<std::int8_t> face_missing_corner_;
+  // Extruded parts: the two faces of each rectangle c of part j at
+  // cell_faces_[part_cell_start_[j] + 2 c + {0, 1}] (#parts + 1 starts).
+  std::vector<int> part_cell_start_, cell_faces_;
   double margin_m_ = 0, slack_m_ = 0, total_area_ = 0, max_vertex_radius_m_ = 0;
   std::shared_ptr<const CullingGeometry> culling_;
 };

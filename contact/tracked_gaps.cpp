@@ -43,6 +43,9 @@ ClosestFace OnFace(const Geometry& g, int face, const Vec3& p) {
 // Rounding allowance of the walk's skip test (m): the distances it compares are computed to
 // about 1e-17 m (coordinates below 1 m).
 constexpr double kWalkRounding = 1e-12;
+// Node rows within this many units of the rounding of a face part's heights count as within
+// them (RunPass, extruded parts).
+constexpr double kRowHeightUlps = 16;
 
 bool IsVertex(TriangleFeature f) {
   return f == TriangleFeature::kVertex0 || f == TriangleFeature::kVertex1 ||
@@ -172,7 +175,8 @@ TrackedGaps::Pass::Pass(const ContactSurface& node_surface, bool keep_face_weigh
       walk_feature(node_surface.num_vertices(), TriangleFeature::kFace),
       walk_below(node_surface.num_vertices(), 0),
       walk_pair(node_surface.num_vertices(), {-1, -1}),
-      face_weights(keep_face_weights ? node_surface.num_vertices() : 0, Vec3::Zero()) {
+      face_weights(keep_face_weights ? node_surface.num_vertices() : 0, Vec3::Zero()),
+      rows_shared(node_surface.num_parts(), 0) {
   const auto& start = node_surface.part_vertex_start();
   part_block_start.assign(start.size(), 0);
   for (size_t part = 0; part + 1 < start.size(); ++part)
@@ -224,6 +228,7 @@ void TrackedGaps::Reset() {
     std::fill(pass->stamp_face_deformation.begin(), pass->stamp_face_deformation.end(), 0.0);
     std::fill(pass->block_wake.begin(), pass->block_wake.end(),
               -std::numeric_limits<double>::infinity());
+    std::fill(pass->rows_shared.begin(), pass->rows_shared.end(), 0);
   }
 }
 
@@ -263,6 +268,7 @@ void TrackedGaps::WarmStartFrom(const TrackedGaps& source) {
       range(from.walk_feature, to.walk_feature);
       range(from.walk_below, to.walk_below);
       range(from.walk_pair, to.walk_pair);
+      to.rows_shared[part] = from.rows_shared[part];
       std::copy(from.block_wake.begin() + from.part_block_start[part],
                 from.block_wake.begin() + from.part_block_start[part + 1],
                 to.block_wake.begin() + to.part_block_start[part]);
@@ -575,6 +581,17 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
   for (const auto& [pa, pb] : tracked_)
     by_part_.emplace_back(nodes_are_a ? pa : pb, nodes_are_a ? pb : pa);
   if (!nodes_are_a) std::sort(by_part_.begin(), by_part_.end());
+  // One row of an extruded part's nodes for all (header): rigid sides as the surfaces hold
+  // them, without face weights, and the node frame's z axis along the face frame's with the
+  // off-axis entries of R_FN zero to the bit (a node's x and y in the face frame do not
+  // depend on its z; torsional models turn every gear about z exactly).
+  const Mat3& R_FN = X_FN.R;
+  const bool rows_may_share =
+      shared_rows_ && !keep_face_weights_ && nodes.deformed == nullptr &&
+      nodes.own == &node_surface.vertices() && faces.v.deformed == nullptr &&
+      faces.v.own == &face_surface.vertices() && faces.lazy_n == nullptr &&
+      face_deformation_m == 0 && face_part_deformation_m == nullptr && R_FN(0, 2) == 0 &&
+      R_FN(1, 2) == 0 && R_FN(2, 0) == 0 && R_FN(2, 1) == 0 && R_FN(2, 2) > 0;
   for (size_t k = 0; k < by_part_.size();) {
     const int part = by_part_[k].first;
     partners_.clear();
@@ -583,6 +600,41 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
     const double odometer = odometers[part];
     const int v_begin = node_surface.part_vertex_start()[part];
     const int v_end = node_surface.part_vertex_start()[part + 1];
+    const int rows = rows_may_share ? node_surface.part_rows()[part] : 0;
+    const int row_n = node_surface.part_row_length()[part];
+    bool one_row = rows >= 2;
+    if (one_row) {
+      // Every row within the heights of every partner, itself extruded.
+      const double z_lo = R_FN(2, 2) * node_surface.vertices()[v_begin].z() + X_FN.p.z();
+      const double z_hi =
+          R_FN(2, 2) * node_surface.vertices()[v_begin + (rows - 1) * row_n].z() + X_FN.p.z();
+      // Heights equal to their rounding count as equal (two gears of one face width, their
+      // rows made by different sums): a node that far beyond a rim has the weight 1 - e / f of
+      // signed_gap.h with e / f below 1e-13 (f a tenth of a row's height), and its gap moves by
+      // e^2 / |gap|.
+      const double tol = kRowHeightUlps * std::numeric_limits<double>::epsilon() *
+                         std::max(std::abs(z_lo), std::abs(z_hi));
+      for (const int part_f : partners_) {
+        const int rows_f = face_surface.part_rows()[part_f];
+        const int first_f = face_surface.part_vertex_start()[part_f];
+        one_row =
+            one_row && rows_f >= 2 && z_lo >= face_surface.vertices()[first_f].z() - tol &&
+            z_hi <=
+                face_surface
+                        .vertices()[first_f + (rows_f - 1) * face_surface.part_row_length()[part_f]]
+                        .z() +
+                    tol;
+      }
+    }
+    // A part that stops sharing: its blocks' wake-up readings were gathered over the evaluated
+    // row only (a block across a row boundary), so its nodes are seeded anew (rare: a torsional
+    // model shares at every call).
+    if (pass.rows_shared[part] && !one_row) ResetPart(pass, node_surface, part);
+    pass.rows_shared[part] = one_row;
+    const int shared_row = one_row ? (rows - 1) / 2 : 0;  // the middle row, away from the rims
+    const int lo = one_row ? v_begin + shared_row * row_n : v_begin;
+    const int hi = one_row ? lo + row_n : v_end;
+    const size_t listed_from = gaps->size();
     // A node awake by the odometer: its look, walk or search, and its gap. Kept out of the
     // node loop (noinline): the loop then holds only the sleep test and the block's wake-up
     // reading, and inlined it took 2.5 % more instructions over the rigid scene (callgrind).
@@ -741,17 +793,19 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
                                             keep_face_weights_ ? &pass.face_weights[v] : nullptr));
       gaps->push_back(g);
     };
-    for (int block = pass.part_block_start[part], v0 = v_begin; v0 < v_end; ++block, v0 += kBlock) {
+    const int first_block = (lo - v_begin) / kBlock;
+    for (int block = pass.part_block_start[part] + first_block, v0 = v_begin + first_block * kBlock;
+         v0 < hi; ++block, v0 += kBlock) {
       // The whole block asleep by the odometer (the node test below, with room for the rounding
       // of the sum: odometers stay below 1 m).
       if (odometer < pass.block_wake[block] - 1e-12) continue;
-      const int v1 = std::min(v0 + kBlock, v_end);
+      const int v1 = std::min(v0 + kBlock, hi);
       // The block's wake-up reading, the smallest odometer reading at which one of its nodes may
       // wake (Pass::block_wake), gathered as the nodes are passed (in node order: the value a
       // second loop over the block gave, to the bit); a node asleep by the odometer adds the
       // reading its test has just loaded.
       double wake = std::numeric_limits<double>::infinity();
-      for (int v = v0; v < v1; ++v) {
+      for (int v = std::max(v0, lo); v < v1; ++v) {
         // Asleep: the surfaces have not moved far enough for this node to touch, by the part's
         // odometer, or else by the node's own displacement in the face frame since its stamp. A
         // node not yet seeded is always evaluated.
@@ -765,7 +819,46 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
       }
       pass.block_wake[block] = wake;
     }
+    if (one_row)
+      ShareRows(node_surface, face_surface, part, shared_row, X_FN, X_WF, listed_from, gaps);
   }
+}
+
+void TrackedGaps::ShareRows(const ContactSurface& node_surface, const ContactSurface& face_surface,
+                            int part, int shared_row, const Transform& X_FN, const Transform& X_WF,
+                            size_t listed_from, std::vector<NodeGap>* gaps) {
+  const size_t m = gaps->size() - listed_from;
+  if (m == 0) return;
+  const int rows = node_surface.part_rows()[part], n = node_surface.part_row_length()[part];
+  const int first = node_surface.part_vertex_start()[part];
+  // Rows in node order: the evaluated row's entries moved to their place (within the capacity
+  // reserved for every node), the others' made from them.
+  gaps->resize(listed_from + rows * m);
+  const auto from = gaps->begin() + static_cast<long>(listed_from);
+  std::copy_backward(from, from + static_cast<long>(m),
+                     from + static_cast<long>((shared_row + 1) * m));
+  const Vec3 z_W = X_WF.R.col(2);  // the z axis of both frames, in the world
+  const Transform X_FW = X_WF.Inverse();
+  const double z_shared = node_surface.vertices()[first + shared_row * n].z();
+  for (int k = 0; k < rows; ++k) {
+    if (k == shared_row) continue;
+    const double dz = node_surface.vertices()[first + k * n].z() - z_shared;
+    for (size_t i = 0; i < m; ++i) {
+      const NodeGap& g = *(from + static_cast<long>(shared_row * m + i));
+      NodeGap& t = *(from + static_cast<long>(k * m + i));
+      t = g;
+      t.node = g.node + (k - shared_row) * n;
+      t.p_W = X_WF * (X_FN * node_surface.vertices()[t.node]);  // as its evaluation would
+      t.q_W = g.q_W + dz * z_W;
+      // Its closest point is the evaluated node's moved along z: on the same column of the
+      // face's part, in the rectangle of its height.
+      const int part_f = face_surface.vertex_parts()[face_surface.triangles()[g.face][0]];
+      const int n_f = face_surface.part_row_length()[part_f];
+      t.face = face_surface.ExtrudedFaceAt(part_f, face_surface.face_cell()[g.face] % (n_f - 1),
+                                           X_FW * t.q_W);
+    }
+  }
+  stats_.shared_row_nodes += static_cast<long>((rows - 1) * m);
 }
 
 }  // namespace orrery::contact

@@ -67,6 +67,20 @@
 // distances decide it as the walk would (the lower distance, then the lower index).
 // The sleep test is also taken for blocks of 16 consecutive nodes of a part at once (the
 // block's smallest wake-up reading), which passes a sleeping block in one comparison.
+// Extruded parts (contact_surface.h): a part of the node surface whose nodes are rows of one
+// profile along z, paired only with extruded parts of the face surface whose heights hold all
+// its rows, is evaluated on its middle row alone when both sides are rigid (the surfaces' own
+// vertices; no face weights kept) and R_FN maps z along z (its off-axis entries zero to the bit:
+// a torsional model turns every gear about z exactly). The distance from a node to such faces
+// is the distance in the xy plane whatever the node's height, so each node of another row gets
+// the evaluated node's entry with its own position, the closest point moved along z and the face
+// that holds it there (ContactSurface::ExtrudedFaceAt). Rows within 16 units of the rounding of
+// the faces' heights count as within them (two gears of one face width, their rows made by
+// different sums): such a node lies e beyond a rim, with the weight 1 - e / f of signed_gap.h
+// (f, the rim fade, a tenth of a row's height: 1 - e / f > 1 - 1e-13). The other rows' nodes
+// are not evaluated (their state stays as it was); a part that stops sharing (a pose that
+// breaks a condition) has its nodes seeded anew. A spur tooth of face_intervals 2 has three
+// rows, so two thirds of its node work goes (docs/performance.md, "shared-rows").
 // A search is bounded. A node of a pair that has just joined the tracked set (not seeded yet)
 // is searched within the far distance 5 (d + s); a node below its face within the face's
 // distance, however deep; any other node (far at its last search, or above its face and
@@ -124,6 +138,8 @@ struct TrackedGapStats {
   long candidate_builds = 0;    // candidate part pairs made (TrackPairs), since construction
   int candidate_pairs = 0;      // candidate part pairs at the last TrackPairs()
   long broad_phase_reuses = 0;  // TrackPairs() calls that kept the last broad phase's pairs
+  long shared_row_nodes = 0;    // nodes listed from their part's evaluated row (extruded
+                                // parts), since construction
 };
 
 class TrackedGaps {
@@ -136,8 +152,8 @@ class TrackedGaps {
               bool keep_face_weights = true);
 
   // The gaps at these poses: *gaps_a the nodes of A on B's faces, *gaps_b the nodes of B on A's
-  // faces, each in increasing node order: every evaluated node within the search distance d and
-  // every penetrating node. Nodes that cannot touch are left out (their gaps are positive).
+  // faces, each in increasing node order: every evaluated node (or shared row's node) within the
+  // search distance d and every penetrating node. Nodes that cannot touch are left out (their gaps are positive).
   void Update(const Transform& X_WA, const Transform& X_WB, std::vector<NodeGap>* gaps_a,
               std::vector<NodeGap>* gaps_b);
   // The same with deformed surfaces (flexible_contact_element.h): each side's vertices and
@@ -296,6 +312,12 @@ class TrackedGaps {
   // Tests: whether walks of tied pairs may be skipped (default true; false walks them, which
   // must give the same faces, gaps and forces to the bit).
   void set_pair_skip(bool on) { pair_skip_ = on; }
+  // Tests: whether an extruded part's rows may share one row's evaluation (default true; false
+  // evaluates every node, which must give the same gaps to the rounding of the z terms).
+  void set_shared_rows(bool on) {
+    shared_rows_ = on;
+    Reset();
+  }
   // Tests: whether TrackPairs() may run over candidate pairs (default true; false runs the
   // full broad phase at every call, which must give the same pairs).
   void set_pair_candidates(bool on) {
@@ -341,6 +363,9 @@ class TrackedGaps {
     // face), so that a block whose nodes all sleep by the odometer is passed in one test.
     std::vector<int> part_block_start;  // #parts + 1
     std::vector<double> block_wake;     // per block (m)
+    // #parts: 1 while the part's last evaluation ran one row for all (header; its other rows'
+    // nodes hold no current state, and are seeded anew when the part leaves that mode).
+    std::vector<char> rows_shared;
   };
   static constexpr int kBlock = 16;
   // Pass::face without a face: not seeded yet (always evaluated); farther than its search's
@@ -361,6 +386,11 @@ class TrackedGaps {
                double face_deformation_odometer_m, double d, const Transform& X_FN,
                const Transform& X_WF, bool nodes_are_a, const std::vector<double>& odometers,
                Pass& pass, std::vector<NodeGap>* gaps);
+  // The entries of `part`'s evaluated row (gaps from listed_from on) copied to its other rows,
+  // all in node order (header: extruded parts).
+  void ShareRows(const ContactSurface& node_surface, const ContactSurface& face_surface, int part,
+                 int shared_row, const Transform& X_FN, const Transform& X_WF, size_t listed_from,
+                 std::vector<NodeGap>* gaps);
   double PartMotion(int part_b, const Transform& X_AB0, const Transform& X_AB1) const;
   // Starts the odometers (and the faces' deformation odometers) again from zero and seeds every
   // node anew when one has reached kOdometerRestart or is not finite, or the pose is not finite.
@@ -384,6 +414,7 @@ class TrackedGaps {
   std::vector<std::array<Vec3, 8>> part_box_corners_b_;  // #parts of B: PartBoxCorners
   TrackedGapStats stats_;
   bool pair_skip_ = true;
+  bool shared_rows_ = true;
   bool keep_face_weights_ = true;
   // Candidate pairs (TrackPairs): sorted, made at relative pose X_AB_candidates_ with the
   // deformation sum G0 and for the largest reach given; rho_B of B's part boxes.
