@@ -127,19 +127,26 @@ bool ContactSurface::ExtrudedPart(int j, int rows, int n) {
 }
 
 int ContactSurface::ExtrudedFaceAt(int part, int column, const Vec3& x_B) const {
+  return ExtrudedFaceAt(part, column, ExtrudedColumnFraction(part, column, x_B), x_B.z());
+}
+
+double ContactSurface::ExtrudedColumnFraction(int part, int column, const Vec3& x_B) const {
+  const int first = part_vertex_start_[part];
+  const Vec3& a = vertices_[first + column];
+  const Vec3& b = vertices_[first + column + 1];
+  const double ex = b.x() - a.x(), ey = b.y() - a.y();
+  return std::clamp(((x_B.x() - a.x()) * ex + (x_B.y() - a.y()) * ey) / (ex * ex + ey * ey), 0.0,
+                    1.0);
+}
+
+int ContactSurface::ExtrudedFaceAt(int part, int column, double t, double z) const {
   const int n = part_row_length_[part], rows = part_rows_[part];
   const int first = part_vertex_start_[part];
   // The row interval of the height (the last one holds z_{R-1}).
   int k = 0;
-  while (k + 2 < rows && x_B.z() >= vertices_[first + (k + 1) * n].z()) ++k;
+  while (k + 2 < rows && z >= vertices_[first + (k + 1) * n].z()) ++k;
   const double z0 = vertices_[first + k * n].z(), z1 = vertices_[first + (k + 1) * n].z();
-  const double u = std::clamp((x_B.z() - z0) / (z1 - z0), 0.0, 1.0);
-  // The fraction along the column's profile segment (in xy).
-  const Vec3& a = vertices_[first + column];
-  const Vec3& b = vertices_[first + column + 1];
-  const double ex = b.x() - a.x(), ey = b.y() - a.y();
-  const double t =
-      std::clamp(((x_B.x() - a.x()) * ex + (x_B.y() - a.y()) * ey) / (ex * ex + ey * ey), 0.0, 1.0);
+  const double u = std::clamp((z - z0) / (z1 - z0), 0.0, 1.0);
   const int* faces = &cell_faces_[part_cell_start_[part] + 2 * (k * (n - 1) + column)];
   // The half that leaves out corner m holds the points on the other side of the diagonal.
   auto holds = [&](int face) {

@@ -196,6 +196,10 @@ class ContactSurface {
   // [z_0, z_{R-1}] (clamped): the two faces of the rectangle of that height, the one whose half
   // holds the point (on the diagonal: either).
   int ExtrudedFaceAt(int part, int column, const Vec3& x_B) const;
+  // The same in two stages, for points of one column at several heights: the point's fraction
+  // t in [0, 1] along the column's profile segment (in xy), then the face at t and height z.
+  double ExtrudedColumnFraction(int part, int column, const Vec3& x_B) const;
+  int ExtrudedFaceAt(int part, int column, double t, double z) const;
 
   const CullingGeometry& culling() const { return *culling_; }
 

@@ -839,23 +839,26 @@ void TrackedGaps::ShareRows(const ContactSurface& node_surface, const ContactSur
                      from + static_cast<long>((shared_row + 1) * m));
   const Vec3 z_W = X_WF.R.col(2);  // the z axis of both frames, in the world
   const Transform X_FW = X_WF.Inverse();
+  const Transform X_WN = X_WF * X_FN;
   const double z_shared = node_surface.vertices()[first + shared_row * n].z();
-  for (int k = 0; k < rows; ++k) {
-    if (k == shared_row) continue;
-    const double dz = node_surface.vertices()[first + k * n].z() - z_shared;
-    for (size_t i = 0; i < m; ++i) {
-      const NodeGap& g = *(from + static_cast<long>(shared_row * m + i));
+  for (size_t i = 0; i < m; ++i) {
+    const NodeGap& g = *(from + static_cast<long>(shared_row * m + i));
+    // Its closest point moved along z: on the same column of the face's part (the same
+    // fraction along it), in the rectangle of the other row's height.
+    const Vec3 q_F = X_FW * g.q_W;
+    const int part_f = face_surface.vertex_parts()[face_surface.triangles()[g.face][0]];
+    const int column =
+        face_surface.face_cell()[g.face] % (face_surface.part_row_length()[part_f] - 1);
+    const double along = face_surface.ExtrudedColumnFraction(part_f, column, q_F);
+    for (int k = 0; k < rows; ++k) {
+      if (k == shared_row) continue;
+      const double dz = node_surface.vertices()[first + k * n].z() - z_shared;
       NodeGap& t = *(from + static_cast<long>(k * m + i));
       t = g;
       t.node = g.node + (k - shared_row) * n;
-      t.p_W = X_WF * (X_FN * node_surface.vertices()[t.node]);  // as its evaluation would
+      t.p_W = X_WN * node_surface.vertices()[t.node];  // as its evaluation would
       t.q_W = g.q_W + dz * z_W;
-      // Its closest point is the evaluated node's moved along z: on the same column of the
-      // face's part, in the rectangle of its height.
-      const int part_f = face_surface.vertex_parts()[face_surface.triangles()[g.face][0]];
-      const int n_f = face_surface.part_row_length()[part_f];
-      t.face = face_surface.ExtrudedFaceAt(part_f, face_surface.face_cell()[g.face] % (n_f - 1),
-                                           X_FW * t.q_W);
+      t.face = face_surface.ExtrudedFaceAt(part_f, column, along, q_F.z() + dz);
     }
   }
   stats_.shared_row_nodes += static_cast<long>((rows - 1) * m);

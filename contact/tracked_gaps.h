@@ -153,7 +153,8 @@ class TrackedGaps {
 
   // The gaps at these poses: *gaps_a the nodes of A on B's faces, *gaps_b the nodes of B on A's
   // faces, each in increasing node order: every evaluated node (or shared row's node) within the
-  // search distance d and every penetrating node. Nodes that cannot touch are left out (their gaps are positive).
+  // search distance d and every penetrating node. Nodes that cannot touch are left out (their gaps
+  // are positive).
   void Update(const Transform& X_WA, const Transform& X_WB, std::vector<NodeGap>* gaps_a,
               std::vector<NodeGap>* gaps_b);
   // The same with deformed surfaces (flexible_contact_element.h): each side's vertices and

@@ -19,7 +19,10 @@
 // listed_nodes (the six meshes together at that state), and floor_cpu_per_sim_s_r2 / _r315:
 // ns_per_node times the steady listed nodes per evaluation (kListedPerEvaluation, counted over
 // 5-15 ms) times the evaluations per simulated second at 10 us with 2 and with 3.15 residuals
-// per step (the row's 5-15 ms), plus the recorder's 1e4 rows.
+// per step (the row's 5-15 ms), plus the recorder's 1e4 rows. Since the rows of a spur tooth
+// share one row's evaluation (tracked_gaps.h, extruded parts; docs/performance.md
+// "shared-rows"), a third of the listed nodes are evaluated: the scheme's floor is about a
+// third of these figures, plus the shared entries' copies.
 //   contact_scenes_benchmark --benchmark_filter=ListedNodeFloor
 //   contact_scenes_benchmark --benchmark_filter=ContactScene/0
 //   OMP_NUM_THREADS=2 contact_scenes_benchmark
