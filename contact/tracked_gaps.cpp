@@ -831,12 +831,12 @@ void TrackedGaps::ShareRows(const ContactSurface& node_surface, const ContactSur
   if (m == 0) return;
   const int rows = node_surface.part_rows()[part], n = node_surface.part_row_length()[part];
   const int first = node_surface.part_vertex_start()[part];
-  // Rows in node order: the evaluated row's entries moved to their place (within the capacity
-  // reserved for every node), the others' made from them.
-  gaps->resize(listed_from + rows * m);
+  // Rows in node order: the evaluated row's entries copied into every row's place (appended
+  // within the capacity reserved for every node: the rows are blocks of m entries), then each
+  // other row's made from them in place.
+  for (int k = 1; k < rows; ++k)
+    for (size_t i = 0; i < m; ++i) gaps->push_back((*gaps)[listed_from + i]);
   const auto from = gaps->begin() + static_cast<long>(listed_from);
-  std::copy_backward(from, from + static_cast<long>(m),
-                     from + static_cast<long>((shared_row + 1) * m));
   const Vec3 z_W = X_WF.R.col(2);  // the z axis of both frames, in the world
   const Transform X_FW = X_WF.Inverse();
   const Transform X_WN = X_WF * X_FN;
@@ -853,8 +853,7 @@ void TrackedGaps::ShareRows(const ContactSurface& node_surface, const ContactSur
     for (int k = 0; k < rows; ++k) {
       if (k == shared_row) continue;
       const double dz = node_surface.vertices()[first + k * n].z() - z_shared;
-      NodeGap& t = *(from + static_cast<long>(k * m + i));
-      t = g;
+      NodeGap& t = *(from + static_cast<long>(k * m + i));  // a copy of g
       t.node = g.node + (k - shared_row) * n;
       t.p_W = X_WN * node_surface.vertices()[t.node];  // as its evaluation would
       t.q_W = g.q_W + dz * z_W;
