@@ -693,7 +693,7 @@ TEST_F(TrackedGapsTest, SharedRowsGiveTheGapsOfEveryRow) {
       s.node_evaluations, f.node_evaluations, s.shared_row_nodes, row_face_ties, compared);
   EXPECT_GT(penetrating, 5000);
   EXPECT_GT(s.shared_row_nodes, compared / 2);
-  // Fewer by a third with the sharing stopped and started 50 times (each start seeds anew).
+  // Fewer by a third with the sharing stopped 18 times (each stop seeds the parts anew).
   EXPECT_LT(s.node_evaluations, 2 * f.node_evaluations / 3);
 }
 
