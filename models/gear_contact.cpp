@@ -41,6 +41,20 @@ std::pair<TriangleMesh, TriangleMesh> SplitTooth(const TriangleMesh& m, double a
     }
     half[h].triangles.push_back(out);
   }
+  // Each half's vertices in the tooth's own order (row by row), so that a spur tooth's halves
+  // are extruded parts too (contact/contact_surface.h) and share their rows' evaluation.
+  for (int h = 0; h < 2; ++h) {
+    std::vector<int> order;  // the half's vertices, by their index in the tooth
+    for (size_t v = 0; v < m.vertices.size(); ++v)
+      if (index[h][v] >= 0) order.push_back(static_cast<int>(v));
+    std::vector<int> renumber(half[h].vertices.size());
+    for (size_t k = 0; k < order.size(); ++k) {
+      renumber[index[h][order[k]]] = static_cast<int>(k);
+      half[h].vertices[k] = m.vertices[order[k]];
+    }
+    for (auto& t : half[h].triangles)
+      for (int& v : t) v = renumber[v];
+  }
   return {std::move(half[0]), std::move(half[1])};
 }
 

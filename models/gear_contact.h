@@ -71,11 +71,10 @@ struct GearContactOptions {
   //   at 1429 N (um)        0.93   0.52   0.20   0.055  0.054
   // 100 keeps it below 0.1 um at light and full load. Spur contact lines run along the axis, so
   // 2 face intervals integrate a uniform load exactly (helical gears need more). A healthy spur
-  // tooth is an extruded part (contact/contact_surface.h): with rigid gears turning about
-  // parallel axes its rows of nodes share one row's gaps (contact/tracked_gaps.h), so more face
-  // intervals cost their contact points' forces, not their tracking (a cracked tooth's halves,
-  // their vertices in the order SplitTooth meets them, and a broken tooth are tracked node by
-  // node).
+  // tooth, and each half of a cracked one, is an extruded part (contact/contact_surface.h): with
+  // rigid gears turning about parallel axes its rows of nodes share one row's gaps
+  // (contact/tracked_gaps.h), so more face intervals cost their contact points' forces, not
+  // their tracking (a broken tooth, its face split at the break, is tracked node by node).
   int involute_intervals = 100;
   int root_intervals = 2, fillet_intervals = 6, tip_intervals = 4;
   // Fillet chords within this of the fillet (ProfileResolution::fillet_max_sag_m): a fillet's

@@ -130,7 +130,7 @@ TEST(ExtrudedParts, OtherMeshesAreNot) {
   }
 }
 
-TEST(ExtrudedParts, SpurTeethAreExtrudedHelicalAndBrokenTeethAreNot) {
+TEST(ExtrudedParts, SpurAndCrackedTeethAreExtrudedHelicalAndBrokenTeethAreNot) {
   const gears::Gear spur(
       gears::GearSpec{.teeth = 19, .normal_module_m = 2e-3, .face_width_m = 0.01});
   const gears::Gear helical(gears::GearSpec{
@@ -151,6 +151,19 @@ TEST(ExtrudedParts, SpurTeethAreExtrudedHelicalAndBrokenTeethAreNot) {
   const auto faulty = gears::MakeGearContactSurface(spur, o, {}, Transform(), {broken});
   for (int part = 0; part < faulty->num_parts(); ++part)
     EXPECT_EQ(faulty->part_rows()[part], part == 4 ? 0 : 3) << part;
+  // A root crack splits its tooth into two parts (the halves either side of its centre line):
+  // both extruded, their rows splitting the profile between them.
+  const gears::ToothFaultSpec crack{.kind = gears::ToothFaultSpec::Kind::kRootCrack,
+                                    .tooth = 2,
+                                    .crack_depth_m = 0.5e-3,
+                                    .crack_angle_rad = 0.5};
+  const auto cracked = gears::MakeGearContactSurface(spur, o, {}, Transform(), {crack}, {{2, 0.8}});
+  ASSERT_EQ(cracked->num_parts(), 20);
+  for (int part = 0; part < cracked->num_parts(); ++part)
+    EXPECT_EQ(cracked->part_rows()[part], 3) << part;
+  EXPECT_EQ(cracked->part_row_length()[2] + cracked->part_row_length()[3] - 1,
+            teeth->part_row_length()[2]);
+  EXPECT_GT(ExpectFacesHoldTheirPoints(*cracked, 13), 20 * 7 * 12 - 1);
 }
 
 }  // namespace
