@@ -74,7 +74,8 @@ struct GearContactOptions {
   // tooth, and each half of a cracked one, is an extruded part (contact/contact_surface.h): with
   // rigid gears turning about parallel axes its rows of nodes share one row's gaps
   // (contact/tracked_gaps.h), so more face intervals cost their contact points' forces, not
-  // their tracking (a broken tooth, its face split at the break, is tracked node by node).
+  // their tracking (a tooth broken across part of its width, its face intervals split at the
+  // break's end, is tracked node by node).
   int involute_intervals = 100;
   int root_intervals = 2, fillet_intervals = 6, tip_intervals = 4;
   // Fillet chords within this of the fillet (ProfileResolution::fillet_max_sag_m): a fillet's

@@ -130,7 +130,7 @@ TEST(ExtrudedParts, OtherMeshesAreNot) {
   }
 }
 
-TEST(ExtrudedParts, SpurAndCrackedTeethAreExtrudedHelicalAndBrokenTeethAreNot) {
+TEST(ExtrudedParts, SpurCrackedAndBrokenTeethAreExtrudedHelicalAndPartlyBrokenTeethAreNot) {
   const gears::Gear spur(
       gears::GearSpec{.teeth = 19, .normal_module_m = 2e-3, .face_width_m = 0.01});
   const gears::Gear helical(gears::GearSpec{
@@ -151,6 +151,14 @@ TEST(ExtrudedParts, SpurAndCrackedTeethAreExtrudedHelicalAndBrokenTeethAreNot) {
   const auto faulty = gears::MakeGearContactSurface(spur, o, {}, Transform(), {broken});
   for (int part = 0; part < faulty->num_parts(); ++part)
     EXPECT_EQ(faulty->part_rows()[part], part == 4 ? 0 : 3) << part;
+  // Broken across the whole width (seed 003's fault): the fracture is a profile swept along z.
+  gears::ToothFaultSpec through = broken;
+  through.face_fraction = 1.0;
+  const auto snapped = gears::MakeGearContactSurface(spur, o, {}, Transform(), {through});
+  for (int part = 0; part < snapped->num_parts(); ++part)
+    EXPECT_EQ(snapped->part_rows()[part], 3) << part;
+  EXPECT_LT(snapped->part_row_length()[4], snapped->part_row_length()[3]);
+  EXPECT_GT(ExpectFacesHoldTheirPoints(*snapped, 17), 19 * 7 * 12 - 1 - 7 * 12);
   // A root crack splits its tooth into two parts (the halves either side of its centre line):
   // both extruded, their rows splitting the profile between them.
   const gears::ToothFaultSpec crack{.kind = gears::ToothFaultSpec::Kind::kRootCrack,
