@@ -20,40 +20,32 @@ constexpr double kPi = 3.14159265358979323846;
 
 // The two halves of a tooth mesh (minus: triangles whose centroid lies at a smaller polar
 // angle than the tooth's centre line, turned by the helix at the centroid's z; plus: the rest),
-// each with its own vertices.
+// each with its own vertices in the tooth's order (row by row, so that a spur tooth's halves
+// are extruded parts, contact/contact_surface.h, and share their rows' evaluation).
 std::pair<TriangleMesh, TriangleMesh> SplitTooth(const TriangleMesh& m, double angle,
                                                                double twist) {
-  TriangleMesh half[2];
+  // Each triangle's half, and the vertices each half uses.
+  std::vector<int> side(m.triangles.size());
   std::vector<int> index[2] = {std::vector<int>(m.vertices.size(), -1), std::vector<int>(m.vertices.size(), -1)};
-  for (const auto& t : m.triangles) {
+  for (size_t i = 0; i < m.triangles.size(); ++i) {
+    const auto& t = m.triangles[i];
     const Vec3 c = (m.vertices[t[0]] + m.vertices[t[1]] + m.vertices[t[2]]) / 3.0;
     double d = std::atan2(c.y(), c.x()) - angle - twist * c.z();
     d -= 2 * kPi * std::floor((d + kPi) / (2 * kPi));
-    const int h = d < 0 ? 0 : 1;
-    std::array<int, 3> out{};
-    for (int k = 0; k < 3; ++k) {
-      int& v = index[h][t[k]];
-      if (v < 0) {
-        v = static_cast<int>(half[h].vertices.size());
-        half[h].vertices.push_back(m.vertices[t[k]]);
-      }
-      out[k] = v;
-    }
-    half[h].triangles.push_back(out);
+    side[i] = d < 0 ? 0 : 1;
+    for (const int v : t) index[side[i]][v] = 0;
   }
-  // Each half's vertices in the tooth's own order (row by row), so that a spur tooth's halves
-  // are extruded parts too (contact/contact_surface.h) and share their rows' evaluation.
-  for (int h = 0; h < 2; ++h) {
-    std::vector<int> order;  // the half's vertices, by their index in the tooth
+  TriangleMesh half[2];
+  for (int h = 0; h < 2; ++h)
     for (size_t v = 0; v < m.vertices.size(); ++v)
-      if (index[h][v] >= 0) order.push_back(static_cast<int>(v));
-    std::vector<int> renumber(half[h].vertices.size());
-    for (size_t k = 0; k < order.size(); ++k) {
-      renumber[index[h][order[k]]] = static_cast<int>(k);
-      half[h].vertices[k] = m.vertices[order[k]];
-    }
-    for (auto& t : half[h].triangles)
-      for (int& v : t) v = renumber[v];
+      if (index[h][v] == 0) {
+        index[h][v] = static_cast<int>(half[h].vertices.size());
+        half[h].vertices.push_back(m.vertices[v]);
+      }
+  for (size_t i = 0; i < m.triangles.size(); ++i) {
+    const auto& t = m.triangles[i];
+    const std::vector<int>& to = index[side[i]];
+    half[side[i]].triangles.push_back({to[t[0]], to[t[1]], to[t[2]]});
   }
   return {std::move(half[0]), std::move(half[1])};
 }
