@@ -140,14 +140,22 @@ double ContactSurface::ExtrudedColumnFraction(int part, int column, const Vec3& 
 }
 
 int ContactSurface::ExtrudedFaceAt(int part, int column, double t, double z) const {
+  return ExtrudedFaceAt(part, column, t, ExtrudedRowPlace(part, z));
+}
+
+ContactSurface::RowPlace ContactSurface::ExtrudedRowPlace(int part, double z) const {
   const int n = part_row_length_[part], rows = part_rows_[part];
   const int first = part_vertex_start_[part];
-  // The row interval of the height (the last one holds z_{R-1}).
   int k = 0;
   while (k + 2 < rows && z >= vertices_[first + (k + 1) * n].z()) ++k;
   const double z0 = vertices_[first + k * n].z(), z1 = vertices_[first + (k + 1) * n].z();
-  const double u = std::clamp((z - z0) / (z1 - z0), 0.0, 1.0);
-  const int* faces = &cell_faces_[part_cell_start_[part] + 2 * (k * (n - 1) + column)];
+  return {k, std::clamp((z - z0) / (z1 - z0), 0.0, 1.0)};
+}
+
+int ContactSurface::ExtrudedFaceAt(int part, int column, double t, RowPlace place) const {
+  const int n = part_row_length_[part];
+  const double u = place.u;
+  const int* faces = &cell_faces_[part_cell_start_[part] + 2 * (place.interval * (n - 1) + column)];
   // The half that leaves out corner m holds the points on the other side of the diagonal.
   auto holds = [&](int face) {
     switch (face_missing_corner_[face]) {

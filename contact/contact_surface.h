@@ -200,6 +200,16 @@ class ContactSurface {
   // t in [0, 1] along the column's profile segment (in xy), then the face at t and height z.
   double ExtrudedColumnFraction(int part, int column, const Vec3& x_B) const;
   int ExtrudedFaceAt(int part, int column, double t, double z) const;
+  // The height z in rows: the row interval k (rows k, k + 1) that holds it (the last one holds
+  // z_{R-1}) and its fraction u in [0, 1] up the interval (clamped); then the face at t in the
+  // rectangle of column and interval k. The same face as ExtrudedFaceAt(part, column, t, z),
+  // for points of many columns at one height.
+  struct RowPlace {
+    int interval = 0;
+    double u = 0;
+  };
+  RowPlace ExtrudedRowPlace(int part, double z) const;
+  int ExtrudedFaceAt(int part, int column, double t, RowPlace place) const;
 
   const CullingGeometry& culling() const { return *culling_; }
 

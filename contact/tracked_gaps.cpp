@@ -206,6 +206,10 @@ TrackedGaps::TrackedGaps(const ContactSurface& surface_a, const ContactSurface& 
   odometer_b_.assign(b_.num_parts(), 0.0);
   motion_a_.assign(a_.num_parts(), 0.0);
   motion_b_.assign(b_.num_parts(), 0.0);
+  int most_rows = 0;
+  for (const ContactSurface* s : {&a_, &b_})
+    for (const int rows : s->part_rows()) most_rows = std::max(most_rows, rows);
+  row_places_.resize(static_cast<size_t>(most_rows));
   part_box_corners_b_.reserve(b_.num_parts());
   for (int j = 0; j < b_.num_parts(); ++j) part_box_corners_b_.push_back(PartBoxCorners(b_, j));
   // The corners bound every point of the boxes (as inflated, which hold them as built); the
@@ -634,12 +638,19 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
     const int shared_row = one_row ? (rows - 1) / 2 : 0;  // the middle row, away from the rims
     const int lo = one_row ? v_begin + shared_row * row_n : v_begin;
     const int hi = one_row ? lo + row_n : v_end;
+    // The evaluated row is looked at halfway to the next row (header): between two rows of
+    // nodes, so within every partner's heights, and off the partners' row edges where those
+    // have the node rows' heights (a node on such an edge is as close to the faces above and
+    // below it, a tied pair whose walks cost a second triangle distance at every look).
+    const double z_eval =
+        one_row ? 0.5 * (node_surface.vertices()[lo].z() + node_surface.vertices()[lo + row_n].z())
+                : 0.0;
     const size_t listed_from = gaps->size();
     // A node awake by the odometer: its look, walk or search, and its gap. Kept out of the
     // node loop (noinline): the loop then holds only the sleep test and the block's wake-up
     // reading, and inlined it took 2.5 % more instructions over the rigid scene (callgrind).
     auto evaluate = [&](int v) __attribute__((noinline)) {
-      const Vec3 p = X_FN * nodes[v];
+      const Vec3 p = one_row ? X_FN * Vec3(nodes[v].x(), nodes[v].y(), z_eval) : X_FN * nodes[v];
       if (pass.reach[v] > 0) {
         const double moved = (p - pass.stamp_position[v]).norm() + face_deformation_odometer_m -
                              pass.stamp_face_deformation[v];
@@ -820,45 +831,57 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
       pass.block_wake[block] = wake;
     }
     if (one_row)
-      ShareRows(node_surface, face_surface, part, shared_row, X_FN, X_WF, listed_from, gaps);
+      ShareRows(node_surface, face_surface, part, shared_row, z_eval, X_FN, X_WF, listed_from,
+                gaps);
   }
 }
 
 void TrackedGaps::ShareRows(const ContactSurface& node_surface, const ContactSurface& face_surface,
-                            int part, int shared_row, const Transform& X_FN, const Transform& X_WF,
-                            size_t listed_from, std::vector<NodeGap>* gaps) {
+                            int part, int shared_row, double z_eval, const Transform& X_FN,
+                            const Transform& X_WF, size_t listed_from, std::vector<NodeGap>* gaps) {
   const size_t m = gaps->size() - listed_from;
   if (m == 0) return;
   const int rows = node_surface.part_rows()[part], n = node_surface.part_row_length()[part];
   const int first = node_surface.part_vertex_start()[part];
   // Rows in node order: the evaluated row's entries copied into every row's place (appended
   // within the capacity reserved for every node: the rows are blocks of m entries), then each
-  // other row's made from them in place.
+  // row's made from them in place, the evaluated row's last.
   for (int k = 1; k < rows; ++k)
     for (size_t i = 0; i < m; ++i) gaps->push_back((*gaps)[listed_from + i]);
   const auto from = gaps->begin() + static_cast<long>(listed_from);
   const Vec3 z_W = X_WF.R.col(2);  // the z axis of both frames, in the world
   const Transform X_FW = X_WF.Inverse();
   const Transform X_WN = X_WF * X_FN;
-  const double z_shared = node_surface.vertices()[first + shared_row * n].z();
+  // Where each row's height (in the face frame, as RunPass's row test has it) falls among the
+  // rows of the entries' face part, found again when the part changes (the entries come in
+  // node order, a few partners each): the closest point of a row's node lies at its height.
+  int places_of = -1;
   for (size_t i = 0; i < m; ++i) {
     const NodeGap& g = *(from + static_cast<long>(shared_row * m + i));
-    // Its closest point moved along z: on the same column of the face's part (the same
-    // fraction along it), in the rectangle of the other row's height.
+    // Its closest point moved along z from the height the row was looked at: on the same
+    // column of the face's part (the same fraction along it), in the rectangle of the row's
+    // height.
     const Vec3 q_F = X_FW * g.q_W;
     const int part_f = face_surface.vertex_parts()[face_surface.triangles()[g.face][0]];
+    if (part_f != places_of) {
+      for (int k = 0; k < rows; ++k)
+        row_places_[k] = face_surface.ExtrudedRowPlace(
+            part_f, X_FN.R(2, 2) * node_surface.vertices()[first + k * n].z() + X_FN.p.z());
+      places_of = part_f;
+    }
     const int column =
         face_surface.face_cell()[g.face] % (face_surface.part_row_length()[part_f] - 1);
     const double along = face_surface.ExtrudedColumnFraction(part_f, column, q_F);
-    for (int k = 0; k < rows; ++k) {
-      if (k == shared_row) continue;
-      const double dz = node_surface.vertices()[first + k * n].z() - z_shared;
-      NodeGap& t = *(from + static_cast<long>(k * m + i));  // a copy of g
+    auto make_row = [&](int k) {
+      NodeGap& t = *(from + static_cast<long>(k * m + i));  // a copy of g (or g)
       t.node = g.node + (k - shared_row) * n;
       t.p_W = X_WN * node_surface.vertices()[t.node];  // as its evaluation would
-      t.q_W = g.q_W + dz * z_W;
-      t.face = face_surface.ExtrudedFaceAt(part_f, column, along, q_F.z() + dz);
-    }
+      t.q_W = g.q_W + (node_surface.vertices()[t.node].z() - z_eval) * z_W;
+      t.face = face_surface.ExtrudedFaceAt(part_f, column, along, row_places_[k]);
+    };
+    for (int k = 0; k < rows; ++k)
+      if (k != shared_row) make_row(k);
+    make_row(shared_row);  // g itself, last
   }
   stats_.shared_row_nodes += static_cast<long>((rows - 1) * m);
 }

@@ -72,9 +72,13 @@
 // its rows, is evaluated on its middle row alone when both sides are rigid (the surfaces' own
 // vertices; no face weights kept) and R_FN maps z along z (its off-axis entries zero to the bit:
 // a torsional model turns every gear about z exactly). The distance from a node to such faces
-// is the distance in the xy plane whatever the node's height, so each node of another row gets
-// the evaluated node's entry with its own position, the closest point moved along z and the face
-// that holds it there (ContactSurface::ExtrudedFaceAt). Rows within 16 units of the rounding of
+// is the distance in the xy plane whatever the node's height, so the row is looked at halfway
+// up to the next row (z_eval: inside a partner's rectangles where the partners' rows have the
+// node rows' heights, as two gears of one face width have; at a row's own height each node lay
+// on a row edge of the partner, as close to the faces above as below it, a tied pair whose
+// every look took two triangle distances), and each node of every row, the evaluated one's
+// included, gets that entry with its own position, the closest point moved along z to its
+// height and the face that holds it there (ContactSurface::ExtrudedFaceAt). Rows within 16 units of the rounding of
 // the faces' heights count as within them (two gears of one face width, their rows made by
 // different sums): such a node lies e beyond a rim, with the weight 1 - e / f of signed_gap.h
 // (f, the rim fade, a tenth of a row's height: 1 - e / f > 1 - 1e-13). A node beyond the
@@ -393,9 +397,10 @@ class TrackedGaps {
                Pass& pass, std::vector<NodeGap>* gaps);
   // The entries of `part`'s evaluated row (gaps from listed_from on) copied to its other rows,
   // all in node order (header: extruded parts).
+  // z_eval: the height (node frame) the row was looked at.
   void ShareRows(const ContactSurface& node_surface, const ContactSurface& face_surface, int part,
-                 int shared_row, const Transform& X_FN, const Transform& X_WF, size_t listed_from,
-                 std::vector<NodeGap>* gaps);
+                 int shared_row, double z_eval, const Transform& X_FN, const Transform& X_WF,
+                 size_t listed_from, std::vector<NodeGap>* gaps);
   double PartMotion(int part_b, const Transform& X_AB0, const Transform& X_AB1) const;
   // Starts the odometers (and the faces' deformation odometers) again from zero and seeds every
   // node anew when one has reached kOdometerRestart or is not finite, or the pose is not finite.
@@ -438,6 +443,9 @@ class TrackedGaps {
   std::vector<double> broad_phase_d_a_, broad_phase_d_b_;
   double box_radius_b_ = 0;        // rho_B: B's part boxes' corners and part centres
   std::vector<Vec3> centers_b_A_;  // scratch, #parts of B: their centres in A's frame
+  // Scratch of ShareRows, the most rows of a part of either surface: each row's place among
+  // a face part's rows.
+  std::vector<ContactSurface::RowPlace> row_places_;
 };
 
 }  // namespace orrery::contact
