@@ -78,11 +78,12 @@
 // on a row edge of the partner, as close to the faces above as below it, a tied pair whose
 // every look took two triangle distances), and each node of every row, the evaluated one's
 // included, gets that entry with its own position, the closest point moved along z to its
-// height and the face that holds it there (ContactSurface::ExtrudedFaceAt). Rows within 16 units of the rounding of
-// the faces' heights count as within them (two gears of one face width, their rows made by
-// different sums): such a node lies e beyond a rim, with the weight 1 - e / f of signed_gap.h
-// (f, the rim fade, a tenth of a row's height: 1 - e / f > 1 - 1e-13). A node beyond the
-// profile's own ends (a tooth's root middle) takes the evaluated row's rim fade there, where
+// height and the face that holds it there (ContactSurface::ExtrudedFaceAt). Rows within 16
+// units of the rounding of the faces' heights count as within them (two gears of one face
+// width, their rows made by different sums): such a node lies e beyond a rim, with the weight
+// 1 - e / f of signed_gap.h (f, the rim fade, a tenth of a row's height: 1 - e / f >
+// 1 - 1e-13). A node beyond the profile's own ends (a tooth's root middle) takes the evaluated
+// row's rim fade there, where
 // its own row, next to the part's z ends, may meet a corner face with a smaller one: the
 // weight of such a node (off the surface, never in a mesh's contact) is the z-invariant one.
 // The other rows' nodes
