@@ -210,6 +210,7 @@ TrackedGaps::TrackedGaps(const ContactSurface& surface_a, const ContactSurface& 
   for (const ContactSurface* s : {&a_, &b_})
     for (const int rows : s->part_rows()) most_rows = std::max(most_rows, rows);
   row_places_.resize(static_cast<size_t>(most_rows));
+  row_heights_.resize(static_cast<size_t>(most_rows));
   part_box_corners_b_.reserve(b_.num_parts());
   for (int j = 0; j < b_.num_parts(); ++j) part_box_corners_b_.push_back(PartBoxCorners(b_, j));
   // The corners bound every point of the boxes (as inflated, which hold them as built); the
@@ -831,14 +832,13 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
       pass.block_wake[block] = wake;
     }
     if (one_row)
-      ShareRows(node_surface, face_surface, part, shared_row, z_eval, X_FN, X_WF, listed_from,
-                gaps);
+      ShareRows(node_surface, face_surface, part, shared_row, X_FN, X_WF, listed_from, gaps);
   }
 }
 
 void TrackedGaps::ShareRows(const ContactSurface& node_surface, const ContactSurface& face_surface,
-                            int part, int shared_row, double z_eval, const Transform& X_FN,
-                            const Transform& X_WF, size_t listed_from, std::vector<NodeGap>* gaps) {
+                            int part, int shared_row, const Transform& X_FN, const Transform& X_WF,
+                            size_t listed_from, std::vector<NodeGap>* gaps) {
   const size_t m = gaps->size() - listed_from;
   if (m == 0) return;
   const int rows = node_surface.part_rows()[part], n = node_surface.part_row_length()[part];
@@ -855,18 +855,22 @@ void TrackedGaps::ShareRows(const ContactSurface& node_surface, const ContactSur
   // Where each row's height (in the face frame, as RunPass's row test has it) falls among the
   // rows of the entries' face part, found again when the part changes (the entries come in
   // node order, a few partners each): the closest point of a row's node lies at its height.
+  // Each row's height in the face frame: where its nodes' closest points lie.
+  for (int k = 0; k < rows; ++k)
+    row_heights_[k] = X_FN.R(2, 2) * node_surface.vertices()[first + k * n].z() + X_FN.p.z();
   int places_of = -1;
   for (size_t i = 0; i < m; ++i) {
     const NodeGap& g = *(from + static_cast<long>(shared_row * m + i));
-    // Its closest point moved along z from the height the row was looked at: on the same
-    // column of the face's part (the same fraction along it), in the rectangle of the row's
-    // height.
+    // Its closest point moved along z from the height the row was looked at to each row's
+    // (the closest point's own height, to its rounding: a face of a spur tooth is a thin
+    // triangle, 20 mm by 0.1 mm, whose closest points carry 1e-14 m of it along z): on the
+    // same column of the face's part (the same fraction along it), in the rectangle of the
+    // row's height.
     const Vec3 q_F = X_FW * g.q_W;
     const int part_f = face_surface.vertex_parts()[face_surface.triangles()[g.face][0]];
     if (part_f != places_of) {
       for (int k = 0; k < rows; ++k)
-        row_places_[k] = face_surface.ExtrudedRowPlace(
-            part_f, X_FN.R(2, 2) * node_surface.vertices()[first + k * n].z() + X_FN.p.z());
+        row_places_[k] = face_surface.ExtrudedRowPlace(part_f, row_heights_[k]);
       places_of = part_f;
     }
     const int column =
@@ -876,7 +880,7 @@ void TrackedGaps::ShareRows(const ContactSurface& node_surface, const ContactSur
       NodeGap& t = *(from + static_cast<long>(k * m + i));  // a copy of g (or g)
       t.node = g.node + (k - shared_row) * n;
       t.p_W = X_WN * node_surface.vertices()[t.node];  // as its evaluation would
-      t.q_W = g.q_W + (node_surface.vertices()[t.node].z() - z_eval) * z_W;
+      t.q_W = g.q_W + (row_heights_[k] - q_F.z()) * z_W;
       t.face = face_surface.ExtrudedFaceAt(part_f, column, along, row_places_[k]);
     };
     for (int k = 0; k < rows; ++k)

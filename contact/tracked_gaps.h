@@ -398,10 +398,9 @@ class TrackedGaps {
                Pass& pass, std::vector<NodeGap>* gaps);
   // The entries of `part`'s evaluated row (gaps from listed_from on) copied to its other rows,
   // all in node order (header: extruded parts).
-  // z_eval: the height (node frame) the row was looked at.
   void ShareRows(const ContactSurface& node_surface, const ContactSurface& face_surface, int part,
-                 int shared_row, double z_eval, const Transform& X_FN, const Transform& X_WF,
-                 size_t listed_from, std::vector<NodeGap>* gaps);
+                 int shared_row, const Transform& X_FN, const Transform& X_WF, size_t listed_from,
+                 std::vector<NodeGap>* gaps);
   double PartMotion(int part_b, const Transform& X_AB0, const Transform& X_AB1) const;
   // Starts the odometers (and the faces' deformation odometers) again from zero and seeds every
   // node anew when one has reached kOdometerRestart or is not finite, or the pose is not finite.
@@ -444,8 +443,9 @@ class TrackedGaps {
   std::vector<double> broad_phase_d_a_, broad_phase_d_b_;
   double box_radius_b_ = 0;        // rho_B: B's part boxes' corners and part centres
   std::vector<Vec3> centers_b_A_;  // scratch, #parts of B: their centres in A's frame
-  // Scratch of ShareRows, the most rows of a part of either surface: each row's place among
-  // a face part's rows.
+  // Scratch of ShareRows, the most rows of a part of either surface: each row's height in the
+  // face frame and its place among a face part's rows.
+  std::vector<double> row_heights_;
   std::vector<ContactSurface::RowPlace> row_places_;
 };
 
