@@ -852,10 +852,9 @@ void TrackedGaps::ShareRows(const ContactSurface& node_surface, const ContactSur
   const Vec3 z_W = X_WF.R.col(2);  // the z axis of both frames, in the world
   const Transform X_FW = X_WF.Inverse();
   const Transform X_WN = X_WF * X_FN;
-  // Where each row's height (in the face frame, as RunPass's row test has it) falls among the
-  // rows of the entries' face part, found again when the part changes (the entries come in
-  // node order, a few partners each): the closest point of a row's node lies at its height.
-  // Each row's height in the face frame: where its nodes' closest points lie.
+  // Each row's height in the face frame (as RunPass's row test has it), where its nodes'
+  // closest points lie, and where it falls among the rows of the entries' face part, found
+  // again when the part changes (the entries come in node order, a few partners each).
   for (int k = 0; k < rows; ++k)
     row_heights_[k] = X_FN.R(2, 2) * node_surface.vertices()[first + k * n].z() + X_FN.p.z();
   int places_of = -1;

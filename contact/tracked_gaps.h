@@ -83,21 +83,19 @@
 // width, their rows made by different sums): such a node lies e beyond a rim, with the weight
 // 1 - e / f of signed_gap.h (f, the rim fade, a tenth of a row's height: 1 - e / f >
 // 1 - 1e-13). A node beyond the profile's own ends (a tooth's root middle) takes the evaluated
-// row's rim fade there, where
-// its own row, next to the part's z ends, may meet a corner face with a smaller one: the
-// weight of such a node (off the surface, never in a mesh's contact) is the z-invariant one.
-// The other rows' nodes
-// are not evaluated (their state stays as it was); a part that stops sharing (a pose that
-// breaks a condition) has its nodes seeded anew. A spur tooth of face_intervals 2 has three
-// rows, so two thirds of its node work goes (docs/performance.md, "shared-rows").
-// A search is bounded. A node of a pair that has just joined the tracked set (not seeded yet)
-// is searched within the far distance 5 (d + s); a node below its face within the face's
-// distance, however deep; any other node (far at its last search, or above its face and
-// farther than d + s from it) within d + s, beyond which it would not be listed. A node with no
-// face within the bound keeps none and sleeps on the smallest bound the descent passed by (the
-// distance of a box it pruned or of a triangle it did not take, at least the search's bound:
-// FindClosestFaceInPart's unseen_d2), so that the nodes of a tooth entering the mesh zone far
-// from the other tooth's flanks (its back flank, tip and root), and the flank nodes of a tooth
+// row's rim fade there, where its own row, next to the part's z ends, may meet a corner face
+// with a smaller one: the weight of such a node (off the surface, never in a mesh's contact)
+// is the z-invariant one. The other rows' nodes are not evaluated (their state stays as it
+// was); a part that stops sharing (a pose that breaks a condition) has its nodes seeded anew. A
+// spur tooth of face_intervals 2 has three rows, so two thirds of its node work goes
+// (docs/performance.md, "shared-rows"). A search is bounded. A node of a pair that has just joined
+// the tracked set (not seeded yet) is searched within the far distance 5 (d + s); a node below its
+// face within the face's distance, however deep; any other node (far at its last search, or above
+// its face and farther than d + s from it) within d + s, beyond which it would not be listed. A
+// node with no face within the bound keeps none and sleeps on the smallest bound the descent passed
+// by (the distance of a box it pruned or of a triangle it did not take, at least the search's
+// bound: FindClosestFaceInPart's unseen_d2), so that the nodes of a tooth entering the mesh zone
+// far from the other tooth's flanks (its back flank, tip and root), and the flank nodes of a tooth
 // rolling out of it, are not searched down to a face millimetres away, nor searched again after
 // every millimetre. Only a node already deeper than the far distance inside the other body when
 // its pair joins would be missed (the run stops well before, at contact_outputs.h's default
