@@ -28,6 +28,8 @@ ContactWorkspace::ContactWorkspace(const ContactSurface& a, const ContactSurface
   node_faces_b.reserve(3 * pairs.capacity());
   gaps_a.reserve(a.num_vertices());
   gaps_b.reserve(b.num_vertices());
+  row_groups_a.reserve(a.num_parts());
+  row_groups_b.reserve(b.num_parts());
 }
 
 ContactElement::ContactElement(ContactElementSpec spec) : spec_(std::move(spec)) {
@@ -72,6 +74,8 @@ void ContactElement::UpdateGaps(const Transform& X_WA, const Transform& X_WB,
   const ContactSurface& b = *spec_.surface_b;
   if (spec_.gap_method == ContactGapMethod::kTracked) {
     ws.tracked.Update(X_WA, X_WB, &ws.gaps_a, &ws.gaps_b);
+    ws.row_groups_a.assign(ws.tracked.row_groups_a().begin(), ws.tracked.row_groups_a().end());
+    ws.row_groups_b.assign(ws.tracked.row_groups_b().begin(), ws.tracked.row_groups_b().end());
     ws.X_WA = X_WA;
     ws.X_WB = X_WB;
     ws.have_gaps = true;
@@ -89,6 +93,8 @@ void ContactElement::UpdateGaps(const Transform& X_WA, const Transform& X_WB,
   const double d = ws.search.search_distance_m();
   ComputeNodeGapsFromCandidates(a, X_WA, b, X_WB, ws.node_faces_a, d, &ws.gaps_a);
   ComputeNodeGapsFromCandidates(b, X_WB, a, X_WA, ws.node_faces_b, d, &ws.gaps_b);
+  ws.row_groups_a.clear();
+  ws.row_groups_b.clear();
   ws.X_WA = X_WA;
   ws.X_WB = X_WB;
   ws.have_gaps = true;
@@ -97,20 +103,54 @@ void ContactElement::UpdateGaps(const Transform& X_WA, const Transform& X_WB,
 
 template <class Fn>
 void ContactElement::ForEachContactPoint(const Vec6& V_WA, const Vec6& V_WB,
-                                         const ContactWorkspace& ws, Fn&& fn) const {
-  // One pass: nodes on body N (velocity V_N) against faces on body F.
+                                         const ContactWorkspace& ws, bool group_rows,
+                                         Fn&& fn) const {
+  // One pass: nodes on body N (velocity V_N, rotation R_WN) against faces on body F.
   // The node's area weight carries both parts' stiffness scales (contact_surface.h).
-  auto pass = [&](const std::vector<NodeGap>& gaps, const ContactSurface& node_surface,
-                  const ContactSurface& face_surface, const Vec6& V_N, const Vec6& V_F, bool node_on_a) {
-    for (const NodeGap& g : gaps) {
-      if (!(g.gap < 0) || !g.on_surface) continue;
+  auto pass = [&](const std::vector<NodeGap>& gaps, const std::vector<RowGroup>& groups,
+                  const ContactSurface& node_surface, const ContactSurface& face_surface,
+                  const Vec6& V_N, const Vec6& V_F, const Mat3& R_WN, bool node_on_a) {
+    auto area_of = [&](const NodeGap& g) {
+      const double scale = node_surface.vertex_stiffness_scale()[g.node] *
+                           face_surface.face_stiffness_scale()[g.face];
+      return 0.5 * g.weight * node_surface.vertex_areas()[g.node] * scale;
+    };
+    auto one = [&](const NodeGap& g) {
+      if (!InContact(g)) return;
       const Vec3 v_rel = PointVelocity(V_N, g.p_W) - PointVelocity(V_F, g.p_W);
-      const double scale = node_surface.vertex_stiffness_scale()[g.node] * face_surface.face_stiffness_scale()[g.face];
-      fn(g, v_rel, 0.5 * g.weight * node_surface.vertex_areas()[g.node] * scale, node_on_a);
+      fn(g, g.p_W, v_rel, area_of(g), 1, node_on_a);
+    };
+    // The rows of a run lie along N's z axis (tracked_gaps.h): their relative velocities are
+    // the same when the relative rotation is along it, here to the bit (a torsional model).
+    const Vec3 turn = (V_N.head<3>() - V_F.head<3>()).cross(R_WN.col(2));
+    const bool grouped = group_rows && turn.x() == 0 && turn.y() == 0 && turn.z() == 0;
+    size_t i = 0;
+    if (grouped) {
+      for (const RowGroup& run : groups) {
+        for (; i < static_cast<size_t>(run.begin); ++i) one(gaps[i]);
+        for (int e = 0; e < run.count; ++e) {
+          const NodeGap& g = gaps[run.begin + e];  // row 0's entry: the rows' gap and normal
+          if (!InContact(g)) continue;
+          double area = 0;
+          Vec3 moment = Vec3::Zero();
+          for (int k = 0; k < run.rows; ++k) {
+            const NodeGap& row = gaps[run.begin + k * run.count + e];
+            const double a = area_of(row);
+            area += a;
+            moment += a * row.p_W;
+          }
+          const Vec3 p_W = moment / area;
+          const Vec3 v_rel = PointVelocity(V_N, p_W) - PointVelocity(V_F, p_W);
+          fn(g, p_W, v_rel, area, run.rows, node_on_a);
+        }
+        i = static_cast<size_t>(run.begin) + static_cast<size_t>(run.rows) * run.count;
+      }
     }
+    for (; i < gaps.size(); ++i) one(gaps[i]);
   };
-  pass(ws.gaps_a, *spec_.surface_a, *spec_.surface_b, V_WA, V_WB, true);
-  pass(ws.gaps_b, *spec_.surface_b, *spec_.surface_a, V_WB, V_WA, false);
+  pass(ws.gaps_a, ws.row_groups_a, *spec_.surface_a, *spec_.surface_b, V_WA, V_WB, ws.X_WA.R, true);
+  pass(ws.gaps_b, ws.row_groups_b, *spec_.surface_b, *spec_.surface_a, V_WB, V_WA, ws.X_WB.R,
+       false);
 }
 
 void ContactElement::CalcForces(const Vec6& V_WA, const Vec6& V_WB, ContactWorkspace& ws,
@@ -129,48 +169,50 @@ void ContactElement::CalcForces(const Vec6& V_WA, const Vec6& V_WB, ContactWorks
   *power_dissipated = 0;
   ws.normal_force = ws.friction_force = ws.max_penetration = 0;
   ws.contact_points = 0;
+  // The force of a node acts on the node's body N, its reaction on the face's body; a shared
+  // run's rows at once (ForEachContactPoint).
+  ForEachContactPoint(V_WA, V_WB, ws, /*group_rows=*/true,
+                      [&](const NodeGap& g, const Vec3& p_W, const Vec3& v_rel, double area,
+                          int points, bool node_on_a) {
+                        const double depth = -g.gap;
+                        const NodeForce f = EvaluateContactLaw(spec_.law, depth, -v_rel.dot(g.n_W),
+                                                               g.n_W, v_rel, area);
+                        const Vec6 wrench = ForceAtPoint(p_W, f.f_W);
+                        *(node_on_a ? f_A : f_B) += wrench;
+                        *(node_on_a ? f_B : f_A) -= wrench;
+                        *energy += f.energy;
+                        *power_dissipated += f.power_dissipated;
+                        ws.normal_force += f.normal;
+                        ws.friction_force += f.friction;
+                        ws.max_penetration = std::max(ws.max_penetration, depth);
+                        ws.contact_points += points;
+                      });
   // The monitor reads the points when the workspace has its state (MakeWorkspace() makes it).
-  const ContactMonitor* monitor = outputs && ws.monitor ? spec_.monitor.get() : nullptr;
-  const bool record = outputs && spec_.record_points > 0;
-  if (monitor) monitor->Start(ws.X_WA, ws.X_WB, *ws.monitor);
-  if (outputs) ws.points.Clear();
-  const Transform X_AW = ws.X_WA.Inverse();
-  // The force of a node acts on the node's body N, its reaction on the face's body.
-  ForEachContactPoint(V_WA, V_WB, ws, [&](const NodeGap& g, const Vec3& v_rel, double area,
-                                          bool node_on_a) {
-    const double depth = -g.gap;
-    const NodeForce f = EvaluateContactLaw(spec_.law, depth, -v_rel.dot(g.n_W), g.n_W, v_rel, area);
-    const Vec6 wrench = ForceAtPoint(g.p_W, f.f_W);
-    *(node_on_a ? f_A : f_B) += wrench;
-    *(node_on_a ? f_B : f_A) -= wrench;
-    *energy += f.energy;
-    *power_dissipated += f.power_dissipated;
-    ws.normal_force += f.normal;
-    ws.friction_force += f.friction;
-    ws.max_penetration = std::max(ws.max_penetration, depth);
-    ++ws.contact_points;
-    if (monitor) monitor->Add(node_on_a ? g.p_W : g.q_W, g.n_W, f.stiffness, *ws.monitor);
-    if (record) ws.points.Add(X_AW * (node_on_a ? g.p_W : g.q_W), f.normal);
-  });
-  if (monitor) monitor->Finish(*f_A, *ws.monitor);
+  if (outputs) MakeOutputs(V_WA, V_WB, *f_A, ws);
 }
 
-void ContactElement::MakePendingOutputs(const ContactWorkspace& ws) const {
-  ws.outputs_pending = false;
-  // The loop of CalcForces() over the same points with the same law calls: the stiffness and
-  // normal force of each point, and so the monitor's sums, are those of that evaluation.
+void ContactElement::MakeOutputs(const Vec6& V_WA, const Vec6& V_WB, const Vec6& f_A,
+                                 const ContactWorkspace& ws) const {
   const ContactMonitor* monitor = ws.monitor ? spec_.monitor.get() : nullptr;
   if (monitor) monitor->Start(ws.X_WA, ws.X_WB, *ws.monitor);
   ws.points.Clear();
   const Transform X_AW = ws.X_WA.Inverse();
-  ForEachContactPoint(
-      ws.V_WA, ws.V_WB, ws, [&](const NodeGap& g, const Vec3& v_rel, double area, bool node_on_a) {
-        const NodeForce f =
-            EvaluateContactLaw(spec_.law, -g.gap, -v_rel.dot(g.n_W), g.n_W, v_rel, area);
-        if (monitor) monitor->Add(node_on_a ? g.p_W : g.q_W, g.n_W, f.stiffness, *ws.monitor);
-        if (spec_.record_points > 0) ws.points.Add(X_AW * (node_on_a ? g.p_W : g.q_W), f.normal);
-      });
-  if (monitor) monitor->Finish(ws.f_A, *ws.monitor);
+  ForEachContactPoint(V_WA, V_WB, ws, /*group_rows=*/false,
+                      [&](const NodeGap& g, const Vec3& /*p_W*/, const Vec3& v_rel, double area,
+                          int /*points*/, bool node_on_a) {
+                        const NodeForce f = EvaluateContactLaw(spec_.law, -g.gap, -v_rel.dot(g.n_W),
+                                                               g.n_W, v_rel, area);
+                        if (monitor)
+                          monitor->Add(node_on_a ? g.p_W : g.q_W, g.n_W, f.stiffness, *ws.monitor);
+                        if (spec_.record_points > 0)
+                          ws.points.Add(X_AW * (node_on_a ? g.p_W : g.q_W), f.normal);
+                      });
+  if (monitor) monitor->Finish(f_A, *ws.monitor);
+}
+
+void ContactElement::MakePendingOutputs(const ContactWorkspace& ws) const {
+  ws.outputs_pending = false;
+  MakeOutputs(ws.V_WA, ws.V_WB, ws.f_A, ws);
 }
 
 void ContactElement::AddTangents(const Model& model, const Data& data,
@@ -181,12 +223,14 @@ void ContactElement::AddTangents(const Model& model, const Data& data,
   const Mat3& R_WA = data.X_WB[a].R;
   const Mat3& R_WB = data.X_WB[b].R;
   ws.tangents.Clear();
-  ForEachContactPoint(data.V_WB[a], data.V_WB[b], ws, [&](const NodeGap& g, const Vec3& v_rel,
-                                                          double area, bool node_on_a) {
-    const NodeForceTangent t =
-        EvaluateContactLawTangent(spec_.law, -g.gap, -v_rel.dot(g.n_W), g.n_W, v_rel, area);
-    ws.tangents.AddPoint({.p_W = g.p_W, .node_on_a = node_on_a}, t, g.n_W, R_WA, R_WB);
-  });
+  ForEachContactPoint(
+      data.V_WB[a], data.V_WB[b], ws, /*group_rows=*/false,
+      [&](const NodeGap& g, const Vec3& /*p_W*/, const Vec3& v_rel, double area, int /*points*/,
+          bool node_on_a) {
+        const NodeForceTangent t =
+            EvaluateContactLawTangent(spec_.law, -g.gap, -v_rel.dot(g.n_W), g.n_W, v_rel, area);
+        ws.tangents.AddPoint({.p_W = g.p_W, .node_on_a = node_on_a}, t, g.n_W, R_WA, R_WB);
+      });
   ws.tangents.Scatter(model, data, a, b, K, C);
 }
 
@@ -214,6 +258,8 @@ void ContactElement::WarmStart(const ExternalForceWorkspace& source,
   // state just copied gives there. Within the capacity reserved at construction.
   to.gaps_a.assign(from.gaps_a.begin(), from.gaps_a.end());
   to.gaps_b.assign(from.gaps_b.begin(), from.gaps_b.end());
+  to.row_groups_a.assign(from.row_groups_a.begin(), from.row_groups_a.end());
+  to.row_groups_b.assign(from.row_groups_b.begin(), from.row_groups_b.end());
   to.X_WA = from.X_WA;
   to.X_WB = from.X_WB;
   to.have_gaps = from.have_gaps;

@@ -104,6 +104,9 @@ class ContactWorkspace final : public ExternalForceWorkspace {
   std::vector<NodeFaceCandidate> node_faces_a, node_faces_b;  // of the pairs, per pass
   GapScratch scratch_a, scratch_b;       // per-node scratch of the passes (nodes of A, of B)
   std::vector<NodeGap> gaps_a, gaps_b;   // nodes of A on B's faces, nodes of B on A's faces
+  // UpdateGaps() (kTracked; empty for kCandidatePairs): the runs of shared rows in gaps_a and
+  // gaps_b (tracked_gaps.h RowGroup), which CalcForces() evaluates once per profile point.
+  std::vector<RowGroup> row_groups_a, row_groups_b;
   Transform X_WA, X_WB;                  // poses of the last gap computation
   bool have_gaps = false;
   ContactTangents tangents;              // AddTangents()
@@ -168,14 +171,26 @@ class ContactElement final : public ExternalForceElement, public ElementHealthRe
                   Vec6* f_B, double* energy, double* power_dissipated) const;
 
  private:
-  // Calls fn(gap, v_rel, area_weight, node_on_a) for every penetrating node of ws's gaps, both
-  // passes (nodes of A on B's faces, then nodes of B on A's faces).
+  // Calls fn(gap, p_W, v_rel, area_weight, points, node_on_a) for every penetrating node of
+  // ws's gaps, both passes (nodes of A on B's faces, then nodes of B on A's faces), each with
+  // its own position p_W = gap.p_W and points = 1, in list order.
+  // group_rows: the nodes of a run of shared rows (ws.row_groups_a/_b) at one profile point
+  // make one call instead, with their areas summed, p_W their area-weighted mean and points the
+  // rows, where the pass's relative rotation is exactly about the rows' direction (so every row
+  // has the same relative velocity, and the same gap and normal by the sharing): the contact
+  // law is linear in the area (contact_law.h), so the force of the sum is the sum of the rows'
+  // forces, and its moment about any point that of the rows' forces at their own positions.
   template <class Fn>
   void ForEachContactPoint(const Vec6& V_WA, const Vec6& V_WB, const ContactWorkspace& ws,
-                           Fn&& fn) const;
+                           bool group_rows, Fn&& fn) const;
   // CalcForces() with (outputs true) or without the monitor's state and the recorded points.
   void CalcForces(const Vec6& V_WA, const Vec6& V_WB, ContactWorkspace& ws, Vec6* f_A, Vec6* f_B,
                   double* energy, double* power_dissipated, bool outputs) const;
+  // The monitor's state and the recorded points of the gaps in ws at these velocities, with
+  // f_A the force on A they gave: one law call per contact point in list order, so the same
+  // numbers whether CalcForces() makes them or GetOutputs() after a Compute().
+  void MakeOutputs(const Vec6& V_WA, const Vec6& V_WB, const Vec6& f_A,
+                   const ContactWorkspace& ws) const;
   // The monitor's state and the recorded points of the last Compute() (ContactWorkspace).
   void MakePendingOutputs(const ContactWorkspace& ws) const;
 

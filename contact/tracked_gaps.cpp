@@ -211,6 +211,8 @@ TrackedGaps::TrackedGaps(const ContactSurface& surface_a, const ContactSurface& 
     for (const int rows : s->part_rows()) most_rows = std::max(most_rows, rows);
   row_places_.resize(static_cast<size_t>(most_rows));
   row_heights_.resize(static_cast<size_t>(most_rows));
+  row_groups_a_.reserve(a_.num_parts());
+  row_groups_b_.reserve(b_.num_parts());
   part_box_corners_b_.reserve(b_.num_parts());
   for (int j = 0; j < b_.num_parts(); ++j) part_box_corners_b_.push_back(PartBoxCorners(b_, j));
   // The corners bound every point of the boxes (as inflated, which hold them as built); the
@@ -577,6 +579,8 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
                           const std::vector<double>& odometers, Pass& pass,
                           std::vector<NodeGap>* gaps) {
   gaps->clear();
+  std::vector<RowGroup>& row_groups = nodes_are_a ? row_groups_a_ : row_groups_b_;
+  row_groups.clear();
   const ContactSurface& face_surface = faces.s;
   const double walk_reach = d + search_.slack_m();
   const double far_m = kFarReaches * walk_reach;
@@ -831,8 +835,12 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
       }
       pass.block_wake[block] = wake;
     }
-    if (one_row)
+    if (one_row && gaps->size() > listed_from) {
+      row_groups.push_back({.begin = static_cast<int>(listed_from),
+                            .count = static_cast<int>(gaps->size() - listed_from),
+                            .rows = rows});
       ShareRows(node_surface, face_surface, part, shared_row, X_FN, X_WF, listed_from, gaps);
+    }
   }
 }
 

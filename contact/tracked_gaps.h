@@ -88,21 +88,24 @@
 // is the z-invariant one. The other rows' nodes are not evaluated (their state stays as it
 // was); a part that stops sharing (a pose that breaks a condition) has its nodes seeded anew. A
 // spur tooth of face_intervals 2 has three rows, so two thirds of its node work goes
-// (docs/performance.md, "shared-rows"). A search is bounded. A node of a pair that has just joined
-// the tracked set (not seeded yet) is searched within the far distance 5 (d + s); a node below its
-// face within the face's distance, however deep; any other node (far at its last search, or above
-// its face and farther than d + s from it) within d + s, beyond which it would not be listed. A
-// node with no face within the bound keeps none and sleeps on the smallest bound the descent passed
-// by (the distance of a box it pruned or of a triangle it did not take, at least the search's
-// bound: FindClosestFaceInPart's unseen_d2), so that the nodes of a tooth entering the mesh zone
-// far from the other tooth's flanks (its back flank, tip and root), and the flank nodes of a tooth
-// rolling out of it, are not searched down to a face millimetres away, nor searched again after
-// every millimetre. Only a node already deeper than the far distance inside the other body when
-// its pair joins would be missed (the run stops well before, at contact_outputs.h's default
-// penetration limit d + s). A node that sleeps without a face wakes once it may have reached
-// the surface, and is then at most one call's motion deep: it is missed only after a call that
-// moved the teeth by more than d + s, far beyond the slack s the steps are made for (a
-// diverging Newton iterate; the return to the step's states wakes it again).
+// (docs/performance.md, "shared-rows"). The lists say where rows were shared (RowGroup,
+// row_groups_a/_b): ContactElement evaluates the contact law once per profile point for all its
+// rows (contact_element.h ForEachContactPoint).
+// A search is bounded. A node of a pair that has just joined the tracked set (not seeded yet) is
+// searched within the far distance 5 (d + s); a node below its face within the face's distance,
+// however deep; any other node (far at its last search, or above its face and farther than d + s
+// from it) within d + s, beyond which it would not be listed. A node with no face within the bound
+// keeps none and sleeps on the smallest bound the descent passed by (the distance of a box it
+// pruned or of a triangle it did not take, at least the search's bound: FindClosestFaceInPart's
+// unseen_d2), so that the nodes of a tooth entering the mesh zone far from the other tooth's flanks
+// (its back flank, tip and root), and the flank nodes of a tooth rolling out of it, are not
+// searched down to a face millimetres away, nor searched again after every millimetre. Only a node
+// already deeper than the far distance inside the other body when its pair joins would be missed
+// (the run stops well before, at contact_outputs.h's default penetration limit d + s). A node that
+// sleeps without a face wakes once it may have reached the surface, and is then at most one call's
+// motion deep: it is missed only after a call that moved the teeth by more than d + s, far beyond
+// the slack s the steps are made for (a diverging Newton iterate; the return to the step's states
+// wakes it again).
 // The gap then follows signed_gap.h (NodeGapFromClosest), and the node is listed when its
 // distance is within d (as the candidate-pair path lists it) or when it penetrates, however
 // deep: the search is exact, so unlike candidate pairs a penetration beyond the margin (a step
@@ -127,6 +130,16 @@
 #include "contact/signed_gap.h"
 
 namespace orrery::contact {
+
+// A run of a gap list made by one part's shared rows (header: extruded parts): `rows` blocks of
+// `count` entries from index `begin`, block k the part's row k in node order, and entry i of
+// every block the same profile point: the same gap, face part, normal, weight and rim terms,
+// each with its own node, position, closest point and face.
+struct RowGroup {
+  int begin = 0;
+  int count = 0;
+  int rows = 0;
+};
 
 struct TrackedGapStats {
   int tracked_pairs = 0;        // part pairs tracked at the last Update()
@@ -253,6 +266,10 @@ class TrackedGaps {
   void ComputeGaps(const Transform& X_WA, const Transform& X_WB, const TrackedSide& a,
                    const TrackedSide& b, double gap_distance_m, std::vector<NodeGap>* gaps_a,
                    std::vector<NodeGap>* gaps_b);
+  // The runs of shared rows in the lists of the last ComputeGaps() (gaps_a's, gaps_b's), in
+  // list order; empty when no part shared its rows.
+  const std::vector<RowGroup>& row_groups_a() const { return row_groups_a_; }
+  const std::vector<RowGroup>& row_groups_b() const { return row_groups_b_; }
   // The tracked part pairs (part of A, part of B), sorted, of the last TrackPairs().
   const std::vector<std::pair<int, int>>& tracked_pairs() const { return tracked_; }
   const std::vector<int>& tracked_parts_a() const { return tracked_parts_a_; }
@@ -445,6 +462,7 @@ class TrackedGaps {
   // face frame and its place among a face part's rows.
   std::vector<double> row_heights_;
   std::vector<ContactSurface::RowPlace> row_places_;
+  std::vector<RowGroup> row_groups_a_, row_groups_b_;  // ComputeGaps(), #parts reserved
 };
 
 }  // namespace orrery::contact

@@ -73,9 +73,10 @@ struct GearContactOptions {
   // 2 face intervals integrate a uniform load exactly (helical gears need more). A healthy spur
   // tooth, and each half of a cracked one, is an extruded part (contact/contact_surface.h): with
   // rigid gears turning about parallel axes its rows of nodes share one row's gaps
-  // (contact/tracked_gaps.h), so more face intervals cost their contact points' forces, not
-  // their tracking (a tooth broken across part of its width, its face intervals split at the
-  // break's end, is tracked node by node).
+  // (contact/tracked_gaps.h) and one contact-law call per profile point (contact_element.h),
+  // so more face intervals cost their rows' list entries, not their tracking or their forces (a
+  // tooth broken across part of its width, its face intervals split at the break's end, is
+  // tracked node by node).
   int involute_intervals = 100;
   int root_intervals = 2, fillet_intervals = 6, tip_intervals = 4;
   // Fillet chords within this of the fillet (ProfileResolution::fillet_max_sag_m): a fillet's
