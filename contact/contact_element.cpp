@@ -67,13 +67,21 @@ std::unique_ptr<ExternalForceWorkspace> ContactElement::MakeWorkspace(const Mode
 
 void ContactElement::UpdateGaps(const Transform& X_WA, const Transform& X_WB,
                                 ContactWorkspace& ws) const {
+  UpdateGaps(X_WA, X_WB, ws, /*defer_rows=*/false);
+}
+
+void ContactElement::UpdateGaps(const Transform& X_WA, const Transform& X_WB, ContactWorkspace& ws,
+                                bool defer_rows) const {
   ws.searched = false;
   ws.gaps_recomputed = false;
-  if (ws.have_gaps && SamePose(X_WA, ws.X_WA) && SamePose(X_WB, ws.X_WB)) return;
+  if (ws.have_gaps && SamePose(X_WA, ws.X_WA) && SamePose(X_WB, ws.X_WB)) {
+    if (!defer_rows) CompleteRows(ws);
+    return;
+  }
   const ContactSurface& a = *spec_.surface_a;
   const ContactSurface& b = *spec_.surface_b;
   if (spec_.gap_method == ContactGapMethod::kTracked) {
-    ws.tracked.Update(X_WA, X_WB, &ws.gaps_a, &ws.gaps_b);
+    ws.tracked.Update(X_WA, X_WB, &ws.gaps_a, &ws.gaps_b, defer_rows);
     ws.row_groups_a.assign(ws.tracked.row_groups_a().begin(), ws.tracked.row_groups_a().end());
     ws.row_groups_b.assign(ws.tracked.row_groups_b().begin(), ws.tracked.row_groups_b().end());
     ws.X_WA = X_WA;
@@ -101,6 +109,11 @@ void ContactElement::UpdateGaps(const Transform& X_WA, const Transform& X_WB,
   ws.gaps_recomputed = true;
 }
 
+void ContactElement::CompleteRows(const ContactWorkspace& ws) const {
+  ws.tracked.CompleteRows(ws.X_WA, ws.X_WB, &ws.gaps_a, &ws.row_groups_a, /*nodes_are_a=*/true);
+  ws.tracked.CompleteRows(ws.X_WA, ws.X_WB, &ws.gaps_b, &ws.row_groups_b, /*nodes_are_a=*/false);
+}
+
 template <class Fn>
 void ContactElement::ForEachContactPoint(const Vec6& V_WA, const Vec6& V_WB,
                                          const ContactWorkspace& ws, bool group_rows,
@@ -109,7 +122,8 @@ void ContactElement::ForEachContactPoint(const Vec6& V_WA, const Vec6& V_WB,
   // The node's area weight carries both parts' stiffness scales (contact_surface.h).
   auto pass = [&](const std::vector<NodeGap>& gaps, const std::vector<RowGroup>& groups,
                   const ContactSurface& node_surface, const ContactSurface& face_surface,
-                  const Vec6& V_N, const Vec6& V_F, const Mat3& R_WN, bool node_on_a) {
+                  const Vec6& V_N, const Vec6& V_F, const Transform& X_WN, bool node_on_a) {
+    const Mat3& R_WN = X_WN.R;
     auto area_of = [&](const NodeGap& g) {
       const double scale = node_surface.vertex_stiffness_scale()[g.node] *
                            face_surface.face_stiffness_scale()[g.face];
@@ -128,29 +142,37 @@ void ContactElement::ForEachContactPoint(const Vec6& V_WA, const Vec6& V_WB,
     if (grouped) {
       for (const RowGroup& run : groups) {
         for (; i < static_cast<size_t>(run.begin); ++i) one(gaps[i]);
+        const int n = node_surface.part_row_length()[run.part];
         for (int e = 0; e < run.count; ++e) {
-          const NodeGap& g = gaps[run.begin + e];  // row 0's entry: the rows' gap and normal
+          // The first listed row's entry: the rows' gap and normal.
+          const NodeGap& g = gaps[run.begin + e];
           if (!InContact(g)) continue;
-          double area = 0;
-          Vec3 moment = Vec3::Zero();
+          // The rows' nodes from the run's first (pending: the evaluated row's), their areas
+          // and heights; the weight and both stiffness scales are the rows' own (one part
+          // each side). The same numbers from a pending run as from the run made whole.
+          const double scale = node_surface.vertex_stiffness_scale()[g.node] *
+                               face_surface.face_stiffness_scale()[g.face];
+          const int first = g.node - (run.pending ? run.shared_row * n : 0);
+          double area = 0, height = 0;
           for (int k = 0; k < run.rows; ++k) {
-            const NodeGap& row = gaps[run.begin + k * run.count + e];
-            const double a = area_of(row);
+            const int v = first + k * n;
+            const double a = 0.5 * g.weight * node_surface.vertex_areas()[v] * scale;
             area += a;
-            moment += a * row.p_W;
+            height += a * node_surface.vertices()[v].z();
           }
-          const Vec3 p_W = moment / area;
+          const Vec3& x = node_surface.vertices()[g.node];  // every row's x and y, to the bit
+          const Vec3 p_W = X_WN * Vec3(x.x(), x.y(), height / area);
           const Vec3 v_rel = PointVelocity(V_N, p_W) - PointVelocity(V_F, p_W);
           fn(g, p_W, v_rel, area, run.rows, node_on_a);
         }
-        i = static_cast<size_t>(run.begin) + static_cast<size_t>(run.rows) * run.count;
+        i = static_cast<size_t>(run.begin) +
+            static_cast<size_t>(run.pending ? 1 : run.rows) * run.count;
       }
     }
     for (; i < gaps.size(); ++i) one(gaps[i]);
   };
-  pass(ws.gaps_a, ws.row_groups_a, *spec_.surface_a, *spec_.surface_b, V_WA, V_WB, ws.X_WA.R, true);
-  pass(ws.gaps_b, ws.row_groups_b, *spec_.surface_b, *spec_.surface_a, V_WB, V_WA, ws.X_WB.R,
-       false);
+  pass(ws.gaps_a, ws.row_groups_a, *spec_.surface_a, *spec_.surface_b, V_WA, V_WB, ws.X_WA, true);
+  pass(ws.gaps_b, ws.row_groups_b, *spec_.surface_b, *spec_.surface_a, V_WB, V_WA, ws.X_WB, false);
 }
 
 void ContactElement::CalcForces(const Vec6& V_WA, const Vec6& V_WB, ContactWorkspace& ws,
@@ -193,6 +215,7 @@ void ContactElement::CalcForces(const Vec6& V_WA, const Vec6& V_WB, ContactWorks
 
 void ContactElement::MakeOutputs(const Vec6& V_WA, const Vec6& V_WB, const Vec6& f_A,
                                  const ContactWorkspace& ws) const {
+  CompleteRows(ws);  // every point on its own
   const ContactMonitor* monitor = ws.monitor ? spec_.monitor.get() : nullptr;
   if (monitor) monitor->Start(ws.X_WA, ws.X_WB, *ws.monitor);
   ws.points.Clear();
@@ -223,6 +246,7 @@ void ContactElement::AddTangents(const Model& model, const Data& data,
   const Mat3& R_WA = data.X_WB[a].R;
   const Mat3& R_WB = data.X_WB[b].R;
   ws.tangents.Clear();
+  CompleteRows(ws);  // every point on its own (the lever arms differ along the rows)
   ForEachContactPoint(
       data.V_WB[a], data.V_WB[b], ws, /*group_rows=*/false,
       [&](const NodeGap& g, const Vec3& /*p_W*/, const Vec3& v_rel, double area, int /*points*/,
@@ -238,7 +262,7 @@ void ContactElement::Compute(const Model& /*model*/, double /*t*/, const Data& d
                              ExternalForceWorkspace& workspace) const {
   auto& ws = static_cast<ContactWorkspace&>(workspace);
   const BodyIndex a = spec_.body_a, b = spec_.body_b;
-  UpdateGaps(data.X_WB[a], data.X_WB[b], ws);
+  UpdateGaps(data.X_WB[a], data.X_WB[b], ws, /*defer_rows=*/true);
   // The monitor and the recorded points wait for GetOutputs() (ContactWorkspace).
   CalcForces(data.V_WB[a], data.V_WB[b], ws, &ws.f_A, &ws.f_B, &ws.energy, &ws.power_dissipated,
              /*outputs=*/false);

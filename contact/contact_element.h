@@ -103,10 +103,16 @@ class ContactWorkspace final : public ExternalForceWorkspace {
   std::vector<TrianglePair> pairs;       // candidate pairs of the last search
   std::vector<NodeFaceCandidate> node_faces_a, node_faces_b;  // of the pairs, per pass
   GapScratch scratch_a, scratch_b;       // per-node scratch of the passes (nodes of A, of B)
-  std::vector<NodeGap> gaps_a, gaps_b;   // nodes of A on B's faces, nodes of B on A's faces
-  // UpdateGaps() (kTracked; empty for kCandidatePairs): the runs of shared rows in gaps_a and
-  // gaps_b (tracked_gaps.h RowGroup), which CalcForces() evaluates once per profile point.
-  std::vector<RowGroup> row_groups_a, row_groups_b;
+  // Nodes of A on B's faces, nodes of B on A's faces (UpdateGaps()), and the runs of shared rows
+  // in them (tracked_gaps.h RowGroup; kTracked only), which CalcForces() evaluates once per
+  // profile point. A model's evaluation (Compute()) leaves the shared rows pending, only the
+  // evaluated rows' entries listed: its forces need no more. Whatever reads the points (the
+  // outputs, the tangents, UpdateGaps() at the same poses) completes them first
+  // (ContactElement::CompleteRows), so they are mutable; a caller reading the lists after
+  // Apply() or Compute() finds one entry per profile point of a shared part (its evaluated
+  // row's nodes), and after UpdateGaps() every node.
+  mutable std::vector<NodeGap> gaps_a, gaps_b;
+  mutable std::vector<RowGroup> row_groups_a, row_groups_b;
   Transform X_WA, X_WB;                  // poses of the last gap computation
   bool have_gaps = false;
   ContactTangents tangents;              // AddTangents()
@@ -163,7 +169,7 @@ class ContactElement final : public ExternalForceElement, public ElementHealthRe
                    Eigen::Ref<Eigen::MatrixXd> K, Eigen::Ref<Eigen::MatrixXd> C) const override;
 
   // Stages 1-2 of Apply() for given poses (also used by benchmarks): refreshes the pairs and
-  // the gaps in `ws` if the poses changed.
+  // the gaps in `ws` if the poses changed; every listed node's entry (shared rows complete).
   void UpdateGaps(const Transform& X_WA, const Transform& X_WB, ContactWorkspace& ws) const;
   // Stages 3-4: forces from the gaps in `ws` and the body velocities (spatial, world origin),
   // returned as spatial forces on A and B about the world origin; fills the outputs of `ws`.
@@ -180,9 +186,16 @@ class ContactElement final : public ExternalForceElement, public ElementHealthRe
   // has the same relative velocity, and the same gap and normal by the sharing): the contact
   // law is linear in the area (contact_law.h), so the force of the sum is the sum of the rows'
   // forces, and its moment about any point that of the rows' forces at their own positions.
+  // A pending run's rows are read from its evaluated row (their nodes' areas and heights);
+  // without group_rows the runs must be complete.
   template <class Fn>
   void ForEachContactPoint(const Vec6& V_WA, const Vec6& V_WB, const ContactWorkspace& ws,
                            bool group_rows, Fn&& fn) const;
+  // UpdateGaps(), leaving the shared rows pending with defer_rows (Compute()).
+  void UpdateGaps(const Transform& X_WA, const Transform& X_WB, ContactWorkspace& ws,
+                  bool defer_rows) const;
+  // The pending shared rows of ws's lists made (TrackedGaps::CompleteRows at ws's poses).
+  void CompleteRows(const ContactWorkspace& ws) const;
   // CalcForces() with (outputs true) or without the monitor's state and the recorded points.
   void CalcForces(const Vec6& V_WA, const Vec6& V_WB, ContactWorkspace& ws, Vec6* f_A, Vec6* f_B,
                   double* energy, double* power_dissipated, bool outputs) const;

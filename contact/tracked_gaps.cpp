@@ -206,11 +206,6 @@ TrackedGaps::TrackedGaps(const ContactSurface& surface_a, const ContactSurface& 
   odometer_b_.assign(b_.num_parts(), 0.0);
   motion_a_.assign(a_.num_parts(), 0.0);
   motion_b_.assign(b_.num_parts(), 0.0);
-  int most_rows = 0;
-  for (const ContactSurface* s : {&a_, &b_})
-    for (const int rows : s->part_rows()) most_rows = std::max(most_rows, rows);
-  row_places_.resize(static_cast<size_t>(most_rows));
-  row_heights_.resize(static_cast<size_t>(most_rows));
   row_groups_a_.reserve(a_.num_parts());
   row_groups_b_.reserve(b_.num_parts());
   part_box_corners_b_.reserve(b_.num_parts());
@@ -321,11 +316,53 @@ double TrackedGaps::PartMotion(int part_b, const Transform& X_AB0,
   return std::min(std::sqrt(corners2), aligned);
 }
 
-void TrackedGaps::Update(const Transform& X_WA, const Transform& X_WB,
-                         std::vector<NodeGap>* gaps_a, std::vector<NodeGap>* gaps_b) {
+void TrackedGaps::Update(const Transform& X_WA, const Transform& X_WB, std::vector<NodeGap>* gaps_a,
+                         std::vector<NodeGap>* gaps_b, bool defer_rows) {
+  defer_rows_ = defer_rows;
   Update(X_WA, X_WB, {.vertices = &a_.vertices(), .normals = &a_.face_normals()},
          {.vertices = &b_.vertices(), .normals = &b_.face_normals()},
          search_.search_distance_m(), gaps_a, gaps_b);
+  defer_rows_ = false;
+}
+
+void TrackedGaps::CompleteRows(const Transform& X_WA, const Transform& X_WB,
+                               std::vector<NodeGap>* gaps, std::vector<RowGroup>* groups,
+                               bool nodes_are_a) const {
+  // The rows each pending run adds, and the list's size with them (within its capacity).
+  size_t added = 0;
+  for (const RowGroup& run : *groups)
+    if (run.pending) added += static_cast<size_t>(run.rows - 1) * run.count;
+  if (added == 0) return;
+  const ContactSurface& node_surface = nodes_are_a ? a_ : b_;
+  const ContactSurface& face_surface = nodes_are_a ? b_ : a_;
+  const Transform& X_WN = nodes_are_a ? X_WA : X_WB;
+  const Transform& X_WF = nodes_are_a ? X_WB : X_WA;
+  const Transform X_FN = X_WF.Inverse() * X_WN;  // as ComputeGaps gives it to the pass
+  const size_t old_size = gaps->size();
+  gaps->resize(old_size + added);
+  NodeGap* list = gaps->data();
+  // From the last run back: the entries after a run move by the rows added up to and with it,
+  // the run's own entries by those added before it, and a pending run's rows are then made in
+  // its block (its evaluated row's entries first, ShareRows).
+  size_t tail_end = old_size;  // the end of the entries after run j, before the moves
+  size_t shift = added;        // how far they move
+  auto move_right = [&](size_t from, size_t to, size_t by) {
+    if (by > 0 && to > from) std::move_backward(list + from, list + to, list + to + by);
+  };
+  for (size_t j = groups->size(); j-- > 0;) {
+    RowGroup& run = (*groups)[j];
+    const size_t begin = static_cast<size_t>(run.begin);
+    const size_t end = begin + static_cast<size_t>(run.pending ? 1 : run.rows) * run.count;
+    move_right(end, tail_end, shift);
+    if (run.pending) shift -= static_cast<size_t>(run.rows - 1) * run.count;
+    move_right(begin, end, shift);
+    run.begin = static_cast<int>(begin + shift);
+    if (run.pending) {
+      ShareRows(node_surface, face_surface, run, X_FN, X_WF, list + run.begin);
+      run.pending = false;
+    }
+    tail_end = begin;
+  }
 }
 
 void TrackedGaps::Update(const Transform& X_WA, const Transform& X_WB, const TrackedSide& side_a,
@@ -836,38 +873,41 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
       pass.block_wake[block] = wake;
     }
     if (one_row && gaps->size() > listed_from) {
-      row_groups.push_back({.begin = static_cast<int>(listed_from),
-                            .count = static_cast<int>(gaps->size() - listed_from),
-                            .rows = rows});
-      ShareRows(node_surface, face_surface, part, shared_row, X_FN, X_WF, listed_from, gaps);
+      const RowGroup run{.begin = static_cast<int>(listed_from),
+                         .count = static_cast<int>(gaps->size() - listed_from),
+                         .rows = rows,
+                         .part = part,
+                         .shared_row = shared_row,
+                         .pending = defer_rows_};
+      row_groups.push_back(run);
+      stats_.shared_row_nodes += static_cast<long>(rows - 1) * run.count;
+      if (!defer_rows_) {  // the other rows' entries now (within the capacity for every node)
+        gaps->resize(listed_from + static_cast<size_t>(rows) * run.count);
+        ShareRows(node_surface, face_surface, run, X_FN, X_WF, gaps->data() + listed_from);
+      }
     }
   }
 }
 
 void TrackedGaps::ShareRows(const ContactSurface& node_surface, const ContactSurface& face_surface,
-                            int part, int shared_row, const Transform& X_FN, const Transform& X_WF,
-                            size_t listed_from, std::vector<NodeGap>* gaps) {
-  const size_t m = gaps->size() - listed_from;
-  if (m == 0) return;
-  const int rows = node_surface.part_rows()[part], n = node_surface.part_row_length()[part];
-  const int first = node_surface.part_vertex_start()[part];
-  // Rows in node order: the evaluated row's entries copied into every row's place (appended
-  // within the capacity reserved for every node: the rows are blocks of m entries), then each
+                            const RowGroup& run, const Transform& X_FN, const Transform& X_WF,
+                            NodeGap* block) const {
+  const size_t m = static_cast<size_t>(run.count);
+  const int rows = run.rows, n = node_surface.part_row_length()[run.part];
+  const int first = node_surface.part_vertex_start()[run.part];
+  // Rows in node order: the evaluated row's entries copied into every row's place, then each
   // row's made from them in place, the evaluated row's last.
-  for (int k = 1; k < rows; ++k)
-    for (size_t i = 0; i < m; ++i) gaps->push_back((*gaps)[listed_from + i]);
-  const auto from = gaps->begin() + static_cast<long>(listed_from);
+  for (int k = 1; k < rows; ++k) std::copy(block, block + m, block + k * m);
   const Vec3 z_W = X_WF.R.col(2);  // the z axis of both frames, in the world
   const Transform X_FW = X_WF.Inverse();
   const Transform X_WN = X_WF * X_FN;
-  // Each row's height in the face frame (as RunPass's row test has it), where its nodes'
-  // closest points lie, and where it falls among the rows of the entries' face part, found
-  // again when the part changes (the entries come in node order, a few partners each).
-  for (int k = 0; k < rows; ++k)
-    row_heights_[k] = X_FN.R(2, 2) * node_surface.vertices()[first + k * n].z() + X_FN.p.z();
-  int places_of = -1;
+  // Row k's height in the face frame (as RunPass's row test has it), where its nodes' closest
+  // points lie.
+  auto height = [&](int k) {
+    return X_FN.R(2, 2) * node_surface.vertices()[first + k * n].z() + X_FN.p.z();
+  };
   for (size_t i = 0; i < m; ++i) {
-    const NodeGap& g = *(from + static_cast<long>(shared_row * m + i));
+    const NodeGap& g = block[run.shared_row * m + i];
     // Its closest point moved along z from the height the row was looked at to each row's
     // (the closest point's own height, to its rounding: a face of a spur tooth is a thin
     // triangle, 20 mm by 0.1 mm, whose closest points carry 1e-14 m of it along z): on the
@@ -875,26 +915,22 @@ void TrackedGaps::ShareRows(const ContactSurface& node_surface, const ContactSur
     // row's height.
     const Vec3 q_F = X_FW * g.q_W;
     const int part_f = face_surface.vertex_parts()[face_surface.triangles()[g.face][0]];
-    if (part_f != places_of) {
-      for (int k = 0; k < rows; ++k)
-        row_places_[k] = face_surface.ExtrudedRowPlace(part_f, row_heights_[k]);
-      places_of = part_f;
-    }
     const int column =
         face_surface.face_cell()[g.face] % (face_surface.part_row_length()[part_f] - 1);
     const double along = face_surface.ExtrudedColumnFraction(part_f, column, q_F);
     auto make_row = [&](int k) {
-      NodeGap& t = *(from + static_cast<long>(k * m + i));  // a copy of g (or g)
-      t.node = g.node + (k - shared_row) * n;
+      NodeGap& t = block[k * m + i];  // a copy of g (or g)
+      const double z_k = height(k);
+      t.node = g.node + (k - run.shared_row) * n;
       t.p_W = X_WN * node_surface.vertices()[t.node];  // as its evaluation would
-      t.q_W = g.q_W + (row_heights_[k] - q_F.z()) * z_W;
-      t.face = face_surface.ExtrudedFaceAt(part_f, column, along, row_places_[k]);
+      t.q_W = g.q_W + (z_k - q_F.z()) * z_W;
+      t.face = face_surface.ExtrudedFaceAt(part_f, column, along,
+                                           face_surface.ExtrudedRowPlace(part_f, z_k));
     };
     for (int k = 0; k < rows; ++k)
-      if (k != shared_row) make_row(k);
-    make_row(shared_row);  // g itself, last
+      if (k != run.shared_row) make_row(k);
+    make_row(run.shared_row);  // g itself, last
   }
-  stats_.shared_row_nodes += static_cast<long>((rows - 1) * m);
 }
 
 }  // namespace orrery::contact

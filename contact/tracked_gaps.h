@@ -134,11 +134,17 @@ namespace orrery::contact {
 // A run of a gap list made by one part's shared rows (header: extruded parts): `rows` blocks of
 // `count` entries from index `begin`, block k the part's row k in node order, and entry i of
 // every block the same profile point: the same gap, face part, normal, weight and rim terms,
-// each with its own node, position, closest point and face.
+// each with its own node, position, closest point and face. Pending (Update with defer_rows):
+// only the evaluated row's `count` entries are there, from `begin` (its nodes, looked at at the
+// height between rows: their positions, closest points and faces are those of that height);
+// TrackedGaps::CompleteRows makes the other rows.
 struct RowGroup {
   int begin = 0;
   int count = 0;
   int rows = 0;
+  int part = -1;       // of the node surface
+  int shared_row = 0;  // the evaluated row
+  bool pending = false;
 };
 
 struct TrackedGapStats {
@@ -175,8 +181,16 @@ class TrackedGaps {
   // faces, each in increasing node order: every evaluated node (or shared row's node) within the
   // search distance d and every penetrating node. Nodes that cannot touch are left out (their gaps
   // are positive).
+  // defer_rows: the shared rows are left pending (RowGroup) for CompleteRows(), so a caller that
+  // needs the evaluated rows alone (ContactElement's forces) does not pay for the others.
   void Update(const Transform& X_WA, const Transform& X_WB, std::vector<NodeGap>* gaps_a,
-              std::vector<NodeGap>* gaps_b);
+              std::vector<NodeGap>* gaps_b, bool defer_rows = false);
+  // The pending runs of *gaps (gaps_a of an Update at X_WA, X_WB with nodes_are_a, else gaps_b;
+  // *groups its row groups, as row_groups_a() / _b() gave them) made whole in place: the list
+  // then holds what Update() without defer_rows gives, to the bit, and *groups its runs.
+  // Allocation-free (the lists are reserved for every node of their surface).
+  void CompleteRows(const Transform& X_WA, const Transform& X_WB, std::vector<NodeGap>* gaps,
+                    std::vector<RowGroup>* groups, bool nodes_are_a) const;
   // The same with deformed surfaces (flexible_contact_element.h): each side's vertices and
   // face normals in its body frame (#V and #T of its surface), the largest displacement of a
   // vertex from the surface's own (the hierarchies' boxes are grown by it), and the largest
@@ -411,11 +425,11 @@ class TrackedGaps {
                double face_deformation_odometer_m, double d, const Transform& X_FN,
                const Transform& X_WF, bool nodes_are_a, const std::vector<double>& odometers,
                Pass& pass, std::vector<NodeGap>* gaps);
-  // The entries of `part`'s evaluated row (gaps from listed_from on) copied to its other rows,
-  // all in node order (header: extruded parts).
-  void ShareRows(const ContactSurface& node_surface, const ContactSurface& face_surface, int part,
-                 int shared_row, const Transform& X_FN, const Transform& X_WF, size_t listed_from,
-                 std::vector<NodeGap>* gaps);
+  // The evaluated row's entries of a run, at block[0, run.count), made every row's entries in
+  // node order into block[0, run.rows run.count) (header: extruded parts).
+  void ShareRows(const ContactSurface& node_surface, const ContactSurface& face_surface,
+                 const RowGroup& run, const Transform& X_FN, const Transform& X_WF,
+                 NodeGap* block) const;
   double PartMotion(int part_b, const Transform& X_AB0, const Transform& X_AB1) const;
   // Starts the odometers (and the faces' deformation odometers) again from zero and seeds every
   // node anew when one has reached kOdometerRestart or is not finite, or the pose is not finite.
@@ -458,11 +472,8 @@ class TrackedGaps {
   std::vector<double> broad_phase_d_a_, broad_phase_d_b_;
   double box_radius_b_ = 0;        // rho_B: B's part boxes' corners and part centres
   std::vector<Vec3> centers_b_A_;  // scratch, #parts of B: their centres in A's frame
-  // Scratch of ShareRows, the most rows of a part of either surface: each row's height in the
-  // face frame and its place among a face part's rows.
-  std::vector<double> row_heights_;
-  std::vector<ContactSurface::RowPlace> row_places_;
   std::vector<RowGroup> row_groups_a_, row_groups_b_;  // ComputeGaps(), #parts reserved
+  bool defer_rows_ = false;                            // Update()'s, for its passes
 };
 
 }  // namespace orrery::contact

@@ -697,5 +697,71 @@ TEST_F(TrackedGapsTest, SharedRowsGiveTheGapsOfEveryRow) {
   EXPECT_LT(s.node_evaluations, 2 * f.node_evaluations / 3);
 }
 
+// Deferred rows (Update with defer_rows, ContactElement's evaluations): the lists hold each
+// shared part's evaluated row alone, pending in its RowGroup, and CompleteRows then makes them
+// the lists of an Update without deferral to the bit (every field of every entry) with the same
+// runs; completing again changes nothing. Over SharedRowsGiveTheGapsOfEveryRow's poses (the
+// roll with its iterates, jumps and diverging iterate, the sharing stopped and started 18
+// times).
+TEST_F(TrackedGapsTest, DeferredRowsCompleteToTheListsOfAnUpdate) {
+  Tracking deferred(*s1_, *s2_, /*keep_face_weights=*/false), whole(*s1_, *s2_, false);
+  const std::vector<Poses> roll = RollWithIterates({{1e-5, -2e-6}}, 0.05);
+  std::vector<Poses> poses;
+  for (size_t k = 0; k < roll.size(); ++k) {
+    poses.push_back(roll[k]);
+    if (k % 50 != 25) continue;
+    const Poses& p = roll[k];
+    poses.push_back({p.X_W1, Transform(p.X_W2.R, p.X_W2.p + Vec3(0, 0, 1e-6))});
+    poses.push_back({p.X_W1, Transform(p.X_W2.R * AxisAngle(Vec3::UnitX(), 1e-4), p.X_W2.p)});
+  }
+  auto same = [](const NodeGap& x, const NodeGap& y) {
+    return x.node == y.node && x.face == y.face && x.gap == y.gap && x.on_surface == y.on_surface &&
+           x.weight == y.weight && x.rim_offset_m == y.rim_offset_m &&
+           x.rim_fade_m == y.rim_fade_m && x.p_W == y.p_W && x.q_W == y.q_W && x.n_W == y.n_W;
+  };
+  long pending_runs = 0, completed = 0;
+  for (size_t k = 0; k < poses.size(); ++k) {
+    const Poses& p = poses[k];
+    deferred.tracked.Update(p.X_W1, p.X_W2, &deferred.gaps_a, &deferred.gaps_b,
+                            /*defer_rows=*/true);
+    whole.tracked.Update(p.X_W1, p.X_W2, &whole.gaps_a, &whole.gaps_b);
+    for (const bool a : {true, false}) {
+      const std::string where = "pose " + std::to_string(k) + (a ? " dir 0" : " dir 1");
+      std::vector<NodeGap>& got = a ? deferred.gaps_a : deferred.gaps_b;
+      const std::vector<NodeGap>& want = a ? whole.gaps_a : whole.gaps_b;
+      std::vector<RowGroup> runs =
+          a ? deferred.tracked.row_groups_a() : deferred.tracked.row_groups_b();
+      const std::vector<RowGroup>& want_runs =
+          a ? whole.tracked.row_groups_a() : whole.tracked.row_groups_b();
+      size_t rows_left = 0;
+      for (const RowGroup& run : runs) {
+        ASSERT_TRUE(run.pending) << where;
+        rows_left += static_cast<size_t>(run.rows - 1) * run.count;
+        ++pending_runs;
+      }
+      ASSERT_EQ(got.size() + rows_left, want.size()) << where;
+      for (int twice = 0; twice < 2; ++twice) {
+        deferred.tracked.CompleteRows(p.X_W1, p.X_W2, &got, &runs, a);
+        ASSERT_EQ(got.size(), want.size()) << where;
+        for (size_t i = 0; i < got.size(); ++i)
+          ASSERT_TRUE(same(got[i], want[i])) << where << " entry " << i << " node " << got[i].node;
+        ASSERT_EQ(runs.size(), want_runs.size()) << where;
+        for (size_t j = 0; j < runs.size(); ++j) {
+          ASSERT_EQ(runs[j].begin, want_runs[j].begin) << where;
+          ASSERT_EQ(runs[j].count, want_runs[j].count) << where;
+          ASSERT_EQ(runs[j].rows, want_runs[j].rows) << where;
+          ASSERT_EQ(runs[j].part, want_runs[j].part) << where;
+          ASSERT_EQ(runs[j].shared_row, want_runs[j].shared_row) << where;
+          ASSERT_FALSE(runs[j].pending || want_runs[j].pending) << where;
+        }
+      }
+      completed += static_cast<long>(rows_left);
+    }
+  }
+  std::printf("deferred rows: %ld runs pending, %ld entries made by CompleteRows\n", pending_runs,
+              completed);
+  EXPECT_GT(pending_runs, 1000);
+}
+
 }  // namespace
 }  // namespace orrery::contact
