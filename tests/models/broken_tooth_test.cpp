@@ -171,7 +171,8 @@ PairRun RunPair(bool broken) {
     x.normal_force = cw.normal_force;
     x.max_penetration = cw.max_penetration;
     // Wheel teeth loaded: a penetrating wheel node, or a pinion node on a wheel face (parts are
-    // the present teeth in order, MakeGearContactSurface).
+    // the present teeth in order, MakeGearContactSurface). After Apply() a tooth whose rows
+    // share one row's gaps lists that row alone (contact_element.h): the same teeth.
     auto tooth_of_part = [&](int part) { return broken && part >= kBroken ? part + 1 : part; };
     auto part_of = [](const std::vector<int>& start, int index) {
       return static_cast<int>(std::upper_bound(start.begin(), start.end(), index) - start.begin()) - 1;
