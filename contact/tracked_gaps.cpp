@@ -47,6 +47,10 @@ constexpr double kWalkRounding = 1e-12;
 // them (RunPass, extruded parts).
 constexpr double kRowHeightUlps = 16;
 
+// The row of an extruded part of `rows` rows whose nodes are evaluated when they share: the
+// middle one, away from the rims.
+int EvaluatedRow(int rows) { return (rows - 1) / 2; }
+
 bool IsVertex(TriangleFeature f) {
   return f == TriangleFeature::kVertex0 || f == TriangleFeature::kVertex1 ||
          f == TriangleFeature::kVertex2;
@@ -253,7 +257,14 @@ void TrackedGaps::WarmStartFrom(const TrackedGaps& source) {
   auto copy_parts = [](const ContactSurface& surface, const std::vector<int>& parts,
                        const Pass& from, Pass& to) {
     for (const int part : parts) {
-      const int v0 = surface.part_vertex_start()[part], v1 = surface.part_vertex_start()[part + 1];
+      int v0 = surface.part_vertex_start()[part], v1 = surface.part_vertex_start()[part + 1];
+      // A part sharing its rows reads its evaluated row alone (the others are seeded anew when
+      // it stops: RunPass), so that row's nodes are the state there is to take.
+      if (from.rows_shared[part]) {
+        const int n = surface.part_row_length()[part];
+        v0 += EvaluatedRow(surface.part_rows()[part]) * n;
+        v1 = v0 + n;
+      }
       auto range = [&](const auto& x, auto& y) {
         std::copy(x.begin() + v0, x.begin() + v1, y.begin() + v0);
       };
@@ -677,7 +688,7 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
     // model shares at every call).
     if (pass.rows_shared[part] && !one_row) ResetPart(pass, node_surface, part);
     pass.rows_shared[part] = one_row;
-    const int shared_row = one_row ? (rows - 1) / 2 : 0;  // the middle row, away from the rims
+    const int shared_row = one_row ? EvaluatedRow(rows) : 0;
     const int lo = one_row ? v_begin + shared_row * row_n : v_begin;
     const int hi = one_row ? lo + row_n : v_end;
     // The evaluated row is looked at halfway to the next row (header): between two rows of
