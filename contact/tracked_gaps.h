@@ -306,9 +306,11 @@ class TrackedGaps {
   // gaps that Update() then lists are those the tracking finds from any start (the header: sleeping
   // nodes cannot have reached the other surface, the others are walked or searched exactly); only
   // the work differs. Nodes of parts source does not track are left: a pair that joins the tracked
-  // set resets its parts' nodes before they are read. Not copied: the statistics and the broad
-  // phase's windows (a cache checked against the poses). Allocation-free; throws
-  // std::invalid_argument when source tracks other surfaces.
+  // set resets its parts' nodes before they are read; of a part sharing its rows, only the
+  // evaluated row's nodes are taken (the rows it reads while it shares; when it stops, its nodes
+  // are seeded anew). Not copied: the statistics and the broad phase's windows (a cache checked
+  // against the poses). Allocation-free; throws std::invalid_argument when source tracks other
+  // surfaces.
   void WarmStartFrom(const TrackedGaps& source);
 
   // A surface as the passes use it: its topology, and its vertices and normals (own or deformed;
