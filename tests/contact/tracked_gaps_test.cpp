@@ -648,6 +648,21 @@ void ExpectSameRowGaps(const std::vector<NodeGap>& got, const std::vector<NodeGa
   EXPECT_EQ(got_in_contact, std::count_if(want.begin(), want.end(), InContact)) << where;
 }
 
+// The poses of a roll with, after every 50th, two that stop the sharing of rows and the next
+// that starts it again (SharedRowsGiveTheGapsOfEveryRow): gear 2 moved 1 um along z, then
+// tilted by 1e-4 rad about x.
+std::vector<Poses> WithSharingStops(const std::vector<Poses>& roll) {
+  std::vector<Poses> poses;
+  for (size_t k = 0; k < roll.size(); ++k) {
+    poses.push_back(roll[k]);
+    if (k % 50 != 25) continue;
+    const Poses& p = roll[k];
+    poses.push_back({p.X_W1, Transform(p.X_W2.R, p.X_W2.p + Vec3(0, 0, 1e-6))});
+    poses.push_back({p.X_W1, Transform(p.X_W2.R * AxisAngle(Vec3::UnitX(), 1e-4), p.X_W2.p)});
+  }
+  return poses;
+}
+
 // Extruded parts (contact_surface.h, tracked_gaps.h): with the surfaces' own vertices, no face
 // weights and the gears' z axes along each other, one row of each spur tooth's nodes is
 // evaluated and the other two rows get its gaps. Against the same tracking evaluating every
@@ -664,15 +679,7 @@ TEST_F(TrackedGapsTest, SharedRowsGiveTheGapsOfEveryRow) {
   full.tracked.set_shared_rows(false);
   ASSERT_EQ(s1_->part_rows()[0], 3);
   ASSERT_EQ(s2_->part_rows()[0], 3);
-  const std::vector<Poses> roll = RollWithIterates({{1e-5, -2e-6}}, 0.05);
-  std::vector<Poses> poses;
-  for (size_t k = 0; k < roll.size(); ++k) {
-    poses.push_back(roll[k]);
-    if (k % 50 != 25) continue;
-    const Poses& p = roll[k];
-    poses.push_back({p.X_W1, Transform(p.X_W2.R, p.X_W2.p + Vec3(0, 0, 1e-6))});
-    poses.push_back({p.X_W1, Transform(p.X_W2.R * AxisAngle(Vec3::UnitX(), 1e-4), p.X_W2.p)});
-  }
+  const std::vector<Poses> poses = WithSharingStops(RollWithIterates({{1e-5, -2e-6}}, 0.05));
   int compared = 0, penetrating = 0, face_ties = 0, row_face_ties = 0;
   for (size_t k = 0; k < poses.size(); ++k) {
     const Poses& p = poses[k];
@@ -705,15 +712,7 @@ TEST_F(TrackedGapsTest, SharedRowsGiveTheGapsOfEveryRow) {
 // times).
 TEST_F(TrackedGapsTest, DeferredRowsCompleteToTheListsOfAnUpdate) {
   Tracking deferred(*s1_, *s2_, /*keep_face_weights=*/false), whole(*s1_, *s2_, false);
-  const std::vector<Poses> roll = RollWithIterates({{1e-5, -2e-6}}, 0.05);
-  std::vector<Poses> poses;
-  for (size_t k = 0; k < roll.size(); ++k) {
-    poses.push_back(roll[k]);
-    if (k % 50 != 25) continue;
-    const Poses& p = roll[k];
-    poses.push_back({p.X_W1, Transform(p.X_W2.R, p.X_W2.p + Vec3(0, 0, 1e-6))});
-    poses.push_back({p.X_W1, Transform(p.X_W2.R * AxisAngle(Vec3::UnitX(), 1e-4), p.X_W2.p)});
-  }
+  const std::vector<Poses> poses = WithSharingStops(RollWithIterates({{1e-5, -2e-6}}, 0.05));
   auto same = [](const NodeGap& x, const NodeGap& y) {
     return x.node == y.node && x.face == y.face && x.gap == y.gap && x.on_surface == y.on_surface &&
            x.weight == y.weight && x.rim_offset_m == y.rim_offset_m &&
