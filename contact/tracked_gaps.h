@@ -90,7 +90,8 @@
 // spur tooth of face_intervals 2 has three rows, so two thirds of its node work goes
 // (docs/performance.md, "shared-rows"). The lists say where rows were shared (RowGroup,
 // row_groups_a/_b): ContactElement evaluates the contact law once per profile point for all its
-// rows (contact_element.h ForEachContactPoint).
+// rows (contact_element.h ForEachContactPoint), and its model evaluations leave the other rows'
+// entries pending (Update's defer_rows) until something reads them (CompleteRows).
 // A search is bounded. A node of a pair that has just joined the tracked set (not seeded yet) is
 // searched within the far distance 5 (d + s); a node below its face within the face's distance,
 // however deep; any other node (far at its last search, or above its face and farther than d + s
