@@ -128,10 +128,13 @@ void BM_ListedNodeFloor(benchmark::State& state) {
     const auto* element =
         dynamic_cast<const contact::ContactElement*>(model.external_forces[i].get());
     if (!element) continue;
-    const auto& ws = static_cast<const contact::ContactWorkspace&>(*data.external[i]);
+    auto& ws = static_cast<contact::ContactWorkspace&>(*data.external[i]);
     const auto& spec = element->spec();
     const Transform& X_WA = data.X_WB[spec.body_a];
     const Transform& X_WB = data.X_WB[spec.body_b];
+    // Every listed node: the evaluation left a shared part's other rows pending
+    // (contact_element.h), and UpdateGaps at its poses makes them.
+    element->UpdateGaps(X_WA, X_WB, ws);
     const Vec6& V_A = data.V_WB[spec.body_a];
     const Vec6& V_B = data.V_WB[spec.body_b];
     passes.push_back({spec.surface_a.get(), spec.surface_b.get(), &spec.law,
