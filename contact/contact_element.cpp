@@ -124,15 +124,17 @@ void ContactElement::ForEachContactPoint(const Vec6& V_WA, const Vec6& V_WB,
                   const ContactSurface& node_surface, const ContactSurface& face_surface,
                   const Vec6& V_N, const Vec6& V_F, const Transform& X_WN, bool node_on_a) {
     const Mat3& R_WN = X_WN.R;
-    auto area_of = [&](const NodeGap& g) {
-      const double scale = node_surface.vertex_stiffness_scale()[g.node] *
-                           face_surface.face_stiffness_scale()[g.face];
-      return 0.5 * g.weight * node_surface.vertex_areas()[g.node] * scale;
+    // The area weight of node v with g's rim weight and face (a shared run's rows: one part
+    // each side, so the same stiffness scales).
+    auto area_of = [&](const NodeGap& g, int v) {
+      const double scale =
+          node_surface.vertex_stiffness_scale()[v] * face_surface.face_stiffness_scale()[g.face];
+      return 0.5 * g.weight * node_surface.vertex_areas()[v] * scale;
     };
     auto one = [&](const NodeGap& g) {
       if (!InContact(g)) return;
       const Vec3 v_rel = PointVelocity(V_N, g.p_W) - PointVelocity(V_F, g.p_W);
-      fn(g, g.p_W, v_rel, area_of(g), 1, node_on_a);
+      fn(g, g.p_W, v_rel, area_of(g, g.node), 1, node_on_a);
     };
     // The rows of a run lie along N's z axis (tracked_gaps.h): their relative velocities are
     // the same when the relative rotation is along it, here to the bit (a torsional model).
@@ -148,15 +150,12 @@ void ContactElement::ForEachContactPoint(const Vec6& V_WA, const Vec6& V_WB,
           const NodeGap& g = gaps[run.begin + e];
           if (!InContact(g)) continue;
           // The rows' nodes from the run's first (pending: the evaluated row's), their areas
-          // and heights; the weight and both stiffness scales are the rows' own (one part
-          // each side). The same numbers from a pending run as from the run made whole.
-          const double scale = node_surface.vertex_stiffness_scale()[g.node] *
-                               face_surface.face_stiffness_scale()[g.face];
+          // and heights: the same numbers from a pending run as from the run made whole.
           const int first = g.node - (run.pending ? run.shared_row * n : 0);
           double area = 0, height = 0;
           for (int k = 0; k < run.rows; ++k) {
             const int v = first + k * n;
-            const double a = 0.5 * g.weight * node_surface.vertex_areas()[v] * scale;
+            const double a = area_of(g, v);
             area += a;
             height += a * node_surface.vertices()[v].z();
           }
