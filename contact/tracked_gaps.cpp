@@ -43,6 +43,9 @@ ClosestFace OnFace(const Geometry& g, int face, const Vec3& p) {
 // Rounding allowance of the walk's skip test (m): the distances it compares are computed to
 // about 1e-17 m (coordinates below 1 m).
 constexpr double kWalkRounding = 1e-12;
+// Pass::walk_pair's marker of a margin recorded by a look along a profile (RunPass), which
+// counts columns, not faces: the faces' walk does not read it, nor the look a face walk's.
+constexpr int kColumnMargin = -2;
 // Node rows within this many units of the rounding of a face part's heights count as within
 // them (RunPass, extruded parts).
 constexpr double kRowHeightUlps = 16;
@@ -157,6 +160,37 @@ double PairMargin(const Geometry& g, const Vec3& p, int f, int h, double d2_f, d
   return std::sqrt(tried_d2) - std::sqrt(std::max(d2_f, d2_h));
 }
 
+// The closest point to p of column `column` of an extruded part's profile (`profile`: its row 0,
+// n points; the column the segment from point `column` to the next), in the xy plane: the
+// fraction t along the segment (clamped to [0, 1], ContactSurface::ExtrudedColumnFraction's
+// expression), the point at p's height and the squared distance in xy, which is the distance
+// to the column's rectangles when p's height lies within the part's rows.
+struct ColumnPoint {
+  int column = -1;
+  double t = 0;
+  Vec3 point = Vec3::Zero();
+  double d2 = 0;
+};
+
+// The fraction t and the point of ColumnPoint (inline: the walk along the profile compares a
+// few columns at every look).
+inline double ColumnFraction(const Vec3& a, const Vec3& b, const Vec3& p) {
+  const double ex = b.x() - a.x(), ey = b.y() - a.y();
+  return std::clamp(((p.x() - a.x()) * ex + (p.y() - a.y()) * ey) / (ex * ex + ey * ey), 0.0, 1.0);
+}
+
+inline ColumnPoint OnColumn(const Vec3* profile, int column, const Vec3& p) {
+  const Vec3& a = profile[column];
+  const Vec3& b = profile[column + 1];
+  ColumnPoint c;
+  c.column = column;
+  c.t = ColumnFraction(a, b, p);
+  c.point = Vec3(a.x() + c.t * (b.x() - a.x()), a.y() + c.t * (b.y() - a.y()), p.z());
+  const double dx = p.x() - c.point.x(), dy = p.y() - c.point.y();
+  c.d2 = dx * dx + dy * dy;
+  return c;
+}
+
 // The edge (0, 1, 2) of an edge feature, -1 otherwise.
 int FeatureEdge(TriangleFeature f) {
   return f == TriangleFeature::kEdge0 ? 0 : f == TriangleFeature::kEdge1 ? 1
@@ -205,6 +239,7 @@ TrackedGaps::TrackedGaps(const ContactSurface& surface_a, const ContactSurface& 
   tracked_parts_a_.reserve(a_.num_parts());
   tracked_parts_b_.reserve(b_.num_parts());
   partners_.reserve(std::max(a_.num_parts(), b_.num_parts()));
+  partner_places_.reserve(partners_.capacity());
   active_b_.assign(b_.num_parts(), 0);
   odometer_a_.assign(a_.num_parts(), 0.0);
   odometer_b_.assign(b_.num_parts(), 0.0);
@@ -698,6 +733,117 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
     const double z_eval =
         one_row ? 0.5 * (node_surface.vertices()[lo].z() + node_surface.vertices()[lo + row_n].z())
                 : 0.0;
+    // The evaluated row's height in the face frame (every node's, to the bit: R_FN's off-axis
+    // entries are zero) in each partner's rows, made when a node first needs it (interval -1
+    // until then: most tracked parts' nodes sleep through an evaluation).
+    partner_places_.assign(one_row ? partners_.size() : 0,
+                           ContactSurface::RowPlace{.interval = -1});
+    auto place_in = [&](int partner) -> const ContactSurface::RowPlace& {
+      ContactSurface::RowPlace& place = partner_places_[partner];
+      if (place.interval < 0)
+        place = face_surface.ExtrudedRowPlace(partners_[partner], (X_FN * Vec3(0, 0, z_eval)).z());
+      return place;
+    };
+    // A shared row's node on the faces of a partner's column, however they were found (header:
+    // profile looks): the closest point in the column's rectangles, in the xy plane at the
+    // row's height (ColumnPoint), and the face that holds it (ExtrudedFaceAt), when it lies
+    // inside the column (0 < t < 1; on a profile point, an edge two columns share or the
+    // part's rim, the face's own closest point stands). One expression for the look along the
+    // profile, the faces' walk and the search, so that a node comes out the same to the bit
+    // whichever found its column (a recorder row warmed from the integrator's, or cold).
+    // False for a face outside the partners.
+    auto column_of = [&](int face, int* partner, int* columns, const Vec3** profile) {
+      const int part_f = face_surface.vertex_parts()[face_surface.triangles()[face][0]];
+      size_t j = 0;
+      while (j < partners_.size() && partners_[j] != part_f) ++j;
+      if (j == partners_.size()) return -1;
+      *partner = static_cast<int>(j);
+      *columns = face_surface.part_row_length()[part_f] - 1;
+      *profile = &face_surface.vertices()[face_surface.part_vertex_start()[part_f]];
+      return face_surface.face_cell()[face] % *columns;
+    };
+    auto onto_column = [&](const ColumnPoint& c, int partner, ClosestFace* out) {
+      out->face = face_surface.ExtrudedFaceAt(partners_[partner], c.column, c.t, place_in(partner));
+      out->point.point = c.point;
+      out->point.feature = TriangleFeature::kFace;
+      out->d2 = c.d2;
+    };
+    // A shared row's node looked at along its face's profile (header: profile looks): the
+    // column of its face and, while a neighbouring column is closer, the walk to it (ties to the
+    // lower column; a node below its column also tries the columns two away before it settles,
+    // as Walk does). The walk records its margin as Walk does (the smallest distance of the
+    // columns it tried at the end less the column's own), and a later look keeps the column
+    // without walking while twice the node's motion since stays below it (and the node is
+    // above the column, or was below it then: the tried columns are then no more). True with
+    // *out the column's face, closest point and squared distance when the point lies inside
+    // the column, not deeper below it than the face's inner reach; false (the faces' look and
+    // walk then decide) for a point on a profile point, a walk that runs long, or a face
+    // outside the partners.
+    auto look_along_profile = [&](int v, const Vec3& p, int face, ClosestFace* out) {
+      int partner = 0, columns = 0;
+      const Vec3* profile = nullptr;
+      const int column = column_of(face, &partner, &columns, &profile);
+      if (column < 0) return false;
+      ColumnPoint c = OnColumn(profile, column, p);
+      auto inside = [&] {
+        return c.t > 0 && c.t < 1 &&
+               (p - c.point).dot(faces.Normal(out->face)) >=
+                   -face_surface.face_inner_reach()[out->face];
+      };
+      if (pass.walk_pair[v][0] == kColumnMargin && pass.walk_margin[v] > 0 &&
+          2 * (p - pass.walk_position[v]).norm() + kWalkRounding < pass.walk_margin[v]) {
+        onto_column(c, partner, out);
+        if ((pass.walk_below[v] || (p - c.point).dot(faces.Normal(out->face)) >= 0) && inside()) {
+          ++stats_.walks_skipped;
+          return true;
+        }
+      }
+      double tried_d2 = std::numeric_limits<double>::infinity();
+      for (int step = 0;; ++step) {
+        if (step == kMaxWalkSteps) return false;
+        ColumnPoint next = c;
+        tried_d2 = std::numeric_limits<double>::infinity();
+        auto consider = [&](int k) {
+          if (k < 0 || k >= columns || k == c.column) return;
+          const ColumnPoint o = OnColumn(profile, k, p);
+          tried_d2 = std::min(tried_d2, o.d2);
+          if (o.d2 < next.d2 || (o.d2 == next.d2 && k < next.column)) next = o;
+        };
+        consider(c.column - 1);
+        consider(c.column + 1);
+        bool below = false;
+        if (next.column == c.column) {
+          onto_column(c, partner, out);
+          below = (p - c.point).dot(faces.Normal(out->face)) < 0;
+          if (below) {
+            consider(c.column - 2);
+            consider(c.column + 2);
+          }
+          if (next.column == c.column) {
+            pass.walk_margin[v] = std::sqrt(tried_d2) - std::sqrt(c.d2);
+            pass.walk_position[v] = p;
+            pass.walk_below[v] = below;
+            pass.walk_pair[v] = {kColumnMargin, kColumnMargin};
+            break;
+          }
+        }
+        c = next;
+        ++stats_.walk_steps;
+      }
+      return inside();
+    };
+    // A face the faces' walk or the search found for a shared row's node: its column's point
+    // (true) when it lies inside the column.
+    auto settle_in_column = [&](const Vec3& p, ClosestFace* best) {
+      int partner = 0, columns = 0;
+      const Vec3* profile = nullptr;
+      const int column = column_of(best->face, &partner, &columns, &profile);
+      if (column < 0) return false;
+      const ColumnPoint c = OnColumn(profile, column, p);
+      if (!(c.t > 0 && c.t < 1)) return false;
+      onto_column(c, partner, best);
+      return true;
+    };
     const size_t listed_from = gaps->size();
     // A node awake by the odometer: its look, walk or search, and its gap. Kept out of the
     // node loop (noinline): the loop then holds only the sleep test and the block's wake-up
@@ -719,7 +865,10 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
       bool search = pass.face[v] < 0 || pass.distance[v] > walk_reach;
       double walk_margin = 0;
       MeasuredFaces measured;  // by the walk, for its tied pair's margin
-      if (pass.face[v] >= 0) {
+      const bool profile = one_row && !search && look_along_profile(v, p, pass.face[v], &best);
+      if (profile) ++stats_.profile_looks;
+      if (one_row && !search && !profile) ++stats_.profile_fallbacks;
+      if (!profile && pass.face[v] >= 0) {
         best = OnFace(faces, pass.face[v], p);
         // The walk from the node's face stays there while every face it tried at its last
         // walk is farther than this one: their distances change by at most the node's motion
@@ -727,7 +876,7 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
         // tried now only if the closest point's vertex, if any, and its side, if below, are
         // those of then: the tried set is then no larger).
         const bool within_margin =
-            !search && pass.walk_margin[v] > 0 &&
+            !search && pass.walk_pair[v][0] != kColumnMargin && pass.walk_margin[v] > 0 &&
             2 * ((p - pass.walk_position[v]).norm() + face_deformation_odometer_m -
                  pass.walk_face_deformation[v]) +
                     kWalkRounding <
@@ -788,6 +937,7 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
         ++stats_.seeded_nodes;
         ++stats_.seeds;
       }
+      const bool in_column = one_row && !profile && best.face >= 0 && settle_in_column(p, &best);
       // No face: the node's position is not finite (a diverging Newton iterate), and it
       // starts again at the next evaluation; or it is farther than the search's bound from
       // every face of its partners, and sleeps until it may have come within it.
@@ -811,9 +961,11 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
       pass.stamp[v] = odometer;
       pass.stamp_position[v] = p;
       pass.stamp_face_deformation[v] = face_deformation_odometer_m;
-      // What a later evaluation needs to skip the walk (a search, or a face new to the node:
-      // none).
-      if (search) {
+      // What a later evaluation needs to skip the walk (a search, a shared row's node moved
+      // into its column, or a face new to the node: none).
+      if (profile) {
+        // The look along the profile kept its column margin, or recorded the walk's.
+      } else if (search || in_column) {
         pass.walk_margin[v] = 0;
         pass.walk_pair[v] = {-1, -1};
       } else if (walk_margin >= 0) {

@@ -92,6 +92,20 @@
 // row_groups_a/_b): ContactElement evaluates the contact law once per profile point for all its
 // rows (contact_element.h ForEachContactPoint), and its model evaluations leave the other rows'
 // entries pending (Update's defer_rows) until something reads them (CompleteRows).
+// Profile looks: the distance from an evaluated row's node to a partner's extruded part is its
+// distance in the xy plane to the part's profile polyline, so such a node with a face is
+// looked at and walked along the partner's columns (the rectangles between two profile
+// points, each two faces) instead of the faces: a segment distance per column, a descent over
+// the neighbouring columns (and two away for a node below its column) with a margin that
+// lets a later look keep the column without walking, as the faces' walk has. Its closest
+// point is the segment's point at the row's height, and its face the half of the column's
+// rectangle that holds it (ExtrudedFaceAt). A point on a profile point (an edge two columns
+// share, a tip corner, the part's rim), a walk that runs long, or a node deeper below its
+// column than the face's inner reach, is left to the faces' look, walk and search; a face
+// those find inside a column takes the column's point too, so that a node comes out the same
+// to the bit whichever way its column was found (a recorder row warmed from the integrator's,
+// or cold). Against the tracking of every node (tests/contact/tracked_gaps_test.cpp
+// SharedRowsGiveTheGapsOfEveryRow): gaps and points within 1e-15 m.
 // A search is bounded. A node of a pair that has just joined the tracked set (not seeded yet) is
 // searched within the far distance 5 (d + s); a node below its face within the face's distance,
 // however deep; any other node (far at its last search, or above its face and farther than d + s
@@ -167,6 +181,11 @@ struct TrackedGapStats {
   long broad_phase_reuses = 0;  // TrackPairs() calls that kept the last broad phase's pairs
   long shared_row_nodes = 0;    // nodes listed from their part's evaluated row (extruded
                                 // parts), since construction
+  long profile_looks = 0;       // evaluated rows' nodes looked at along their face's profile
+                                // (header: extruded parts), since construction
+  long profile_fallbacks = 0;   // of the others with a face, those the faces' look and walk
+                                // decided (a point on a profile point, a long walk), since
+                                // construction
 };
 
 class TrackedGaps {
@@ -443,6 +462,8 @@ class TrackedGaps {
   CandidateSearch search_;                 // its broad phase
   std::vector<std::pair<int, int>> tracked_, next_, keep_;  // sorted (part of A, part of B)
   std::vector<int> partners_;              // scratch: parts paired with one part
+  std::vector<ContactSurface::RowPlace> partner_places_;  // scratch: the evaluated row's height
+                                                          // in each partner's rows
   std::vector<std::pair<int, int>> by_part_;  // scratch: (node part, face part), sorted
   std::vector<char> active_b_;             // #parts of B: in a tracked pair
   std::vector<int> tracked_parts_a_, tracked_parts_b_;  // in a tracked pair, increasing

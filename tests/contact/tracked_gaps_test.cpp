@@ -695,13 +695,19 @@ TEST_F(TrackedGapsTest, SharedRowsGiveTheGapsOfEveryRow) {
   const TrackedGapStats& s = shared.tracked.stats();
   const TrackedGapStats& f = full.tracked.stats();
   std::printf(
-      "shared rows: %ld nodes evaluated against %ld, %ld listed from their row, %d of "
-      "%d compared on another face holding the point\n",
-      s.node_evaluations, f.node_evaluations, s.shared_row_nodes, row_face_ties, compared);
+      "shared rows: %ld nodes evaluated against %ld, %ld listed from their row, %ld looked at "
+      "along the partner's profile (%ld left to the faces' walk), %d of %d compared on another "
+      "face holding the point\n",
+      s.node_evaluations, f.node_evaluations, s.shared_row_nodes, s.profile_looks,
+      s.profile_fallbacks, row_face_ties, compared);
   EXPECT_GT(penetrating, 5000);
   EXPECT_GT(s.shared_row_nodes, compared / 2);
   // Fewer by a third with the sharing stopped 18 times (each stop seeds the parts anew).
   EXPECT_LT(s.node_evaluations, 2 * f.node_evaluations / 3);
+  // The evaluated nodes not searched keep their column by the look along the profile but for
+  // a few (on a profile point: a tip corner's), and the full tracking takes none.
+  EXPECT_GT(s.profile_looks, 10 * s.profile_fallbacks);
+  EXPECT_EQ(f.profile_looks + f.profile_fallbacks, 0);
 }
 
 // Deferred rows (Update with defer_rows, ContactElement's evaluations): the lists hold each

@@ -121,10 +121,10 @@ TEST(WarmStart, RigidGearRowsEqualColdRows) {
 
 // What a tracked gap does at an evaluation follows from its state alone, so a workspace warmed
 // from another and evaluated at the same poses does the same work: the same node evaluations,
-// searches, walk steps and skipped walks. A field that WarmStartFrom leaves out (the walk
-// margins and what they were measured at, the stamps, the odometers) shows as different work,
-// even where the gaps come out the same. The gears turn by small steps (a few micrometres at
-// the flanks) so that walks are skipped.
+// searches, walk steps, skipped walks and looks along a profile. A field that WarmStartFrom leaves
+// out (the walk margins and what they were measured at, the stamps, the odometers) shows as
+// different work, even where the gaps come out the same. The gears turn by small steps (a few
+// micrometres at the flanks) so that walks are skipped.
 TEST(WarmStart, WarmedWorkspaceWorksLikeItsSource) {
   const std::shared_ptr<const Model> model = TwoMeshModel();
   const Model& m = *model;
@@ -134,7 +134,7 @@ TEST(WarmStart, WarmedWorkspaceWorksLikeItsSource) {
   auto stats = [](const Data& d, size_t e) {
     return static_cast<const ContactWorkspace&>(*d.external[e]).tracked.stats();
   };
-  long skipped = 0;
+  long skipped = 0, looks = 0;
   for (int k = 0; k <= 600; ++k) {
     PressedPose(2e-4 * k, k, s);
     const bool row = k % 10 == 5;
@@ -154,12 +154,19 @@ TEST(WarmStart, WarmedWorkspaceWorksLikeItsSource) {
           << "step " << k;
       EXPECT_EQ(a.walks_skipped - source_before[e].walks_skipped,
                 b.walks_skipped - warm_before[e].walks_skipped) << "step " << k << ", mesh " << e;
+      EXPECT_EQ(a.profile_looks - source_before[e].profile_looks,
+                b.profile_looks - warm_before[e].profile_looks)
+          << "step " << k << ", mesh " << e;
       skipped += b.walks_skipped - warm_before[e].walks_skipped;
+      looks += b.profile_looks - warm_before[e].profile_looks;
     }
   }
-  // The comparison is of skipped walks, not of zeros.
-  std::printf("walks skipped in the warmed rows: %ld\n", skipped);
-  EXPECT_GT(skipped, 0);
+  // The comparison is not of zeros: the rows' nodes kept their faces without a walk, by a
+  // walk's margin or (the spur teeth's evaluated rows) by a look along the partner's profile
+  // from the face they had.
+  std::printf("walks skipped in the warmed rows: %ld, looks along the profile: %ld\n", skipped,
+              looks);
+  EXPECT_GT(skipped + looks, 0);
 }
 
 // A row at the positions of the integrator's last evaluation (with constraints the velocity
