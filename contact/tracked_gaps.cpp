@@ -199,6 +199,14 @@ int FeatureEdge(TriangleFeature f) {
 
 }  // namespace
 
+const Vec3& TrackedGaps::Geometry::MakeNormal(int face) const {
+  const auto& t = s.triangles()[face];
+  const Vec3 c = (v[t[1]] - v[t[0]]).cross(v[t[2]] - v[t[0]]);
+  (*lazy_n)[face] = c * (1.0 / c.norm());  // one division, not three
+  (*stamp)[face] = epoch;
+  return (*lazy_n)[face];
+}
+
 TrackedGaps::Pass::Pass(const ContactSurface& node_surface, bool keep_face_weights)
     : face(node_surface.num_vertices(), kUnseeded),
       reach(node_surface.num_vertices(), 0.0),
