@@ -412,7 +412,9 @@ class TrackedGaps {
     std::vector<double> walk_face_deformation;
     std::vector<TriangleFeature> walk_feature;
     std::vector<char> walk_below;
-    // A tied pair (header): the two faces, walk_margin then the pair's; {-1, -1}: none.
+    // A tied pair (header): the two faces, walk_margin then the pair's; {-1, -1}: none;
+    // {-2, -2} (kColumnMargin, tracked_gaps.cpp): walk_margin, walk_position and walk_below are
+    // a look along a profile's (header: profile looks), over columns, not faces.
     std::vector<std::array<int, 2>> walk_pair;
     // The force normal's barycentric coordinates of a node listed in contact (face_weights_a;
     // empty without keep_face_weights).
