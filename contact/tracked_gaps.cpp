@@ -806,11 +806,10 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
           return true;
         }
       }
-      double tried_d2 = std::numeric_limits<double>::infinity();
       for (int step = 0;; ++step) {
         if (step == kMaxWalkSteps) return false;
         ColumnPoint next = c;
-        tried_d2 = std::numeric_limits<double>::infinity();
+        double tried_d2 = std::numeric_limits<double>::infinity();
         auto consider = [&](int k) {
           if (k < 0 || k >= columns || k == c.column) return;
           const ColumnPoint o = OnColumn(profile, k, p);
