@@ -74,6 +74,8 @@ void ContactElement::UpdateGaps(const Transform& X_WA, const Transform& X_WB, Co
                                 bool defer_rows) const {
   ws.searched = false;
   ws.gaps_recomputed = false;
+  // A warm start's source (WarmStart): read now or never (its state moves on after this).
+  const TrackedGaps* warm = std::exchange(ws.warm_tracking, nullptr);
   if (ws.have_gaps && SamePose(X_WA, ws.X_WA) && SamePose(X_WB, ws.X_WB)) {
     if (!defer_rows) CompleteRows(ws);
     return;
@@ -81,6 +83,7 @@ void ContactElement::UpdateGaps(const Transform& X_WA, const Transform& X_WB, Co
   const ContactSurface& a = *spec_.surface_a;
   const ContactSurface& b = *spec_.surface_b;
   if (spec_.gap_method == ContactGapMethod::kTracked) {
+    if (warm) ws.tracked.WarmStartFrom(*warm);
     ws.tracked.Update(X_WA, X_WB, &ws.gaps_a, &ws.gaps_b, defer_rows);
     ws.row_groups_a.assign(ws.tracked.row_groups_a().begin(), ws.tracked.row_groups_a().end());
     ws.row_groups_b.assign(ws.tracked.row_groups_b().begin(), ws.tracked.row_groups_b().end());
@@ -275,10 +278,12 @@ void ContactElement::WarmStart(const ExternalForceWorkspace& source,
   if (spec_.gap_method != ContactGapMethod::kTracked) return;
   const auto& from = static_cast<const ContactWorkspace&>(source);
   auto& to = static_cast<ContactWorkspace&>(target);
-  to.tracked.WarmStartFrom(from.tracked);
+  // The tracking state when target's next UpdateGaps() tracks (header; a source warmed itself
+  // and not yet evaluated passes its own source on).
+  to.warm_tracking = from.warm_tracking ? from.warm_tracking : &from.tracked;
   // The last gaps with their poses: an evaluation at those very poses (a row at the step's
   // accepted positions) keeps them as the source would (UpdateGaps), the lists an Update of the
-  // state just copied gives there. Within the capacity reserved at construction.
+  // tracking state gives there. Within the capacity reserved at construction.
   to.gaps_a.assign(from.gaps_a.begin(), from.gaps_a.end());
   to.gaps_b.assign(from.gaps_b.begin(), from.gaps_b.end());
   to.row_groups_a.assign(from.row_groups_a.begin(), from.row_groups_a.end());

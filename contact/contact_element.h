@@ -99,6 +99,11 @@ class ContactWorkspace final : public ExternalForceWorkspace {
                    const ContactMonitor* monitor = nullptr);
 
   TrackedGaps tracked;                   // kTracked
+  // WarmStart(): the source's tracking state, taken over (TrackedGaps::WarmStartFrom) by the
+  // next UpdateGaps() only when it must track, at poses other than the gaps' (a row at the
+  // integrator's last positions keeps the gaps and copies nothing). That UpdateGaps() clears it
+  // either way; until then the source must not change (external_force.h WarmStart).
+  const TrackedGaps* warm_tracking = nullptr;
   CandidateSearch search;                // kCandidatePairs
   std::vector<TrianglePair> pairs;       // candidate pairs of the last search
   std::vector<NodeFaceCandidate> node_faces_a, node_faces_b;  // of the pairs, per pass
@@ -155,7 +160,11 @@ class ContactElement final : public ExternalForceElement, public ElementHealthRe
   // The tracking state of `source` into `target` (external_force.h; TrackedGaps::
   // WarmStartFrom), with source's last gaps and their poses (which target keeps while its poses
   // do not change: a row at the positions of the integrator's last evaluation computes no
-  // gaps). Not copied: the monitor's state, the outputs. Nothing with candidate pairs.
+  // gaps). The gaps are copied at once, the tracking state by target's next UpdateGaps() if it
+  // tracks (ContactWorkspace::warm_tracking): the recorder's rows in a model with constraints
+  // are at the positions of the integrator's last residual, and copying the tracked parts'
+  // nodes for none of them cost 4 to 5 % of the rigid scene's CPU (docs/performance.md,
+  // "warm-lazy"). Not copied: the monitor's state, the outputs. Nothing with candidate pairs.
   void WarmStart(const ExternalForceWorkspace& source,
                  ExternalForceWorkspace& target) const override;
   const std::vector<OutputDescription>& outputs() const override { return outputs_; }

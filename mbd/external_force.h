@@ -86,7 +86,10 @@ class ExternalForceElement {
   // starts from where source's last one stood instead of from its own older one. It must not
   // change what that evaluation computes (only how much work it takes), nor copy a cache whose
   // validity `target` tracks itself without what its validity is tracked by (a contact's last
-  // gaps go with their poses), nor addresses; it must not allocate. Default: nothing.
+  // gaps go with their poses); it must not allocate. It may keep source's address until
+  // target's next evaluation, to copy from there what that evaluation needs (a contact at the
+  // gaps' poses needs no tracking state): the caller evaluates target next, before source
+  // changes, and target drops the address at that evaluation. Default: nothing.
   // The result recorder calls it before each row with the integrator's workspace as source
   // (WarmStartExternalWorkspaces, mbd/force_elements.h).
   virtual void WarmStart(const ExternalForceWorkspace& /*source*/,

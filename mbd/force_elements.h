@@ -30,7 +30,8 @@ void CalcExternalForces(const Model& model, double t, const Eigen::Ref<const Eig
 // target's (two Data of the same model): the recorder's evaluation at an output row then
 // starts its tracking from the integrator's last evaluation, a step away, instead of from the
 // last row. target's workspaces no longer hold its last state (data.tangent_elements_t).
-// Allocation-free.
+// target is to be evaluated next, before source changes (an element may copy from source at
+// that evaluation: ExternalForceElement::WarmStart). Allocation-free.
 void WarmStartExternalWorkspaces(const Model& model, const Data& source, Data& target);
 
 }  // namespace orrery

@@ -124,7 +124,8 @@ TEST(WarmStart, RigidGearRowsEqualColdRows) {
 // searches, walk steps, skipped walks and looks along a profile. A field that WarmStartFrom leaves
 // out (the walk margins and what they were measured at, the stamps, the odometers) shows as
 // different work, even where the gaps come out the same. The gears turn by small steps (a few
-// micrometres at the flanks) so that walks are skipped.
+// micrometres at the flanks) so that walks are skipped. The warmed workspace is evaluated
+// before its source moves on (the warm start's contract: it copies the tracking state then).
 TEST(WarmStart, WarmedWorkspaceWorksLikeItsSource) {
   const std::shared_ptr<const Model> model = TwoMeshModel();
   const Model& m = *model;
@@ -138,12 +139,16 @@ TEST(WarmStart, WarmedWorkspaceWorksLikeItsSource) {
   for (int k = 0; k <= 600; ++k) {
     PressedPose(2e-4 * k, k, s);
     const bool row = k % 10 == 5;
-    if (row) WarmStartExternalWorkspaces(m, stepping, warm);
+    if (!row) {
+      EvaluateDynamics(m, 0.0, s.q, s.v, vdot, stepping);
+      continue;
+    }
+    WarmStartExternalWorkspaces(m, stepping, warm);
     TrackedGapStats source_before[2], warm_before[2];
-    for (size_t e = 0; e < 2; ++e) source_before[e] = stats(stepping, e), warm_before[e] = stats(warm, e);
-    EvaluateDynamics(m, 0.0, s.q, s.v, vdot, stepping);
-    if (!row) continue;
+    for (size_t e = 0; e < 2; ++e)
+      source_before[e] = stats(stepping, e), warm_before[e] = stats(warm, e);
     EvaluateDynamics(m, 0.0, s.q, s.v, vdot, warm);
+    EvaluateDynamics(m, 0.0, s.q, s.v, vdot, stepping);
     ExpectSameEvaluation(m, warm, stepping, k);
     for (size_t e = 0; e < 2; ++e) {
       const TrackedGapStats a = stats(stepping, e), b = stats(warm, e);
@@ -174,7 +179,10 @@ TEST(WarmStart, WarmedWorkspaceWorksLikeItsSource) {
 // projection changes only the velocities): the warmed workspace takes the source's gaps with
 // their poses and computes none (no node evaluated), and its forces at the row's velocities
 // equal a cold workspace's to the bit. Fails when WarmStart leaves the gaps or their poses out
-// (the warm row then evaluates nodes).
+// (the warm row then evaluates nodes). Such a row takes none of the source's tracking state
+// (ContactWorkspace::warm_tracking): the warmed workspace then tracks on from its own older
+// state, which must give the gaps of a cold workspace too (evaluated a little further on,
+// without a warm start).
 TEST(WarmStart, RowAtTheSourcesPositionsComputesNoGaps) {
   const std::shared_ptr<const Model> model = TwoMeshModel();
   const Model& m = *model;
@@ -193,8 +201,18 @@ TEST(WarmStart, RowAtTheSourcesPositionsComputesNoGaps) {
       const auto& ws = static_cast<const ContactWorkspace&>(*warm.external[e]);
       EXPECT_FALSE(ws.gaps_recomputed) << "row " << k / 10 << ", mesh " << e;
       EXPECT_EQ(NodeEvaluations(warm, e), before[e]) << "row " << k / 10 << ", mesh " << e;
+      EXPECT_EQ(ws.warm_tracking, nullptr) << "row " << k / 10 << ", mesh " << e;
     }
     pressed += BothPressed(cold);
+    // On from the workspace's own tracking state (the rows before took none of the source's).
+    State on = s;
+    on.q(0) += 1e-4;
+    on.q(1) -= 0.5e-4;
+    EvaluateDynamics(m, 0.0, on.q, on.v, vdot, warm);
+    EvaluateDynamics(m, 0.0, on.q, on.v, vdot, cold);
+    ExpectSameEvaluation(m, warm, cold, k / 10);
+    for (size_t e = 0; e < 2; ++e)
+      EXPECT_TRUE(static_cast<const ContactWorkspace&>(*warm.external[e]).gaps_recomputed);
   });
   EXPECT_GT(pressed, 15);
 }
