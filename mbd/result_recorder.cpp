@@ -9,6 +9,7 @@
 #include "mbd/evaluate.h"
 #include "mbd/flexible_dynamics.h"
 #include "mbd/force_elements.h"
+#include "mbd/stress_hot_spot.h"
 
 namespace orrery {
 namespace {
@@ -68,7 +69,7 @@ ResultRecorder::ResultRecorder(const Model& model, ResultFile& out)
   }
   for (const GearConstraint& c : model.gear_constraints)
     gear_constraint_force_.push_back(out.AddSeries("/gear_constraints/" + c.spec.name + "/force", 1, "N"));
-  int max_stress = 0, max_surface = 0;
+  int max_surface = 0;
   for (const FlexibleBody& fb : model.flexible_bodies) {
     const FlexibleBodyModes& m = *fb.modes;
     const std::string name = model.bodies[fb.body].name;
@@ -80,7 +81,7 @@ ResultRecorder::ResultRecorder(const Model& model, ResultFile& out)
     }
     if (!m.stress_nodes.empty() && fb.nf > 0) {
       fs.von_mises = out.AddSeries(g + "von_mises_max", 5, "Pa, 1, m, m, m", {"stress", "node", "x", "y", "z"});
-      max_stress = std::max(max_stress, 6 * static_cast<int>(m.stress_nodes.size()));
+      fs.hot_spot = std::make_unique<StressHotSpot>(m.stress_modes, fb.nf);
     }
     if (fb.options.record_surface && !m.surface_triangles.empty()) {
       // Compact numbering of the nodes the triangles use.
@@ -111,7 +112,6 @@ ResultRecorder::ResultRecorder(const Model& model, ResultFile& out)
     flex_.push_back(std::move(fs));
     if (!m.frequencies_hz.empty()) out.WriteVector(g + "frequencies_hz", m.frequencies_hz, "Hz");
   }
-  stress_.setZero(max_stress);
   surface_row_.setZero(max_surface);
   size_t max_external = 8;
   for (const auto& e : model.external_forces) {
@@ -243,24 +243,12 @@ void ResultRecorder::Record(const State& s, const Eigen::VectorXd& vdot,
       std::copy_n(s.v.data() + fb.v_start, fb.nf, Slot(fs.v));
     }
     if (fs.von_mises >= 0) {
-      const int n = static_cast<int>(m.stress_nodes.size());
-      auto sigma = stress_.head(6 * n);
-      AddColumnCombination(6 * n, fb.nf, m.stress_modes.data(), m.stress_modes.rows(), qf.data(),
-                           nullptr, sigma.data());
-      double best = -1;
-      int where = 0;
-      for (int k = 0; k < n; ++k) {
-        const double* x = sigma.data() + 6 * k;  // xx, yy, zz, xy, yz, zx
-        const double vm = std::sqrt(0.5 * ((x[0] - x[1]) * (x[0] - x[1]) + (x[1] - x[2]) * (x[1] - x[2]) +
-                                           (x[2] - x[0]) * (x[2] - x[0])) +
-                                    3 * (x[3] * x[3] + x[4] * x[4] + x[5] * x[5]));
-        if (vm > best) {
-          best = vm;
-          where = k;
-        }
-      }
-      const FlexibleBodyModes::Node& node = m.nodes[m.stress_nodes[where]];
-      row_.head<5>() << best, double(node.id), node.position.x(), node.position.y(), node.position.z();
+      // The point of the largest von Mises stress, by bounds (stress_hot_spot.h): the value
+      // and point of a scan of every point's stress.
+      const StressHotSpot::Result hot = fs.hot_spot->Find(qf.data());
+      const FlexibleBodyModes::Node& node = m.nodes[m.stress_nodes[hot.point]];
+      row_.head<5>() << hot.von_mises, double(node.id), node.position.x(), node.position.y(),
+          node.position.z();
       Put<5>(fs.von_mises, row_.data());
     }
     if (fs.surface >= 0) {

@@ -35,6 +35,7 @@
 //   /flexible_bodies/<name>/node_sets/<set>/displacement   m: elastic displacements of the set's
 //                                          nodes in the body frame (record_node_sets)
 //   /external/<name>/<output>              outputs of external force elements (contact)
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -44,6 +45,7 @@
 #include "mbd/model.h"
 #include "mbd/result_file.h"
 #include "mbd/state.h"
+#include "mbd/stress_hot_spot.h"
 
 namespace orrery {
 
@@ -80,6 +82,7 @@ class ResultRecorder {
   std::vector<ResultFile::SeriesId> gear_constraint_force_;
   struct FlexSeries {
     ResultFile::SeriesId q = -1, v = -1, von_mises = -1, surface = -1;
+    std::unique_ptr<StressHotSpot> hot_spot;  // von_mises' point (stress_hot_spot.h)
     std::vector<int> surface_nodes;  // indices into the modes' nodes
     std::vector<ResultFile::SeriesId> node_sets;  // per FlexibleBodyOptions::record_node_sets
     std::vector<const std::vector<int>*> node_set_nodes;  // their nodes (in the model's modes)
@@ -87,7 +90,7 @@ class ResultRecorder {
   std::vector<FlexSeries> flex_;
   std::vector<std::vector<ResultFile::SeriesId>> external_;
   std::vector<std::vector<int>> external_offsets_;  // first value of each output in a row
-  Eigen::VectorXd stress_, surface_row_;  // scratch
+  Eigen::VectorXd surface_row_;                     // scratch
   Eigen::VectorXd row_;                     // scratch
   // The row of every series above, appended at once (ResultFile::AppendRow): the series' ids run
   // from first_ (time_) to first_ + count_ - 1 in the order the constructor added them, and
