@@ -852,21 +852,28 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
       return true;
     };
     const size_t listed_from = gaps->size();
-    // A node awake by the odometer: its look, walk or search, and its gap. Kept out of the
-    // node loop (noinline): the loop then holds only the sleep test and the block's wake-up
-    // reading, and inlined it took 2.5 % more instructions over the rigid scene (callgrind).
-    auto evaluate = [&](int v) __attribute__((noinline)) {
-      const Vec3 p = one_row ? X_FN * Vec3(nodes[v].x(), nodes[v].y(), z_eval) : X_FN * nodes[v];
-      if (pass.reach[v] > 0) {
-        const double moved = (p - pass.stamp_position[v]).norm() + face_deformation_odometer_m -
-                             pass.stamp_face_deformation[v];
-        if (moved < pass.reach[v]) {
-          // Still out of reach: the odometer may now advance by what is left before a look.
-          pass.odometer_reach[v] = pass.reach[v] - moved;
-          pass.stamp[v] = odometer;
-          return;
-        }
-      }
+    // The node's position in the face frame (the evaluated row's at its look height).
+    auto position = [&](int v) {
+      return one_row ? X_FN * Vec3(nodes[v].x(), nodes[v].y(), z_eval) : X_FN * nodes[v];
+    };
+    // A node awake by the odometer but not by its own displacement in the face frame since its
+    // stamp: still out of reach, and the odometer may now advance by what is left before its
+    // next look (true). In the node loop: half the nodes the odometer wakes go back to sleep
+    // here (docs/performance.md, "evaluation-mix"), without the call below.
+    auto still_asleep = [&](int v, const Vec3& p) {
+      if (!(pass.reach[v] > 0)) return false;
+      const double moved = (p - pass.stamp_position[v]).norm() + face_deformation_odometer_m -
+                           pass.stamp_face_deformation[v];
+      if (!(moved < pass.reach[v])) return false;
+      pass.odometer_reach[v] = pass.reach[v] - moved;
+      pass.stamp[v] = odometer;
+      return true;
+    };
+    // A node awake by the odometer and by its displacement: its look, walk or search, and its
+    // gap. Kept out of the node loop (noinline): the loop then holds only the sleep tests and
+    // the block's wake-up reading, and inlined it took 2.5 % more instructions over the rigid
+    // scene (callgrind).
+    auto evaluate = [&](int v, const Vec3& p) __attribute__((noinline)) {
       ClosestFace best;
       double unseen_d2 = far_m * far_m;
       bool search = pass.face[v] < 0 || pass.distance[v] > walk_reach;
@@ -962,8 +969,17 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
       }
       ++stats_.evaluated_nodes;
       ++stats_.node_evaluations;
-      NodeGap g = NodeGapFromClosest(face_surface, best.face, faces.Normal(best.face), p,
-                                     best.point.point, best.point.feature);
+      // The entry made in place (within the capacity a contact element reserves) and taken back
+      // below if the node is not listed. A closest point inside its face (every profile
+      // look's) has NodeGapFromClosest's first case, its numbers written here without the call.
+      NodeGap& g = gaps->emplace_back();
+      if (best.point.feature == TriangleFeature::kFace) {
+        g.face = best.face;
+        g.gap = (p - best.point.point).dot(faces.Normal(best.face));
+      } else {
+        g = NodeGapFromClosest(face_surface, best.face, faces.Normal(best.face), p,
+                               best.point.point, best.point.feature);
+      }
       pass.face[v] = best.face;
       pass.stamp[v] = odometer;
       pass.stamp_position[v] = p;
@@ -1000,7 +1016,10 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
                                     : 0.0;
       pass.odometer_reach[v] = pass.reach[v];
       pass.distance[v] = std::sqrt(best.d2);
-      if (best.d2 > d * d && !(g.gap < 0 && g.on_surface)) return;
+      if (best.d2 > d * d && !(g.gap < 0 && g.on_surface)) {
+        gaps->pop_back();
+        return;
+      }
       g.node = v;
       g.p_W = X_WF * p;
       g.q_W = X_WF * best.point.point;
@@ -1014,7 +1033,6 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
                                             [&](int f) -> const Vec3& { return faces.Normal(f); },
                                             [&](int f, int k) { return faces.CornerNormal(f, k); },
                                             keep_face_weights_ ? &pass.face_weights[v] : nullptr));
-      gaps->push_back(g);
     };
     const int first_block = (lo - v_begin) / kBlock;
     for (int block = pass.part_block_start[part] + first_block, v0 = v_begin + first_block * kBlock;
@@ -1036,7 +1054,8 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
           wake = std::min(wake, pass.stamp[v] + pass.odometer_reach[v]);
           continue;
         }
-        evaluate(v);
+        const Vec3 p = position(v);
+        if (!still_asleep(v, p)) evaluate(v, p);
         wake = pass.face[v] == kUnseeded ? -std::numeric_limits<double>::infinity()
                                          : std::min(wake, pass.stamp[v] + pass.odometer_reach[v]);
       }
