@@ -1,18 +1,15 @@
 #include "flex/stress_recovery.h"
 
-#include <cmath>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "flex/fe_element.h"
+#include "mbd/stress_hot_spot.h"
 
 namespace orrery::flex {
 
-double VonMises(const Stress6& s) {
-  const double dxy = s(0) - s(1), dyz = s(1) - s(2), dzx = s(2) - s(0);
-  return std::sqrt(0.5 * (dxy * dxy + dyz * dyz + dzx * dzx) + 3 * (s(3) * s(3) + s(4) * s(4) + s(5) * s(5)));
-}
+double VonMises(const Stress6& s) { return orrery::VonMises(s.data()); }
 
 Eigen::Matrix<double, 6, Eigen::Dynamic> CalcElementNodeStresses(ElementType t, const Eigen::MatrixX3d& X,
                                                                  const Eigen::Matrix<double, 6, 6>& D,

@@ -25,7 +25,8 @@ namespace orrery::flex {
 
 using Stress6 = Eigen::Matrix<double, 6, 1>;
 
-// Von Mises equivalent stress (Pa) of a stress in Voigt order (xx, yy, zz, xy, yz, zx).
+// Von Mises equivalent stress (Pa) of a stress in Voigt order (xx, yy, zz, xy, yz, zx): the
+// formula of mbd/stress_hot_spot.h's VonMises, which the result recorder's hot spot uses.
 double VonMises(const Stress6& s);
 
 // Stresses at the nodes of one element (6 x NodeCount(t), one column per element node, Pa).
