@@ -201,9 +201,13 @@ void ContactElement::CalcForces(const Vec6& V_WA, const Vec6& V_WB, ContactWorks
                         const double depth = -g.gap;
                         const NodeForce f = EvaluateContactLaw(spec_.law, depth, -v_rel.dot(g.n_W),
                                                                g.n_W, v_rel, area);
+                        // The force on A; B's is its negative, made once below (the same
+                        // sums negated term by term: IEEE rounding is symmetric).
                         const Vec6 wrench = ForceAtPoint(p_W, f.f_W);
-                        *(node_on_a ? f_A : f_B) += wrench;
-                        *(node_on_a ? f_B : f_A) -= wrench;
+                        if (node_on_a)
+                          *f_A += wrench;
+                        else
+                          *f_A -= wrench;
                         *energy += f.energy;
                         *power_dissipated += f.power_dissipated;
                         ws.normal_force += f.normal;
@@ -211,6 +215,7 @@ void ContactElement::CalcForces(const Vec6& V_WA, const Vec6& V_WB, ContactWorks
                         ws.max_penetration = std::max(ws.max_penetration, depth);
                         ws.contact_points += points;
                       });
+  *f_B = -*f_A;
   // The monitor reads the points when the workspace has its state (MakeWorkspace() makes it).
   if (outputs) MakeOutputs(V_WA, V_WB, *f_A, ws);
 }

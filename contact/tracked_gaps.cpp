@@ -211,8 +211,7 @@ TrackedGaps::Pass::Pass(const ContactSurface& node_surface, bool keep_face_weigh
     : face(node_surface.num_vertices(), kUnseeded),
       reach(node_surface.num_vertices(), 0.0),
       distance(node_surface.num_vertices(), 0.0),
-      odometer_reach(node_surface.num_vertices(), 0.0),
-      stamp(node_surface.num_vertices(), 0.0),
+      wake(node_surface.num_vertices(), -std::numeric_limits<double>::infinity()),
       stamp_position(node_surface.num_vertices(), Vec3::Zero()),
       stamp_face_deformation(node_surface.num_vertices(), 0.0),
       walk_margin(node_surface.num_vertices(), 0.0),
@@ -272,8 +271,7 @@ void TrackedGaps::Reset() {
   for (Pass* pass : {&pass_a_, &pass_b_}) {
     std::fill(pass->face.begin(), pass->face.end(), kUnseeded);
     std::fill(pass->reach.begin(), pass->reach.end(), 0.0);
-    std::fill(pass->odometer_reach.begin(), pass->odometer_reach.end(), 0.0);
-    std::fill(pass->stamp.begin(), pass->stamp.end(), 0.0);
+    std::fill(pass->wake.begin(), pass->wake.end(), -std::numeric_limits<double>::infinity());
     std::fill(pass->stamp_face_deformation.begin(), pass->stamp_face_deformation.end(), 0.0);
     std::fill(pass->block_wake.begin(), pass->block_wake.end(),
               -std::numeric_limits<double>::infinity());
@@ -314,8 +312,7 @@ void TrackedGaps::WarmStartFrom(const TrackedGaps& source) {
       range(from.face, to.face);
       range(from.reach, to.reach);
       range(from.distance, to.distance);
-      range(from.odometer_reach, to.odometer_reach);
-      range(from.stamp, to.stamp);
+      range(from.wake, to.wake);
       range(from.stamp_position, to.stamp_position);
       range(from.stamp_face_deformation, to.stamp_face_deformation);
       range(from.walk_margin, to.walk_margin);
@@ -347,7 +344,7 @@ void TrackedGaps::ResetPart(Pass& pass, const ContactSurface& node_surface, int 
        v < node_surface.part_vertex_start()[part + 1]; ++v) {
     pass.face[v] = kUnseeded;
     pass.reach[v] = 0;
-    pass.odometer_reach[v] = 0;
+    pass.wake[v] = -std::numeric_limits<double>::infinity();
   }
   for (int block = pass.part_block_start[part]; block < pass.part_block_start[part + 1]; ++block)
     pass.block_wake[block] = -std::numeric_limits<double>::infinity();
@@ -451,10 +448,9 @@ void TrackedGaps::UpdateTrackedSet(const Transform& X_WA, const Transform& X_WB,
   const double reach = (deformed ? deformed->gap_distance_m : search_.search_distance_m()) + s;
   // Candidate pairs (header): made anew when the motion since they were made, plus the growth
   // of the deformation sum, exceeds the margin (or for a pose that is not finite: the full
-  // broad phase).
-  // Deformed sides only (FlexibleContactElement): the rigid scene's elements moved their
-  // pairs past the margin at nearly every call (docs/performance.md, perf-flex8).
-  if (part_boxes && deformed && pair_candidates_ && X_AB.R.allFinite() && X_AB.p.allFinite()) {
+  // broad phase). Rigid sides too: with the margin of a few millimetres a gear pair rolls for
+  // tens of steps on one set (docs/performance.md, "candidates").
+  if (part_boxes && pair_candidates_ && X_AB.R.allFinite() && X_AB.p.allFinite()) {
     const double mu =
         (X_AB.R - X_AB_candidates_.R).norm() * box_radius_b_ + (X_AB.p - X_AB_candidates_.p).norm();
     // The margin's last 1e-9 m covers the rounding of the tests and of mu.
@@ -852,9 +848,16 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
       return true;
     };
     const size_t listed_from = gaps->size();
-    // The node's position in the face frame (the evaluated row's at its look height).
+    // The node's position in the face frame (the evaluated row's at its look height). For the
+    // evaluated row R_FN's off-axis entries are zero, so its nodes' x and y in the face frame
+    // are R_FN's upper left block times their x and y, plus p, and z is the row's: the numbers
+    // X_FN * (x, y, z_eval) gives, to the bit (its terms with the zero entries add exactly).
+    const double z_row = (X_FN * Vec3(0, 0, z_eval)).z();
     auto position = [&](int v) {
-      return one_row ? X_FN * Vec3(nodes[v].x(), nodes[v].y(), z_eval) : X_FN * nodes[v];
+      if (!one_row) return X_FN * nodes[v];
+      const double x = nodes[v].x(), y = nodes[v].y();
+      return Vec3(R_FN(0, 0) * x + R_FN(0, 1) * y + X_FN.p.x(),
+                  R_FN(1, 0) * x + R_FN(1, 1) * y + X_FN.p.y(), z_row);
     };
     // A node awake by the odometer but not by its own displacement in the face frame since its
     // stamp: still out of reach, and the odometer may now advance by what is left before its
@@ -865,8 +868,7 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
       const double moved = (p - pass.stamp_position[v]).norm() + face_deformation_odometer_m -
                            pass.stamp_face_deformation[v];
       if (!(moved < pass.reach[v])) return false;
-      pass.odometer_reach[v] = pass.reach[v] - moved;
-      pass.stamp[v] = odometer;
+      pass.wake[v] = odometer + (pass.reach[v] - moved);
       return true;
     };
     // A node awake by the odometer and by its displacement: its look, walk or search, and its
@@ -960,9 +962,9 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
         // The descent's bound on every face it passed by (at least the search's bound).
         const double reach = std::max(bound_m, std::sqrt(unseen_d2));
         pass.face[v] = far ? kFar : kUnseeded;
-        pass.reach[v] = pass.odometer_reach[v] = far ? reach : 0.0;
+        pass.reach[v] = far ? reach : 0.0;
+        pass.wake[v] = far ? odometer + reach : -std::numeric_limits<double>::infinity();
         pass.distance[v] = reach;
-        pass.stamp[v] = odometer;
         pass.stamp_position[v] = p;
         pass.stamp_face_deformation[v] = face_deformation_odometer_m;
         return;
@@ -981,7 +983,6 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
                                best.point.point, best.point.feature);
       }
       pass.face[v] = best.face;
-      pass.stamp[v] = odometer;
       pass.stamp_position[v] = p;
       pass.stamp_face_deformation[v] = face_deformation_odometer_m;
       // What a later evaluation needs to skip the walk (a search, a shared row's node moved
@@ -1014,7 +1015,7 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
       pass.reach[v] = !g.on_surface ? std::max(0.0, g.rim_offset_m - g.rim_fade_m)
                       : g.gap > 0   ? g.gap
                                     : 0.0;
-      pass.odometer_reach[v] = pass.reach[v];
+      pass.wake[v] = odometer + pass.reach[v];
       pass.distance[v] = std::sqrt(best.d2);
       if (best.d2 > d * d && !(g.gap < 0 && g.on_surface)) {
         gaps->pop_back();
@@ -1050,14 +1051,13 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
         // Asleep: the surfaces have not moved far enough for this node to touch, by the part's
         // odometer, or else by the node's own displacement in the face frame since its stamp. A
         // node not yet seeded is always evaluated.
-        if (pass.face[v] != kUnseeded && pass.odometer_reach[v] > odometer - pass.stamp[v]) {
-          wake = std::min(wake, pass.stamp[v] + pass.odometer_reach[v]);
+        if (odometer < pass.wake[v]) {
+          wake = std::min(wake, pass.wake[v]);
           continue;
         }
         const Vec3 p = position(v);
         if (!still_asleep(v, p)) evaluate(v, p);
-        wake = pass.face[v] == kUnseeded ? -std::numeric_limits<double>::infinity()
-                                         : std::min(wake, pass.stamp[v] + pass.odometer_reach[v]);
+        wake = std::min(wake, pass.wake[v]);
       }
       pass.block_wake[block] = wake;
     }

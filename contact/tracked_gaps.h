@@ -264,12 +264,12 @@ class TrackedGaps {
     const std::vector<double>* b = nullptr;  // #parts of B
     double gap_distance_m = 0;
   };
-  // With part_boxes and deformed sides (`deformed` given) the broad phase and the box tests
-  // run over candidate pairs made for a
+  // With part_boxes the broad phase and the box tests run over candidate pairs made for a
   // motion margin m (kCandidateMargin): at the poses X_AB0 they were made at, the pairs whose
   // spheres are within the kept pairs' reach of the broad phase + m and whose boxes pass A's
   // three face axes of the box test (PartBoxesFacesWithin) at the largest reach of a tracked
-  // pair, d + 2 s + G0 + m, with G0 = max D_a + max D_b then. They are made anew
+  // pair, d + 2 s + G0 + m, with G0 = max D_a + max D_b then (rigid sides, no `deformed`:
+  // G0 = G = 0 and d the search distance). They are made anew
   // unless mu + max(0, G - G0) <= m, where G is the same sum now and
   //   mu = |R1 - R0|_F rho_B + |p1 - p0|,
   // rho_B the largest distance of a corner of B's parts' boxes or of a part centre from B's
@@ -389,8 +389,11 @@ class TrackedGaps {
     broad_phase_reuse_ = on;
     have_broad_phase_pose_ = false;
   }
-  // The candidates' motion margin m (m; TrackPairs).
-  static constexpr double kCandidateMargin = 150e-6;
+  // The candidates' motion margin m (m; TrackPairs). A larger margin makes the candidates less
+  // often and tests more of them at each broad phase; seed 003's stage (module 4 mm, steps of
+  // 10 us moving B by 50 to 120 um in A's frame by mu) ran the broad phase in the fewest
+  // instructions at about 4 mm, rigid and flexible (docs/performance.md, "candidates").
+  static constexpr double kCandidateMargin = 4e-3;
 
  private:
   // Nodes of one surface against the faces of the other; arrays over the node surface's
@@ -400,8 +403,11 @@ class TrackedGaps {
     std::vector<int> face;        // tracked closest face, or kUnseeded, or kFar
     std::vector<double> reach;    // D of the header (m)
     std::vector<double> distance; // to the closest face at the last evaluation (m)
-    std::vector<double> odometer_reach;  // what the odometer may advance from stamp unseen (m)
-    std::vector<double> stamp;    // odometer at the last evaluation or look (m)
+    // The odometer reading up to which the node sleeps: the reading at its last evaluation or
+    // look plus what the odometer may advance from there unseen (m; -inf for a node not yet
+    // seeded, which is evaluated at every call). One array, so that the node test of RunPass
+    // loads one number.
+    std::vector<double> wake;
     std::vector<Vec3> stamp_position;  // the node in the face frame at the last evaluation
     std::vector<double> stamp_face_deformation;  // the pass's face deformation odometer then
     // At the node's last walk (RunPass skips the next walks while they cannot leave its face):
@@ -420,8 +426,8 @@ class TrackedGaps {
     // empty without keep_face_weights).
     std::vector<Vec3> face_weights;
     // Blocks of kBlock consecutive nodes of one part (a part's first block starts at its first
-    // node): the smallest stamp + odometer_reach of the block's nodes (-inf while one has no
-    // face), so that a block whose nodes all sleep by the odometer is passed in one test.
+    // node): the smallest wake reading of the block's nodes (-inf while one has no face), so
+    // that a block whose nodes all sleep by the odometer is passed in one test.
     std::vector<int> part_block_start;  // #parts + 1
     std::vector<double> block_wake;     // per block (m)
     // #parts: 1 while the part's last evaluation ran one row for all (header; its other rows'
