@@ -337,6 +337,8 @@ void TrackedGaps::WarmStartFrom(const TrackedGaps& source) {
   face_deformation_b_ = source.face_deformation_b_;
   std::copy(source.odometer_a_.begin(), source.odometer_a_.end(), odometer_a_.begin());
   std::copy(source.odometer_b_.begin(), source.odometer_b_.end(), odometer_b_.begin());
+  odometer_saturated_ = source.odometer_saturated_;
+  largest_odometer_ = source.largest_odometer_;
 }
 
 void TrackedGaps::ResetPart(Pass& pass, const ContactSurface& node_surface, int part) {
@@ -586,12 +588,12 @@ void TrackedGaps::TrackPairs(const Transform& X_WA, const Transform& X_WB, bool 
     // part joins): only the tracked parts are passed.
     for (const int j : tracked_parts_b_) {
       motion_b_[j] = PartMotion(j, X_AB_previous_, X_AB);
-      odometer_b_[j] += motion_b_[j];
+      Advance(odometer_b_[j], motion_b_[j]);
       largest = std::max(largest, motion_b_[j]);
     }
     for (const int i : tracked_parts_a_) motion_a_[i] = 0;
     for (const auto& [pa, pb] : tracked_) motion_a_[pa] = std::max(motion_a_[pa], motion_b_[pb]);
-    for (const int i : tracked_parts_a_) odometer_a_[i] += motion_a_[i];
+    for (const int i : tracked_parts_a_) Advance(odometer_a_[i], motion_a_[i]);
     odometer_ += largest;
     stats_.max_motion_between_calls_m = std::max(stats_.max_motion_between_calls_m, largest);
   }
@@ -600,15 +602,23 @@ void TrackedGaps::TrackPairs(const Transform& X_WA, const Transform& X_WB, bool 
   RestartIfSaturated();
 }
 
+void TrackedGaps::Advance(double& odometer, double by) {
+  odometer += by;
+  largest_odometer_ = std::max(largest_odometer_, odometer);
+  odometer_saturated_ = odometer_saturated_ || !(odometer < kOdometerRestart);
+}
+
 void TrackedGaps::RestartIfSaturated() {
   auto below = [](double x) { return x < kOdometerRestart; };  // false for NaN
-  if (std::all_of(odometer_a_.begin(), odometer_a_.end(), below) &&
-      std::all_of(odometer_b_.begin(), odometer_b_.end(), below) &&
-      below(face_deformation_a_) && below(face_deformation_b_) &&
+  // Every part's odometer below the restart reading: none has reached it since the last
+  // restart (Advance; odometers only grow).
+  if (!odometer_saturated_ && below(face_deformation_a_) && below(face_deformation_b_) &&
       X_AB_previous_.R.allFinite() && X_AB_previous_.p.allFinite())
     return;
   std::fill(odometer_a_.begin(), odometer_a_.end(), 0.0);
   std::fill(odometer_b_.begin(), odometer_b_.end(), 0.0);
+  odometer_saturated_ = false;
+  largest_odometer_ = 0;
   face_deformation_a_ = face_deformation_b_ = 0;
   // A pose that is not finite is no start for the next motion: the next call adds none (its
   // nodes are all seeded anyway).
@@ -629,6 +639,10 @@ void TrackedGaps::ComputeGaps(const Transform& X_WA, const Transform& X_WB,
   if (deformation > 0) {
     for (double& o : odometer_a_) o += deformation;
     for (double& o : odometer_b_) o += deformation;
+    // The largest odometer moves by as much (rounding is monotone: the largest sum is the
+    // largest odometer's).
+    largest_odometer_ += deformation;
+    odometer_saturated_ = odometer_saturated_ || !(largest_odometer_ < kOdometerRestart);
   }
   face_deformation_a_ += side_b.deformation_change_m;  // pass A: faces of B
   face_deformation_b_ += side_a.deformation_change_m;

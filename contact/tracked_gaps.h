@@ -480,6 +480,12 @@ class TrackedGaps {
   double face_deformation_a_ = 0, face_deformation_b_ = 0;  // per pass: faces' deformation, summed
   // Per part (tracked_gaps.h): B's parts their own motion, A's parts their partners' largest.
   std::vector<double> odometer_a_, odometer_b_, motion_a_, motion_b_;
+  // Whether a part's odometer has reached the restart reading (or is not a number) since the
+  // odometers last started from zero (RestartIfSaturated), and the largest of them.
+  bool odometer_saturated_ = false;
+  double largest_odometer_ = 0;
+  // odometer += by, noting the largest and whether it reached the restart reading.
+  void Advance(double& odometer, double by);
   std::vector<std::array<Vec3, 8>> part_box_corners_b_;  // #parts of B: PartBoxCorners
   TrackedGapStats stats_;
   bool pair_skip_ = true;
