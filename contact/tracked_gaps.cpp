@@ -752,14 +752,15 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
         one_row ? 0.5 * (node_surface.vertices()[lo].z() + node_surface.vertices()[lo + row_n].z())
                 : 0.0;
     // The evaluated row's height in the face frame (every node's, to the bit: R_FN's off-axis
-    // entries are zero) in each partner's rows, made when a node first needs it (interval -1
-    // until then: most tracked parts' nodes sleep through an evaluation).
+    // entries are zero), and its place in each partner's rows, made when a node first needs it
+    // (interval -1 until then: most tracked parts' nodes sleep through an evaluation).
+    const double z_row = (X_FN * Vec3(0, 0, z_eval)).z();
     partner_places_.assign(one_row ? partners_.size() : 0,
                            ContactSurface::RowPlace{.interval = -1});
     auto place_in = [&](int partner) -> const ContactSurface::RowPlace& {
       ContactSurface::RowPlace& place = partner_places_[partner];
       if (place.interval < 0)
-        place = face_surface.ExtrudedRowPlace(partners_[partner], (X_FN * Vec3(0, 0, z_eval)).z());
+        place = face_surface.ExtrudedRowPlace(partners_[partner], z_row);
       return place;
     };
     // A shared row's node on the faces of a partner's column, however they were found (header:
@@ -866,7 +867,6 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
     // evaluated row R_FN's off-axis entries are zero, so its nodes' x and y in the face frame
     // are R_FN's upper left block times their x and y, plus p, and z is the row's: the numbers
     // X_FN * (x, y, z_eval) gives, to the bit (its terms with the zero entries add exactly).
-    const double z_row = (X_FN * Vec3(0, 0, z_eval)).z();
     auto position = [&](int v) {
       if (!one_row) return X_FN * nodes[v];
       const double x = nodes[v].x(), y = nodes[v].y();

@@ -395,7 +395,7 @@ TEST_F(TrackedGapsTest, CandidatePairsGiveTheFullBroadPhasesPairs) {
   EXPECT_GT(rows, 10000);
   EXPECT_GT(pair_sets, 1000);
   // The candidates were reused (the iterates and most steps are within the margin), and made
-  // again as the gears rolled on (two mesh periods, about 60 um of mu a step against the
+  // again as the gears rolled on (two mesh periods, about 0.2 mm of mu a step against the
   // margin's 4 mm) and after the jumps and the diverging pose.
   for (const TrackedGaps* t :
        {&candidates.tracked, &rigid_candidates.tracked, &deformed_candidates}) {
