@@ -17,34 +17,6 @@ void ValidateContactLaw(const ContactLaw& law) {
   if (!(law.slip_velocity_m_s > 0)) fail("slip_velocity_m_s must be > 0", law.slip_velocity_m_s);
 }
 
-NodeForce EvaluateContactLaw(const ContactLaw& law, double depth, double depth_rate,
-                             const Vec3& n_W, const Vec3& v_rel_W, double area_weight) {
-  NodeForce out;
-  if (!(depth > 0)) return out;
-  // Elastic part and Hunt-Crossley damping, never pulling.
-  const double delta_e = law.exponent == 1.0 ? depth : std::pow(depth, law.exponent);
-  const double elastic = area_weight * law.stiffness_per_area * delta_e;
-  const double damping = std::max(0.0, 1.0 + law.hunt_crossley_s_per_m * depth_rate);
-  const double fn = elastic * damping;
-  out.normal = fn;
-  out.stiffness = law.exponent * elastic / depth * damping;
-  out.energy = elastic * depth / (law.exponent + 1.0);
-  out.power_dissipated = (fn - elastic) * depth_rate;
-  out.f_W = fn * n_W;
-  // Regularized Coulomb friction against the tangential slip.
-  if (law.friction_coefficient > 0 && fn > 0) {
-    const Vec3 v_t = v_rel_W - v_rel_W.dot(n_W) * n_W;
-    const double speed = v_t.norm();
-    const double scale = law.friction_coefficient * fn /
-                         (speed < law.slip_velocity_m_s ? law.slip_velocity_m_s : speed);
-    const Vec3 f_t = -scale * v_t;
-    out.f_W += f_t;
-    out.friction = scale * speed;
-    out.power_dissipated += scale * speed * speed;
-  }
-  return out;
-}
-
 NodeForceTangent EvaluateContactLawTangent(const ContactLaw& law, double depth, double depth_rate,
                                            const Vec3& n_W, const Vec3& v_rel_W,
                                            double area_weight) {

@@ -20,6 +20,9 @@
 //
 // Energy bookkeeping per node: elastic energy U = A_w k_A delta^(e+1) / (e+1); dissipated
 // power (F_N - A_w k_A delta^e) delta_dot (damping, also when the clamp acts) - F_T . v_t.
+#include <algorithm>
+#include <cmath>
+
 #include "mbd/spatial.h"
 
 namespace orrery::contact {
@@ -46,9 +49,35 @@ struct NodeForce {
 
 // depth = -g (> 0), depth_rate = d(depth)/dt, n_W the face normal (points towards the node
 // side), v_rel_W the velocity of the node relative to the face's material point, area_weight
-// the node's weight (m^2).
-NodeForce EvaluateContactLaw(const ContactLaw& law, double depth, double depth_rate,
-                             const Vec3& n_W, const Vec3& v_rel_W, double area_weight);
+// the node's weight (m^2). Inline: the contact elements call it once per contact point
+// (docs/performance.md, "law-inline").
+inline NodeForce EvaluateContactLaw(const ContactLaw& law, double depth, double depth_rate,
+                                    const Vec3& n_W, const Vec3& v_rel_W, double area_weight) {
+  NodeForce out;
+  if (!(depth > 0)) return out;
+  // Elastic part and Hunt-Crossley damping, never pulling.
+  const double delta_e = law.exponent == 1.0 ? depth : std::pow(depth, law.exponent);
+  const double elastic = area_weight * law.stiffness_per_area * delta_e;
+  const double damping = std::max(0.0, 1.0 + law.hunt_crossley_s_per_m * depth_rate);
+  const double fn = elastic * damping;
+  out.normal = fn;
+  out.stiffness = law.exponent * elastic / depth * damping;
+  out.energy = elastic * depth / (law.exponent + 1.0);
+  out.power_dissipated = (fn - elastic) * depth_rate;
+  out.f_W = fn * n_W;
+  // Regularized Coulomb friction against the tangential slip.
+  if (law.friction_coefficient > 0 && fn > 0) {
+    const Vec3 v_t = v_rel_W - v_rel_W.dot(n_W) * n_W;
+    const double speed = v_t.norm();
+    const double scale = law.friction_coefficient * fn /
+                         (speed < law.slip_velocity_m_s ? law.slip_velocity_m_s : speed);
+    const Vec3 f_t = -scale * v_t;
+    out.f_W += f_t;
+    out.friction = scale * speed;
+    out.power_dissipated += scale * speed * speed;
+  }
+  return out;
+}
 
 // Derivatives of the node force f (NodeForce::f_W) for Newton's iteration matrix: with x_rel the
 // node's position relative to the face point (depth = -n . x_rel + const) and v_rel its velocity,

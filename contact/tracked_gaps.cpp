@@ -352,10 +352,8 @@ void TrackedGaps::ResetPart(Pass& pass, const ContactSurface& node_surface, int 
     pass.block_wake[block] = -std::numeric_limits<double>::infinity();
 }
 
-double TrackedGaps::PartMotion(int part_b, const Transform& X_AB0,
-                               const Transform& X_AB1) const {
-  const Mat3 dR = X_AB1.R - X_AB0.R;
-  const Vec3 dp = X_AB1.p - X_AB0.p;
+double TrackedGaps::PartMotion(int part_b, const Mat3& dR, const Vec3& dp,
+                               const Vec3& dR_column_norms) const {
   // The box's corners: a point of the part is a convex combination of them, and so is its
   // motion dR x + dp of theirs.
   double corners2 = 0;
@@ -364,8 +362,8 @@ double TrackedGaps::PartMotion(int part_b, const Transform& X_AB0,
   // The axis-aligned box (the axial extent of a gear tooth drops out for rotations about the
   // gear axis; the oriented box may be the tighter when the part turns about another axis).
   const Vec3& h = b_.part_half_extents()[part_b];
-  const double aligned = dR.col(0).norm() * h.x() + dR.col(1).norm() * h.y() +
-                         dR.col(2).norm() * h.z() + (dR * b_.part_centers()[part_b] + dp).norm();
+  const double aligned = dR_column_norms.x() * h.x() + dR_column_norms.y() * h.y() +
+                         dR_column_norms.z() * h.z() + (dR * b_.part_centers()[part_b] + dp).norm();
   return std::min(std::sqrt(corners2), aligned);
 }
 
@@ -584,10 +582,13 @@ void TrackedGaps::TrackPairs(const Transform& X_WA, const Transform& X_WB, bool 
   // largest motion of its partners.
   if (have_previous_) {
     double largest = 0;
+    const Mat3 dR = X_AB.R - X_AB_previous_.R;
+    const Vec3 dp = X_AB.p - X_AB_previous_.p;
+    const Vec3 dR_column_norms(dR.col(0).norm(), dR.col(1).norm(), dR.col(2).norm());
     // Parts in no tracked pair add nothing (their nodes are not read, and are reset when their
     // part joins): only the tracked parts are passed.
     for (const int j : tracked_parts_b_) {
-      motion_b_[j] = PartMotion(j, X_AB_previous_, X_AB);
+      motion_b_[j] = PartMotion(j, dR, dp, dR_column_norms);
       Advance(odometer_b_[j], motion_b_[j]);
       largest = std::max(largest, motion_b_[j]);
     }

@@ -458,7 +458,9 @@ class TrackedGaps {
   void ShareRows(const ContactSurface& node_surface, const ContactSurface& face_surface,
                  const RowGroup& run, const Transform& X_FN, const Transform& X_WF,
                  NodeGap* block) const;
-  double PartMotion(int part_b, const Transform& X_AB0, const Transform& X_AB1) const;
+  // The motion bound of part_b of B between two poses of B in A's frame, from their change
+  // dR = R1 - R0, dp = p1 - p0 and dR's column norms (the same for every part: made once per call).
+  double PartMotion(int part_b, const Mat3& dR, const Vec3& dp, const Vec3& dR_column_norms) const;
   // Starts the odometers (and the faces' deformation odometers) again from zero and seeds every
   // node anew when one has reached kOdometerRestart or is not finite, or the pose is not finite.
   void RestartIfSaturated();
