@@ -238,13 +238,15 @@ void FlexibleContactElement::Evaluate(const ContactSideState& a, const ContactSi
   ws.searched = false;
   if (spec_.gap_method == ContactGapMethod::kTracked) {
     // Deformed gaps both ways, tracked node by node (tracked_gaps.h).
-    auto side = [](ContactSideBuffers& buf) {
+    // A rigid side as its surface holds it (its own vertices, no part bounds: the buffers hold
+    // the same numbers), so that the tracked gaps see it rigid (tracked_gaps.h, node columns).
+    auto side = [](const ContactSurface& surface, ContactSideBuffers& buf) {
       const bool lazy = buf.q_f != nullptr;  // deformed: normals made on first read
-      return TrackedGaps::TrackedSide{.vertices = &buf.vertices,
+      return TrackedGaps::TrackedSide{.vertices = lazy ? &buf.vertices : &surface.vertices(),
                                       .normals = &buf.normals,
                                       .deformation_m = buf.deformation_bound,
                                       .deformation_change_m = buf.deformation_change,
-                                      .part_deformation_m = &buf.part_deformation,
+                                      .part_deformation_m = lazy ? &buf.part_deformation : nullptr,
                                       .lazy_normals = lazy ? &buf.normals : nullptr,
                                       .normal_stamp = lazy ? &buf.normal_stamp : nullptr,
                                       .normal_epoch = buf.normal_epoch,
@@ -252,8 +254,8 @@ void FlexibleContactElement::Evaluate(const ContactSideState& a, const ContactSi
                                       .lazy_corner_normals = lazy ? &buf.corner_normals : nullptr,
                                       .corner_stamp = lazy ? &buf.corner_stamp : nullptr};
     };
-    ws.tracked.ComputeGaps(a.X_WB, b.X_WB, side(ws.side_a), side(ws.side_b), d, &ws.gaps_a,
-                           &ws.gaps_b);
+    ws.tracked.ComputeGaps(a.X_WB, b.X_WB, side(sa, ws.side_a), side(sb, ws.side_b), d,
+                           &ws.gaps_a, &ws.gaps_b);
   } else {
     // Candidates of the undeformed surfaces.
     ws.searched = ws.search.Find(a.X_WB, b.X_WB, &ws.pairs);

@@ -703,6 +703,10 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
       faces.v.own == &face_surface.vertices() && faces.lazy_n == nullptr &&
       face_deformation_m == 0 && face_part_deformation_m == nullptr && R_FN(0, 2) == 0 &&
       R_FN(1, 2) == 0 && R_FN(2, 0) == 0 && R_FN(2, 1) == 0 && R_FN(2, 2) > 0;
+  // Columns for every node (header: node columns): the faces are the surface's own, rigid.
+  const bool faces_rigid = node_columns_ && faces.v.deformed == nullptr &&
+                           faces.v.own == &face_surface.vertices() && faces.lazy_n == nullptr &&
+                           face_deformation_m == 0 && face_part_deformation_m == nullptr;
   for (size_t k = 0; k < by_part_.size();) {
     const int part = by_part_[k].first;
     partners_.clear();
@@ -742,6 +746,14 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
     // model shares at every call).
     if (pass.rows_shared[part] && !one_row) ResetPart(pass, node_surface, part);
     pass.rows_shared[part] = one_row;
+    // A part that does not share rows is looked at along its partners' columns, node by node at
+    // the node's own height, while every partner is extruded and rigid (header: node columns).
+    bool look_columns = one_row;
+    if (!one_row && faces_rigid) {
+      look_columns = true;
+      for (const int part_f : partners_)
+        look_columns = look_columns && face_surface.part_rows()[part_f] >= 2;
+    }
     const int shared_row = one_row ? EvaluatedRow(rows) : 0;
     const int lo = one_row ? v_begin + shared_row * row_n : v_begin;
     const int hi = one_row ? lo + row_n : v_end;
@@ -782,8 +794,23 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
       *profile = &face_surface.vertices()[face_surface.part_vertex_start()[part_f]];
       return face_surface.face_cell()[face] % *columns;
     };
-    auto onto_column = [&](const ColumnPoint& c, int partner, ClosestFace* out) {
-      out->face = face_surface.ExtrudedFaceAt(partners_[partner], c.column, c.t, place_in(partner));
+    // A node column's height within the partner's rows (its rectangles' heights), and its place
+    // among them; a shared row's within every partner's (the part's test above).
+    auto within_heights = [&](int partner, double z) {
+      if (one_row) return true;
+      const int part_f = partners_[partner];
+      const int first_f = face_surface.part_vertex_start()[part_f];
+      return z >= face_surface.vertices()[first_f].z() &&
+             z <= face_surface
+                      .vertices()[first_f + (face_surface.part_rows()[part_f] - 1) *
+                                                face_surface.part_row_length()[part_f]]
+                      .z();
+    };
+    auto onto_column = [&](const ColumnPoint& c, int partner, ClosestFace* out)
+                           __attribute__((always_inline)) {
+      out->face = face_surface.ExtrudedFaceAt(
+          partners_[partner], c.column, c.t,
+          one_row ? place_in(partner) : face_surface.ExtrudedRowPlace(partners_[partner], c.point.z()));
       out->point.point = c.point;
       out->point.feature = TriangleFeature::kFace;
       out->d2 = c.d2;
@@ -803,7 +830,7 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
       int partner = 0, columns = 0;
       const Vec3* profile = nullptr;
       const int column = column_of(face, &partner, &columns, &profile);
-      if (column < 0) return false;
+      if (column < 0 || !within_heights(partner, p.z())) return false;
       ColumnPoint c = OnColumn(profile, column, p);
       auto inside = [&] {
         return c.t > 0 && c.t < 1 &&
@@ -857,7 +884,7 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
       int partner = 0, columns = 0;
       const Vec3* profile = nullptr;
       const int column = column_of(best->face, &partner, &columns, &profile);
-      if (column < 0) return false;
+      if (column < 0 || !within_heights(partner, p.z())) return false;
       const ColumnPoint c = OnColumn(profile, column, p);
       if (!(c.t > 0 && c.t < 1)) return false;
       onto_column(c, partner, best);
@@ -896,9 +923,9 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
       bool search = pass.face[v] < 0 || pass.distance[v] > walk_reach;
       double walk_margin = 0;
       MeasuredFaces measured;  // by the walk, for its tied pair's margin
-      const bool profile = one_row && !search && look_along_profile(v, p, pass.face[v], &best);
+      const bool profile = look_columns && !search && look_along_profile(v, p, pass.face[v], &best);
       if (profile) ++stats_.profile_looks;
-      if (one_row && !search && !profile) ++stats_.profile_fallbacks;
+      if (look_columns && !search && !profile) ++stats_.profile_fallbacks;
       if (!profile && pass.face[v] >= 0) {
         best = OnFace(faces, pass.face[v], p);
         // The walk from the node's face stays there while every face it tried at its last
@@ -968,7 +995,7 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
         ++stats_.seeded_nodes;
         ++stats_.seeds;
       }
-      const bool in_column = one_row && !profile && best.face >= 0 && settle_in_column(p, &best);
+      const bool in_column = look_columns && !profile && best.face >= 0 && settle_in_column(p, &best);
       // No face: the node's position is not finite (a diverging Newton iterate), and it
       // starts again at the next evaluation; or it is farther than the search's bound from
       // every face of its partners, and sleeps until it may have come within it.

@@ -106,6 +106,15 @@
 // to the bit whichever way its column was found (a recorder row warmed from the integrator's,
 // or cold). Against the tracking of every node (tests/contact/tracked_gaps_test.cpp
 // SharedRowsGiveTheGapsOfEveryRow): gaps and points within 1e-15 m.
+// Node columns: the same look serves the nodes of a part that does not share rows (a flexible
+// planet's deformed nodes, or any node surface) when every partner of the part is extruded and
+// the faces are rigid (the surface's own vertices and normals), each node at its own height:
+// a node within a partner's heights is looked at and walked along its columns, its closest
+// point the segment's point at the node's height and its face the half of the rectangle there
+// (ExtrudedRowPlace, ExtrudedFaceAt); a node above or below the partner's rows (beyond its
+// rim) is left to the faces' look, as are the cases above. Against the faces' looks
+// (set_node_columns(false); tests/contact/tracked_gaps_test.cpp
+// NodeColumnsGiveTheFacesGaps): the same faces, gaps and points to rounding.
 // A search is bounded. A node of a pair that has just joined the tracked set (not seeded yet) is
 // searched within the far distance 5 (d + s); a node below its face within the face's distance,
 // however deep; any other node (far at its last search, or above its face and farther than d + s
@@ -377,6 +386,13 @@ class TrackedGaps {
     shared_rows_ = on;
     Reset();
   }
+  // Tests: whether the nodes of parts that do not share rows are looked at along rigid
+  // extruded partners' columns (default true; false looks at the faces, which must give the
+  // same gaps to rounding: header, node columns).
+  void set_node_columns(bool on) {
+    node_columns_ = on;
+    Reset();
+  }
   // Tests: whether TrackPairs() may run over candidate pairs (default true; false runs the
   // full broad phase at every call, which must give the same pairs).
   void set_pair_candidates(bool on) {
@@ -492,6 +508,7 @@ class TrackedGaps {
   TrackedGapStats stats_;
   bool pair_skip_ = true;
   bool shared_rows_ = true;
+  bool node_columns_ = true;
   bool keep_face_weights_ = true;
   // Candidate pairs (TrackPairs): sorted, made at relative pose X_AB_candidates_ with the
   // deformation sum G0 and for the largest reach given; rho_B of B's part boxes.

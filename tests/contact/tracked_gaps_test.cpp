@@ -204,6 +204,9 @@ long CountPenetrating(const std::vector<NodeGap>& gaps) {
 
 TEST_F(TrackedGapsTest, EqualTheCandidatePairGapsWhileRolling) {
   Tracking w(*s1_, *s2_);
+  // Over the faces (node columns take a face of either row at a row's height, where the oracle
+  // takes the lower index: NodeColumnsGiveTheFacesGaps compares them with this tracking).
+  w.tracked.set_node_columns(false);
 
   // The roll with a wobble (a Newton iterate) at every step; no diverging iterate (the oracle
   // has no gaps for a pose that is not finite).
@@ -242,6 +245,9 @@ TEST_F(TrackedGapsTest, EqualTheCandidatePairGapsWhileRolling) {
 TEST_F(TrackedGapsTest, TiedPairSkipGivesTheWalksFaces) {
   Tracking skipping(*s1_, *s2_), walking(*s1_, *s2_);
   walking.tracked.set_pair_skip(false);
+  // Over the faces (node columns walk along columns, without tied pairs).
+  skipping.tracked.set_node_columns(false);
+  walking.tracked.set_node_columns(false);
   const double period = 2 * kPi / 19;
   long rows = 0, penetrating = 0;
   for (int k = 0; k <= 600; ++k) {
@@ -485,6 +491,133 @@ TEST_F(TrackedGapsTest, EqualTheCandidatePairGapsOnDeformingSurfaces) {
               static_cast<double>(tracked.stats().seeds) / tracked.stats().updates);
 }
 
+// Node columns against the faces' looks, one pass's lists: the same nodes in the same order, each
+// with the same gap and closest point to 1e-15 m, the same force normal to 1e-13 and the same
+// on-surface flag; a node on the edge between two faces of one column's rectangle (its
+// diagonal, or a row edge at a row's height) may come out on either, which must then lie in
+// one plane (counted in *ties). The normal's bound: the force normal is interpolated with the
+// closest point's barycentric coordinates on whichever face, and their rounding is eps times
+// the coordinates over the column's width (gear radii of 20 to 27 mm, profile segments of
+// about 0.25 mm: about 100 eps, 2e-14, with a factor 5 for the interpolation's sums).
+void ExpectColumnGaps(const std::vector<NodeGap>& got, const std::vector<NodeGap>& want,
+                      const ContactSurface& faces, const std::string& where, long* compared,
+                      long* penetrating, long* ties) {
+  ASSERT_EQ(got.size(), want.size()) << where;
+  for (size_t i = 0; i < got.size(); ++i) {
+    const NodeGap& c = got[i];
+    const NodeGap& f = want[i];
+    ASSERT_EQ(c.node, f.node) << where;
+    EXPECT_NEAR(c.gap, f.gap, 1e-15) << where << " node " << c.node;
+    EXPECT_LT((c.q_W - f.q_W).norm(), 1e-15) << where << " node " << c.node;
+    EXPECT_LT((c.n_W - f.n_W).norm(), 1e-13) << where << " node " << c.node;
+    EXPECT_EQ(c.on_surface, f.on_surface) << where << " node " << c.node;
+    if (c.face != f.face) {
+      EXPECT_LT((faces.face_normals()[c.face] - faces.face_normals()[f.face]).norm(), 1e-12)
+          << where << " node " << c.node;
+      ++*ties;
+    }
+    if (InContact(f)) ++*penetrating;
+    ++*compared;
+  }
+}
+
+// Node columns (tracked_gaps.h): the nodes of a part that does not share rows are looked at
+// along a rigid partner's profile columns at their own heights, not over its faces. Against the
+// faces' looks (set_node_columns(false)): both rigid gears over the roll of
+// SharedRowsGiveTheGapsOfEveryRow without sharing (the passes keep face weights), every node at
+// a row's height on a row edge of the partner; then gear 2 deformed over the roll of
+// EqualTheCandidatePairGapsOnDeformingSurfaces, its nodes off the rows' heights (its rim rows'
+// beyond gear 1's rims half the time: left to the faces' look) against gear 1's columns, and
+// gear 1's rigid nodes against the deformed faces the same to the bit.
+TEST_F(TrackedGapsTest, NodeColumnsGiveTheFacesGaps) {
+  {
+    Tracking columns(*s1_, *s2_), faces(*s1_, *s2_);
+    faces.tracked.set_node_columns(false);
+    const std::vector<Poses> poses = RollWithIterates({{1e-5, -2e-6}}, 0.05);
+    long compared = 0, penetrating = 0, ties = 0;
+    for (size_t k = 0; k < poses.size(); ++k) {
+      const Poses& p = poses[k];
+      columns.tracked.Update(p.X_W1, p.X_W2, &columns.gaps_a, &columns.gaps_b);
+      faces.tracked.Update(p.X_W1, p.X_W2, &faces.gaps_a, &faces.gaps_b);
+      const std::string where = "rigid pose " + std::to_string(k);
+      ASSERT_NO_FATAL_FAILURE(ExpectColumnGaps(columns.gaps_a, faces.gaps_a, *s2_, where + " dir 0",
+                                               &compared, &penetrating, &ties));
+      ASSERT_NO_FATAL_FAILURE(ExpectColumnGaps(columns.gaps_b, faces.gaps_b, *s1_, where + " dir 1",
+                                               &compared, &penetrating, &ties));
+    }
+    const TrackedGapStats& c = columns.tracked.stats();
+    std::printf("node columns, rigid: %ld of %ld listed nodes compared in contact, %ld on the "
+                "other face of a column's edge; %ld looked at along the columns, %ld left to "
+                "the faces' look\n",
+                penetrating, compared, ties, c.profile_looks, c.profile_fallbacks);
+    EXPECT_GT(compared, 10000);
+    EXPECT_GT(penetrating, 5000);
+    EXPECT_GT(c.profile_looks, 10 * c.profile_fallbacks);
+    EXPECT_EQ(faces.tracked.stats().profile_looks + faces.tracked.stats().profile_fallbacks, 0);
+  }
+
+  const double d = 30e-6, u_max = 8e-6;
+  GearContactOptions o;
+  o.involute_intervals = 16;
+  o.margin_m = d + 2 * u_max;
+  o.slack_m = 100e-6;
+  const auto s1 = MakeGearContactSurface(*g1_, o, {}, Transform());
+  const auto s2 = MakeGearContactSurface(*g2_, o, {}, Transform());
+  TrackedGaps columns(*s1, *s2), faces(*s1, *s2);
+  faces.set_node_columns(false);
+  std::vector<NodeGap> col_a, col_b, face_a, face_b;
+  for (auto* g : {&col_a, &face_a}) g->reserve(s1->num_vertices());
+  for (auto* g : {&col_b, &face_b}) g->reserve(s2->num_vertices());
+  // Gear 2 deformed as in EqualTheCandidatePairGapsOnDeformingSurfaces, and its z too (the
+  // nodes leave their rows' heights; those beyond gear 1's rims are left to the faces).
+  std::vector<Vec3> v2 = s2->vertices(), n2 = s2->face_normals();
+  auto deform = [&](double phase) {
+    double change = 0;
+    for (int i = 0; i < s2->num_vertices(); ++i) {
+      const Vec3& x = s2->vertices()[i];
+      const double k = 2 * kPi / 3e-3;
+      const Vec3 u = u_max / std::sqrt(3.0) *
+                     Vec3(std::sin(k * x.x() + phase), std::cos(k * x.y() - phase),
+                          std::sin(k * (x.x() + x.y()) + 2 * phase));
+      change = std::max(change, (x + u - v2[i]).norm());
+      v2[i] = x + u;
+    }
+    for (int t = 0; t < s2->num_triangles(); ++t) {
+      const auto& tri = s2->triangles()[t];
+      n2[t] = (v2[tri[1]] - v2[tri[0]]).cross(v2[tri[2]] - v2[tri[0]]).normalized();
+    }
+    return change;
+  };
+  const TrackedGaps::TrackedSide side1{.vertices = &s1->vertices(), .normals = &s1->face_normals()};
+  long compared = 0, penetrating = 0, diagonal = 0;
+  const double period = 2 * kPi / 19;
+  for (int k = 0; k <= 300; ++k) {
+    const double theta = 1.5 * period * k / 300;
+    const Poses p = At(theta, 12e-6 + 8e-6 * std::sin(0.05 * k));
+    const double change = deform(0.3 * k);
+    const TrackedGaps::TrackedSide side2{.vertices = &v2, .normals = &n2,
+                                         .deformation_m = u_max,
+                                         .deformation_change_m = k == 0 ? u_max : change};
+    columns.Update(p.X_W1, p.X_W2, side1, side2, d, &col_a, &col_b);
+    faces.Update(p.X_W1, p.X_W2, side1, side2, d, &face_a, &face_b);
+    const std::string where = "pose " + std::to_string(k);
+    ASSERT_NO_FATAL_FAILURE(ExpectSameGaps(col_a, face_a, where + " dir 0"));
+    ASSERT_NO_FATAL_FAILURE(ExpectColumnGaps(col_b, face_b, *s1, where + " dir 1", &compared,
+                                             &penetrating, &diagonal));
+  }
+  const TrackedGapStats& c = columns.stats();
+  std::printf(
+      "node columns, deformed: %ld of %ld listed nodes compared in contact, %ld on the other "
+      "face of a column's edge; %ld looked at along the columns, %ld left to the faces' look\n",
+      penetrating, compared, diagonal, c.profile_looks, c.profile_fallbacks);
+  EXPECT_GT(compared, 3000);
+  EXPECT_GT(penetrating, 1000);
+  // Both ways ran (the looks left to the faces: nodes beyond gear 1's rims, on profile points).
+  EXPECT_GT(c.profile_looks, 3000);
+  EXPECT_GT(c.profile_fallbacks, 1000);
+  EXPECT_EQ(faces.stats().profile_looks + faces.stats().profile_fallbacks, 0);
+}
+
 // The barycentric coordinates the tracked passes keep for a listed node in contact
 // (face_weights_a / _b, which FlexibleContactElement takes for the force's share of each face
 // vertex) are those its force normal was interpolated with: the normal made again from them
@@ -696,6 +829,7 @@ std::vector<Poses> WithSharingStops(const std::vector<Poses>& roll) {
 TEST_F(TrackedGapsTest, SharedRowsGiveTheGapsOfEveryRow) {
   Tracking shared(*s1_, *s2_, /*keep_face_weights=*/false), full(*s1_, *s2_, false);
   full.tracked.set_shared_rows(false);
+  full.tracked.set_node_columns(false);  // every node over the faces
   ASSERT_EQ(s1_->part_rows()[0], 3);
   ASSERT_EQ(s2_->part_rows()[0], 3);
   const std::vector<Poses> poses = WithSharingStops(RollWithIterates({{1e-5, -2e-6}}, 0.05));
