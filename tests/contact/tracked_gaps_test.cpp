@@ -11,6 +11,7 @@
 #include <limits>
 #include <map>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -38,12 +39,7 @@ class TrackedGapsTest : public ::testing::Test {
     g2_ = std::make_unique<gears::Gear>(
         gears::GearSpec{.teeth = 27, .normal_module_m = 2e-3, .face_width_m = 0.01});
     a_ = gears::GearPair(*g1_, *g2_).center_distance_m();
-    GearContactOptions o;
-    o.involute_intervals = 16;
-    o.margin_m = 30e-6;
-    o.slack_m = 100e-6;
-    s1_ = MakeGearContactSurface(*g1_, o, {}, Transform());
-    s2_ = MakeGearContactSurface(*g2_, o, {}, Transform());
+    std::tie(s1_, s2_) = SurfacesWithMargin(30e-6);
   }
 
   // Gear 1 at roll angle theta, gear 2 at its kinematic angle; gear 1 advanced by `ahead` along
@@ -105,6 +101,26 @@ class TrackedGapsTest : public ::testing::Test {
     }
     EXPECT_GT(want.tracked_pairs().size(), grown_from);
   }
+
+  // Both gears' contact surfaces (16 involute intervals, slack 100 um) with a margin: SetUp's
+  // 30 um; deformed sides the gap distance plus twice the displacement bound.
+  std::pair<std::shared_ptr<const ContactSurface>, std::shared_ptr<const ContactSurface>>
+  SurfacesWithMargin(double margin_m) const {
+    GearContactOptions o;
+    o.involute_intervals = 16;
+    o.margin_m = margin_m;
+    o.slack_m = 100e-6;
+    return {MakeGearContactSurface(*g1_, o, {}, Transform()),
+            MakeGearContactSurface(*g2_, o, {}, Transform())};
+  }
+
+  // The deforming roll: gear 1 rolled through 1.5 mesh periods in 300 steps with an approach
+  // wobble, gear 2 deformed at each step by Deform (phase 0.3 k, within u_max of its own
+  // vertices); fn(k, poses, side1, side2) with gear 1 rigid and gear 2's change since the last
+  // step (u_max at the first).
+  template <class Fn>
+  void DeformingRoll(const ContactSurface& s1, const ContactSurface& s2, double u_max, bool axial,
+                     Fn&& fn) const;
 
   std::unique_ptr<gears::Gear> g1_, g2_;
   double a_ = 0;
@@ -424,14 +440,51 @@ TEST_F(TrackedGapsTest, CandidatePairsGiveTheFullBroadPhasesPairs) {
 // its deformed vertices and normals, the bound and the change per call, against the
 // candidate-pair gaps over the same deformed vertices (signed_gap.h's explicit-vertex pass),
 // whose pairs come from the undeformed surfaces searched d + 2 u_max far.
+// A surface's vertices displaced by u(x) = u_max (sin(k x + w), cos(k y - w), 0) / sqrt(2),
+// k = 2 pi / 3 mm, w = phase, in its frame; with `axial`, u_max (sin(k x + w), cos(k y - w),
+// sin(k (x + y) + 2 w)) / sqrt(3). *v and *n: the displaced vertices and their faces' unit
+// normals. Returns the largest vertex motion from the *v given.
+double Deform(const ContactSurface& s, double u_max, double phase, bool axial,
+              std::vector<Vec3>* v, std::vector<Vec3>* n) {
+  double change = 0;
+  const double k = 2 * kPi / 3e-3;
+  for (int i = 0; i < s.num_vertices(); ++i) {
+    const Vec3& x = s.vertices()[i];
+    const Vec3 u = axial ? Vec3(u_max / std::sqrt(3.0) *
+                                Vec3(std::sin(k * x.x() + phase), std::cos(k * x.y() - phase),
+                                     std::sin(k * (x.x() + x.y()) + 2 * phase)))
+                         : Vec3(u_max / std::sqrt(2.0) *
+                                Vec3(std::sin(k * x.x() + phase), std::cos(k * x.y() - phase), 0));
+    change = std::max(change, (x + u - (*v)[i]).norm());
+    (*v)[i] = x + u;
+  }
+  for (int t = 0; t < s.num_triangles(); ++t) {
+    const auto& tri = s.triangles()[t];
+    (*n)[t] = ((*v)[tri[1]] - (*v)[tri[0]]).cross((*v)[tri[2]] - (*v)[tri[0]]).normalized();
+  }
+  return change;
+}
+
+template <class Fn>
+void TrackedGapsTest::DeformingRoll(const ContactSurface& s1, const ContactSurface& s2,
+                                    double u_max, bool axial, Fn&& fn) const {
+  std::vector<Vec3> v2 = s2.vertices(), n2 = s2.face_normals();
+  const TrackedGaps::TrackedSide side1{.vertices = &s1.vertices(), .normals = &s1.face_normals()};
+  const double period = 2 * kPi / 19;
+  for (int k = 0; k <= 300; ++k) {
+    const double theta = 1.5 * period * k / 300;
+    const Poses p = At(theta, 12e-6 + 8e-6 * std::sin(0.05 * k));
+    const double change = Deform(s2, u_max, 0.3 * k, axial, &v2, &n2);
+    const TrackedGaps::TrackedSide side2{.vertices = &v2, .normals = &n2,
+                                         .deformation_m = u_max,
+                                         .deformation_change_m = k == 0 ? u_max : change};
+    fn(k, p, side1, side2);
+  }
+}
+
 TEST_F(TrackedGapsTest, EqualTheCandidatePairGapsOnDeformingSurfaces) {
   const double d = 30e-6, u_max = 8e-6;
-  GearContactOptions o;
-  o.involute_intervals = 16;
-  o.margin_m = d + 2 * u_max;
-  o.slack_m = 100e-6;
-  const auto s1 = MakeGearContactSurface(*g1_, o, {}, Transform());
-  const auto s2 = MakeGearContactSurface(*g2_, o, {}, Transform());
+  const auto [s1, s2] = SurfacesWithMargin(d + 2 * u_max);
   TrackedGaps tracked(*s1, *s2);
   CandidateSearch search(*s1, *s2);
   std::vector<NodeGap> gaps_a, gaps_b;
@@ -442,33 +495,11 @@ TEST_F(TrackedGapsTest, EqualTheCandidatePairGapsOnDeformingSurfaces) {
   GapScratch scratch_a(*s1), scratch_b(*s2);
   std::vector<NodeFaceCandidate> nf_a, nf_b;
   // Gear 2 deformed: u(x) = u_max (sin(k x + w), cos(k y - w), 0) / sqrt(2) in its frame.
-  std::vector<Vec3> v2 = s2->vertices(), n2 = s2->face_normals();
-  auto deform = [&](double phase) {
-    double change = 0;
-    for (int i = 0; i < s2->num_vertices(); ++i) {
-      const Vec3& x = s2->vertices()[i];
-      const double k = 2 * kPi / 3e-3;
-      const Vec3 u = u_max / std::sqrt(2.0) *
-                     Vec3(std::sin(k * x.x() + phase), std::cos(k * x.y() - phase), 0);
-      change = std::max(change, (x + u - v2[i]).norm());
-      v2[i] = x + u;
-    }
-    for (int t = 0; t < s2->num_triangles(); ++t) {
-      const auto& tri = s2->triangles()[t];
-      n2[t] = (v2[tri[1]] - v2[tri[0]]).cross(v2[tri[2]] - v2[tri[0]]).normalized();
-    }
-    return change;
-  };
-  const TrackedGaps::TrackedSide side1{.vertices = &s1->vertices(), .normals = &s1->face_normals()};
   int compared = 0, penetrating = 0;
-  const double period = 2 * kPi / 19;
-  for (int k = 0; k <= 300; ++k) {
-    const double theta = 1.5 * period * k / 300;
-    const Poses p = At(theta, 12e-6 + 8e-6 * std::sin(0.05 * k));
-    const double change = deform(0.3 * k);
-    const TrackedGaps::TrackedSide side2{.vertices = &v2, .normals = &n2,
-                                         .deformation_m = u_max,
-                                         .deformation_change_m = k == 0 ? u_max : change};
+  DeformingRoll(*s1, *s2, u_max, false, [&](int k, const Poses& p, const TrackedGaps::TrackedSide& side1,
+                                            const TrackedGaps::TrackedSide& side2) {
+    const std::vector<Vec3>& v2 = *side2.vertices;
+    const std::vector<Vec3>& n2 = *side2.normals;
     tracked.Update(p.X_W1, p.X_W2, side1, side2, d, &gaps_a, &gaps_b);
     search.UpdateBroadPhase(p.X_W1, p.X_W2);
     search.FindPairs(&pairs);
@@ -483,7 +514,7 @@ TEST_F(TrackedGapsTest, EqualTheCandidatePairGapsOnDeformingSurfaces) {
       ExpectOracleGaps(dir == 0 ? gaps_a : gaps_b, dir == 0 ? want_a : want_b,
                        "pose " + std::to_string(k) + " dir " + std::to_string(dir), &compared,
                        &penetrating);
-  }
+  });
   EXPECT_GT(compared, 3000);
   EXPECT_GT(penetrating, 1000);
   std::printf("deformed: %.1f nodes evaluated per update, %.2f searched\n",
@@ -557,12 +588,7 @@ TEST_F(TrackedGapsTest, NodeColumnsGiveTheFacesGaps) {
   }
 
   const double d = 30e-6, u_max = 8e-6;
-  GearContactOptions o;
-  o.involute_intervals = 16;
-  o.margin_m = d + 2 * u_max;
-  o.slack_m = 100e-6;
-  const auto s1 = MakeGearContactSurface(*g1_, o, {}, Transform());
-  const auto s2 = MakeGearContactSurface(*g2_, o, {}, Transform());
+  const auto [s1, s2] = SurfacesWithMargin(d + 2 * u_max);
   TrackedGaps columns(*s1, *s2), faces(*s1, *s2);
   faces.set_node_columns(false);
   std::vector<NodeGap> col_a, col_b, face_a, face_b;
@@ -570,41 +596,16 @@ TEST_F(TrackedGapsTest, NodeColumnsGiveTheFacesGaps) {
   for (auto* g : {&col_b, &face_b}) g->reserve(s2->num_vertices());
   // Gear 2 deformed as in EqualTheCandidatePairGapsOnDeformingSurfaces, and its z too (the
   // nodes leave their rows' heights; those beyond gear 1's rims are left to the faces).
-  std::vector<Vec3> v2 = s2->vertices(), n2 = s2->face_normals();
-  auto deform = [&](double phase) {
-    double change = 0;
-    for (int i = 0; i < s2->num_vertices(); ++i) {
-      const Vec3& x = s2->vertices()[i];
-      const double k = 2 * kPi / 3e-3;
-      const Vec3 u = u_max / std::sqrt(3.0) *
-                     Vec3(std::sin(k * x.x() + phase), std::cos(k * x.y() - phase),
-                          std::sin(k * (x.x() + x.y()) + 2 * phase));
-      change = std::max(change, (x + u - v2[i]).norm());
-      v2[i] = x + u;
-    }
-    for (int t = 0; t < s2->num_triangles(); ++t) {
-      const auto& tri = s2->triangles()[t];
-      n2[t] = (v2[tri[1]] - v2[tri[0]]).cross(v2[tri[2]] - v2[tri[0]]).normalized();
-    }
-    return change;
-  };
-  const TrackedGaps::TrackedSide side1{.vertices = &s1->vertices(), .normals = &s1->face_normals()};
   long compared = 0, penetrating = 0, diagonal = 0;
-  const double period = 2 * kPi / 19;
-  for (int k = 0; k <= 300; ++k) {
-    const double theta = 1.5 * period * k / 300;
-    const Poses p = At(theta, 12e-6 + 8e-6 * std::sin(0.05 * k));
-    const double change = deform(0.3 * k);
-    const TrackedGaps::TrackedSide side2{.vertices = &v2, .normals = &n2,
-                                         .deformation_m = u_max,
-                                         .deformation_change_m = k == 0 ? u_max : change};
+  DeformingRoll(*s1, *s2, u_max, true, [&](int k, const Poses& p, const TrackedGaps::TrackedSide& side1,
+                                           const TrackedGaps::TrackedSide& side2) {
     columns.Update(p.X_W1, p.X_W2, side1, side2, d, &col_a, &col_b);
     faces.Update(p.X_W1, p.X_W2, side1, side2, d, &face_a, &face_b);
     const std::string where = "pose " + std::to_string(k);
     ASSERT_NO_FATAL_FAILURE(ExpectSameGaps(col_a, face_a, where + " dir 0"));
     ASSERT_NO_FATAL_FAILURE(ExpectColumnGaps(col_b, face_b, *s1, where + " dir 1", &compared,
                                              &penetrating, &diagonal));
-  }
+  });
   const TrackedGapStats& c = columns.stats();
   std::printf(
       "node columns, deformed: %ld of %ld listed nodes compared in contact, %ld on the other "
