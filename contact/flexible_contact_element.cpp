@@ -254,8 +254,8 @@ void FlexibleContactElement::Evaluate(const ContactSideState& a, const ContactSi
                                       .lazy_corner_normals = lazy ? &buf.corner_normals : nullptr,
                                       .corner_stamp = lazy ? &buf.corner_stamp : nullptr};
     };
-    ws.tracked.ComputeGaps(a.X_WB, b.X_WB, side(sa, ws.side_a), side(sb, ws.side_b), d,
-                           &ws.gaps_a, &ws.gaps_b);
+    ws.tracked.ComputeGaps(a.X_WB, b.X_WB, side(sa, ws.side_a), side(sb, ws.side_b), d, &ws.gaps_a,
+                           &ws.gaps_b);
   } else {
     // Candidates of the undeformed surfaces.
     ws.searched = ws.search.Find(a.X_WB, b.X_WB, &ws.pairs);

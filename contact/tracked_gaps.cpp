@@ -806,11 +806,14 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
                                                 face_surface.part_row_length()[part_f]]
                       .z();
     };
+    // Always inlined: with the per-node row place GCC made it a call of its own, +11.7 M
+    // instructions over the rigid row's first 10 ms (docs/performance.md, "node-columns").
     auto onto_column = [&](const ColumnPoint& c, int partner, ClosestFace* out)
-                           __attribute__((always_inline)) {
+        __attribute__((always_inline)) {
       out->face = face_surface.ExtrudedFaceAt(
           partners_[partner], c.column, c.t,
-          one_row ? place_in(partner) : face_surface.ExtrudedRowPlace(partners_[partner], c.point.z()));
+          one_row ? place_in(partner)
+                  : face_surface.ExtrudedRowPlace(partners_[partner], c.point.z()));
       out->point.point = c.point;
       out->point.feature = TriangleFeature::kFace;
       out->d2 = c.d2;
@@ -995,7 +998,8 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
         ++stats_.seeded_nodes;
         ++stats_.seeds;
       }
-      const bool in_column = look_columns && !profile && best.face >= 0 && settle_in_column(p, &best);
+      const bool in_column =
+          look_columns && !profile && best.face >= 0 && settle_in_column(p, &best);
       // No face: the node's position is not finite (a diverging Newton iterate), and it
       // starts again at the next evaluation; or it is farther than the search's bound from
       // every face of its partners, and sleeps until it may have come within it.

@@ -444,8 +444,8 @@ TEST_F(TrackedGapsTest, CandidatePairsGiveTheFullBroadPhasesPairs) {
 // k = 2 pi / 3 mm, w = phase, in its frame; with `axial`, u_max (sin(k x + w), cos(k y - w),
 // sin(k (x + y) + 2 w)) / sqrt(3). *v and *n: the displaced vertices and their faces' unit
 // normals. Returns the largest vertex motion from the *v given.
-double Deform(const ContactSurface& s, double u_max, double phase, bool axial,
-              std::vector<Vec3>* v, std::vector<Vec3>* n) {
+double Deform(const ContactSurface& s, double u_max, double phase, bool axial, std::vector<Vec3>* v,
+              std::vector<Vec3>* n) {
   double change = 0;
   const double k = 2 * kPi / 3e-3;
   for (int i = 0; i < s.num_vertices(); ++i) {
@@ -475,7 +475,8 @@ void TrackedGapsTest::DeformingRoll(const ContactSurface& s1, const ContactSurfa
     const double theta = 1.5 * period * k / 300;
     const Poses p = At(theta, 12e-6 + 8e-6 * std::sin(0.05 * k));
     const double change = Deform(s2, u_max, 0.3 * k, axial, &v2, &n2);
-    const TrackedGaps::TrackedSide side2{.vertices = &v2, .normals = &n2,
+    const TrackedGaps::TrackedSide side2{.vertices = &v2,
+                                         .normals = &n2,
                                          .deformation_m = u_max,
                                          .deformation_change_m = k == 0 ? u_max : change};
     fn(k, p, side1, side2);
@@ -496,25 +497,26 @@ TEST_F(TrackedGapsTest, EqualTheCandidatePairGapsOnDeformingSurfaces) {
   std::vector<NodeFaceCandidate> nf_a, nf_b;
   // Gear 2 deformed: u(x) = u_max (sin(k x + w), cos(k y - w), 0) / sqrt(2) in its frame.
   int compared = 0, penetrating = 0;
-  DeformingRoll(*s1, *s2, u_max, false, [&](int k, const Poses& p, const TrackedGaps::TrackedSide& side1,
-                                            const TrackedGaps::TrackedSide& side2) {
-    const std::vector<Vec3>& v2 = *side2.vertices;
-    const std::vector<Vec3>& n2 = *side2.normals;
-    tracked.Update(p.X_W1, p.X_W2, side1, side2, d, &gaps_a, &gaps_b);
-    search.UpdateBroadPhase(p.X_W1, p.X_W2);
-    search.FindPairs(&pairs);
-    ListNodeFaceCandidates(*s1, pairs, true, &scratch_a, &nf_a);
-    ListNodeFaceCandidates(*s2, pairs, false, &scratch_b, &nf_b);
-    std::vector<NodeGap> want_a, want_b;
-    ComputeNodeGapsFromCandidates(*s1, s1->vertices(), p.X_W1, *s2, v2, n2, p.X_W2, nf_a, d,
-                                  &want_a);
-    ComputeNodeGapsFromCandidates(*s2, v2, p.X_W2, *s1, s1->vertices(), s1->face_normals(),
-                                  p.X_W1, nf_b, d, &want_b);
-    for (int dir = 0; dir < 2; ++dir)
-      ExpectOracleGaps(dir == 0 ? gaps_a : gaps_b, dir == 0 ? want_a : want_b,
-                       "pose " + std::to_string(k) + " dir " + std::to_string(dir), &compared,
-                       &penetrating);
-  });
+  DeformingRoll(*s1, *s2, u_max, false,
+                [&](int k, const Poses& p, const TrackedGaps::TrackedSide& side1,
+                    const TrackedGaps::TrackedSide& side2) {
+                  const std::vector<Vec3>& v2 = *side2.vertices;
+                  const std::vector<Vec3>& n2 = *side2.normals;
+                  tracked.Update(p.X_W1, p.X_W2, side1, side2, d, &gaps_a, &gaps_b);
+                  search.UpdateBroadPhase(p.X_W1, p.X_W2);
+                  search.FindPairs(&pairs);
+                  ListNodeFaceCandidates(*s1, pairs, true, &scratch_a, &nf_a);
+                  ListNodeFaceCandidates(*s2, pairs, false, &scratch_b, &nf_b);
+                  std::vector<NodeGap> want_a, want_b;
+                  ComputeNodeGapsFromCandidates(*s1, s1->vertices(), p.X_W1, *s2, v2, n2, p.X_W2,
+                                                nf_a, d, &want_a);
+                  ComputeNodeGapsFromCandidates(*s2, v2, p.X_W2, *s1, s1->vertices(),
+                                                s1->face_normals(), p.X_W1, nf_b, d, &want_b);
+                  for (int dir = 0; dir < 2; ++dir)
+                    ExpectOracleGaps(dir == 0 ? gaps_a : gaps_b, dir == 0 ? want_a : want_b,
+                                     "pose " + std::to_string(k) + " dir " + std::to_string(dir),
+                                     &compared, &penetrating);
+                });
   EXPECT_GT(compared, 3000);
   EXPECT_GT(penetrating, 1000);
   std::printf("deformed: %.1f nodes evaluated per update, %.2f searched\n",
@@ -577,10 +579,11 @@ TEST_F(TrackedGapsTest, NodeColumnsGiveTheFacesGaps) {
                                                &compared, &penetrating, &ties));
     }
     const TrackedGapStats& c = columns.tracked.stats();
-    std::printf("node columns, rigid: %ld of %ld listed nodes compared in contact, %ld on the "
-                "other face of a column's edge; %ld looked at along the columns, %ld left to "
-                "the faces' look\n",
-                penetrating, compared, ties, c.profile_looks, c.profile_fallbacks);
+    std::printf(
+        "node columns, rigid: %ld of %ld listed nodes compared in contact, %ld on the "
+        "other face of a column's edge; %ld looked at along the columns, %ld left to "
+        "the faces' look\n",
+        penetrating, compared, ties, c.profile_looks, c.profile_fallbacks);
     EXPECT_GT(compared, 10000);
     EXPECT_GT(penetrating, 5000);
     EXPECT_GT(c.profile_looks, 10 * c.profile_fallbacks);
@@ -597,15 +600,16 @@ TEST_F(TrackedGapsTest, NodeColumnsGiveTheFacesGaps) {
   // Gear 2 deformed as in EqualTheCandidatePairGapsOnDeformingSurfaces, and its z too (the
   // nodes leave their rows' heights; those beyond gear 1's rims are left to the faces).
   long compared = 0, penetrating = 0, diagonal = 0;
-  DeformingRoll(*s1, *s2, u_max, true, [&](int k, const Poses& p, const TrackedGaps::TrackedSide& side1,
-                                           const TrackedGaps::TrackedSide& side2) {
-    columns.Update(p.X_W1, p.X_W2, side1, side2, d, &col_a, &col_b);
-    faces.Update(p.X_W1, p.X_W2, side1, side2, d, &face_a, &face_b);
-    const std::string where = "pose " + std::to_string(k);
-    ASSERT_NO_FATAL_FAILURE(ExpectSameGaps(col_a, face_a, where + " dir 0"));
-    ASSERT_NO_FATAL_FAILURE(ExpectColumnGaps(col_b, face_b, *s1, where + " dir 1", &compared,
-                                             &penetrating, &diagonal));
-  });
+  DeformingRoll(*s1, *s2, u_max, true,
+                [&](int k, const Poses& p, const TrackedGaps::TrackedSide& side1,
+                    const TrackedGaps::TrackedSide& side2) {
+                  columns.Update(p.X_W1, p.X_W2, side1, side2, d, &col_a, &col_b);
+                  faces.Update(p.X_W1, p.X_W2, side1, side2, d, &face_a, &face_b);
+                  const std::string where = "pose " + std::to_string(k);
+                  ASSERT_NO_FATAL_FAILURE(ExpectSameGaps(col_a, face_a, where + " dir 0"));
+                  ASSERT_NO_FATAL_FAILURE(ExpectColumnGaps(col_b, face_b, *s1, where + " dir 1",
+                                                           &compared, &penetrating, &diagonal));
+                });
   const TrackedGapStats& c = columns.stats();
   std::printf(
       "node columns, deformed: %ld of %ld listed nodes compared in contact, %ld on the other "
