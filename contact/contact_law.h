@@ -50,7 +50,7 @@ struct NodeForce {
 // depth = -g (> 0), depth_rate = d(depth)/dt, n_W the face normal (points towards the node
 // side), v_rel_W the velocity of the node relative to the face's material point, area_weight
 // the node's weight (m^2). Inline: the contact elements call it once per contact point
-// (docs/performance.md, "law-inline").
+// (docs/performance.md, "node-columns").
 inline NodeForce EvaluateContactLaw(const ContactLaw& law, double depth, double depth_rate,
                                     const Vec3& n_W, const Vec3& v_rel_W, double area_weight) {
   NodeForce out;

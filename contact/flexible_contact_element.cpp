@@ -238,12 +238,13 @@ void FlexibleContactElement::Evaluate(const ContactSideState& a, const ContactSi
   ws.searched = false;
   if (spec_.gap_method == ContactGapMethod::kTracked) {
     // Deformed gaps both ways, tracked node by node (tracked_gaps.h).
-    // A rigid side as its surface holds it (its own vertices, no part bounds: the buffers hold
-    // the same numbers), so that the tracked gaps see it rigid (tracked_gaps.h, node columns).
+    // A rigid side as its surface holds it (its own vertices and normals, no part bounds: the
+    // buffers hold the same numbers), so that the tracked gaps see it rigid (tracked_gaps.h,
+    // node columns).
     auto side = [](const ContactSurface& surface, ContactSideBuffers& buf) {
       const bool lazy = buf.q_f != nullptr;  // deformed: normals made on first read
       return TrackedGaps::TrackedSide{.vertices = lazy ? &buf.vertices : &surface.vertices(),
-                                      .normals = &buf.normals,
+                                      .normals = lazy ? &buf.normals : &surface.face_normals(),
                                       .deformation_m = buf.deformation_bound,
                                       .deformation_change_m = buf.deformation_change,
                                       .part_deformation_m = lazy ? &buf.part_deformation : nullptr,

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <utility>
 
 namespace orrery::contact {
 
@@ -247,6 +248,7 @@ TrackedGaps::TrackedGaps(const ContactSurface& surface_a, const ContactSurface& 
   tracked_parts_b_.reserve(b_.num_parts());
   partners_.reserve(std::max(a_.num_parts(), b_.num_parts()));
   partner_places_.reserve(partners_.capacity());
+  partner_heights_.reserve(partners_.capacity());
   active_b_.assign(b_.num_parts(), 0);
   odometer_a_.assign(a_.num_parts(), 0.0);
   odometer_b_.assign(b_.num_parts(), 0.0);
@@ -707,6 +709,14 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
   const bool faces_rigid = node_columns_ && faces.v.deformed == nullptr &&
                            faces.v.own == &face_surface.vertices() && faces.lazy_n == nullptr &&
                            face_deformation_m == 0 && face_part_deformation_m == nullptr;
+  // The heights of an extruded part of the face surface: its first and last rows' (the z range
+  // of its columns' rectangles).
+  auto part_heights = [&](int part_f) {
+    const int first_f = face_surface.part_vertex_start()[part_f];
+    const int last_f =
+        first_f + (face_surface.part_rows()[part_f] - 1) * face_surface.part_row_length()[part_f];
+    return std::pair{face_surface.vertices()[first_f].z(), face_surface.vertices()[last_f].z()};
+  };
   for (size_t k = 0; k < by_part_.size();) {
     const int part = by_part_[k].first;
     partners_.clear();
@@ -730,15 +740,10 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
       const double tol = kRowHeightUlps * std::numeric_limits<double>::epsilon() *
                          std::max(std::abs(z_lo), std::abs(z_hi));
       for (const int part_f : partners_) {
-        const int rows_f = face_surface.part_rows()[part_f];
-        const int first_f = face_surface.part_vertex_start()[part_f];
-        one_row =
-            one_row && rows_f >= 2 && z_lo >= face_surface.vertices()[first_f].z() - tol &&
-            z_hi <=
-                face_surface
-                        .vertices()[first_f + (rows_f - 1) * face_surface.part_row_length()[part_f]]
-                        .z() +
-                    tol;
+        one_row = one_row && face_surface.part_rows()[part_f] >= 2;
+        if (!one_row) break;
+        const auto [z_lo_f, z_hi_f] = part_heights(part_f);
+        one_row = z_lo >= z_lo_f - tol && z_hi <= z_hi_f + tol;
       }
     }
     // A part that stops sharing: its blocks' wake-up readings were gathered over the evaluated
@@ -749,10 +754,14 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
     // A part that does not share rows is looked at along its partners' columns, node by node at
     // the node's own height, while every partner is extruded and rigid (header: node columns).
     bool look_columns = one_row;
+    partner_heights_.clear();
     if (!one_row && faces_rigid) {
       look_columns = true;
-      for (const int part_f : partners_)
+      for (const int part_f : partners_) {
         look_columns = look_columns && face_surface.part_rows()[part_f] >= 2;
+        if (!look_columns) break;
+        partner_heights_.push_back(part_heights(part_f));  // within the reserved capacity
+      }
     }
     const int shared_row = one_row ? EvaluatedRow(rows) : 0;
     const int lo = one_row ? v_begin + shared_row * row_n : v_begin;
@@ -797,14 +806,8 @@ void TrackedGaps::RunPass(const ContactSurface& node_surface, const SurfaceVerti
     // A node column's height within the partner's rows (its rectangles' heights), and its place
     // among them; a shared row's within every partner's (the part's test above).
     auto within_heights = [&](int partner, double z) {
-      if (one_row) return true;
-      const int part_f = partners_[partner];
-      const int first_f = face_surface.part_vertex_start()[part_f];
-      return z >= face_surface.vertices()[first_f].z() &&
-             z <= face_surface
-                      .vertices()[first_f + (face_surface.part_rows()[part_f] - 1) *
-                                                face_surface.part_row_length()[part_f]]
-                      .z();
+      return one_row ||
+             (z >= partner_heights_[partner].first && z <= partner_heights_[partner].second);
     };
     // Always inlined: with the per-node row place GCC made it a call of its own, +11.7 M
     // instructions over the rigid row's first 10 ms (docs/performance.md, "node-columns").

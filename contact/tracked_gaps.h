@@ -488,6 +488,8 @@ class TrackedGaps {
   std::vector<int> partners_;              // scratch: parts paired with one part
   std::vector<ContactSurface::RowPlace> partner_places_;  // scratch: the evaluated row's height
                                                           // in each partner's rows
+  // scratch: each partner's first and last rows' heights, for node columns (RunPass)
+  std::vector<std::pair<double, double>> partner_heights_;
   std::vector<std::pair<int, int>> by_part_;  // scratch: (node part, face part), sorted
   std::vector<char> active_b_;             // #parts of B: in a tracked pair
   std::vector<int> tracked_parts_a_, tracked_parts_b_;  // in a tracked pair, increasing
